@@ -1,0 +1,258 @@
+//! Lines and planes, and the sufficient statistics from which they are fitted.
+//!
+//! Per-frame screw axes are accumulated as weighted sums (no per-frame storage), so a fit over
+//! any union of frames is a sum of [`LineStats`] or [`PlaneStats`] followed by a small
+//! eigen-problem: this is what keeps the learner's memory independent of the file length.
+
+use nalgebra::{Matrix3, SymmetricEigen, Unit, Vector3};
+use serde::{Deserialize, Serialize};
+
+/// An infinite line `{point + λ direction}`, `point` the line's point closest to the origin.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Line {
+    /// Point of the line closest to the origin [m].
+    pub point: Vector3<f64>,
+    /// Unit direction.
+    pub direction: Vector3<f64>,
+}
+
+impl Line {
+    /// The line through `p` along `d` (normalised), stored by its point closest to the origin.
+    pub fn through(p: Vector3<f64>, d: Vector3<f64>) -> Self {
+        let d = d.normalize();
+        Self { point: p - d * d.dot(&p), direction: d }
+    }
+
+    /// Distance [m] from `x` to the line.
+    pub fn distance_to(&self, x: &Vector3<f64>) -> f64 {
+        let r = x - self.point;
+        (r - self.direction * self.direction.dot(&r)).norm()
+    }
+
+    /// The same line with its direction reversed if it points away from `reference`.
+    pub fn aligned_with(mut self, reference: &Vector3<f64>) -> Self {
+        if self.direction.dot(reference) < 0.0 {
+            self.direction = -self.direction;
+        }
+        self
+    }
+}
+
+/// A plane `{x : normal · x = offset}`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Plane {
+    /// Unit normal.
+    pub normal: Vector3<f64>,
+    /// Offset [m]: signed distance of the plane from the origin along `normal`.
+    pub offset: f64,
+}
+
+/// Eigen-decomposition of a symmetric 3×3 matrix, eigenvalues ascending.
+pub fn sym_eigen(m: &Matrix3<f64>) -> ([f64; 3], [Vector3<f64>; 3]) {
+    let e = SymmetricEigen::new(0.5 * (m + m.transpose()));
+    let mut idx = [0usize, 1, 2];
+    idx.sort_by(|&a, &b| e.eigenvalues[a].total_cmp(&e.eigenvalues[b]));
+    let vals = idx.map(|i| e.eigenvalues[i]);
+    let vecs = idx.map(|i| e.eigenvectors.column(i).into_owned());
+    (vals, vecs)
+}
+
+/// Weighted sufficient statistics of a set of lines `(r_k, u_k)` (points closest to the origin,
+/// unit directions), for the directional mean of the axes and the euclidean mean of the points.
+///
+/// * point weights `w_k` = 1 / (variance of `r_k` per axis across the line) [1/m²],
+/// * direction weights `a_k` = 1 / (variance of `u_k` per axis) [1/rad²].
+///
+/// The mean direction is the principal eigenvector of `Σ a_k u_k u_kᵀ` (axial data: u and -u
+/// count the same), and the mean point is the weighted mean of the `r_k` projected onto the
+/// plane normal to it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LineStats {
+    /// Number of lines.
+    pub n: f64,
+    /// Σ w.
+    pub sw: f64,
+    /// Σ w².
+    pub sww: f64,
+    /// Σ w r.
+    pub swr: Vector3<f64>,
+    /// Σ w r rᵀ.
+    pub swrr: Matrix3<f64>,
+    /// Σ a.
+    pub sa: f64,
+    /// Σ a².
+    pub saa: f64,
+    /// Σ a u uᵀ.
+    pub sauu: Matrix3<f64>,
+    /// Σ of the χ² of the along-axis translation (pitch) residuals.
+    pub pitch_chi2: f64,
+}
+
+impl LineStats {
+    /// Add one line with point weight `w` and direction weight `a`, and its pitch χ².
+    #[inline]
+    pub fn add(&mut self, r: &Vector3<f64>, u: &Vector3<f64>, w: f64, a: f64, pitch_chi2: f64) {
+        self.n += 1.0;
+        self.sw += w;
+        self.sww += w * w;
+        self.swr += r * w;
+        self.swrr += r * r.transpose() * w;
+        self.sa += a;
+        self.saa += a * a;
+        self.sauu += u * u.transpose() * a;
+        self.pitch_chi2 += pitch_chi2;
+    }
+
+    /// Merge another set of statistics into this one.
+    pub fn merge(&mut self, o: &Self) {
+        self.n += o.n;
+        self.sw += o.sw;
+        self.sww += o.sww;
+        self.swr += o.swr;
+        self.swrr += o.swrr;
+        self.sa += o.sa;
+        self.saa += o.saa;
+        self.sauu += o.sauu;
+        self.pitch_chi2 += o.pitch_chi2;
+    }
+
+    /// The mean line, or `None` without data.
+    pub fn mean(&self) -> Option<Line> {
+        if self.n < 1.0 || self.sw <= 0.0 || self.sa <= 0.0 {
+            return None;
+        }
+        let (_, vecs) = sym_eigen(&self.sauu);
+        let u = vecs[2];
+        let p = self.swr / self.sw;
+        Some(Line::through(p, u))
+    }
+
+    /// χ² of these lines against `line`: Σ w |P(r - p)|² + Σ a |u × u_L|² + pitch χ², with
+    /// P the projector normal to the line. Degrees of freedom: 5 per line.
+    pub fn chi2(&self, line: &Line) -> f64 {
+        let u = line.direction;
+        let p_mat = Matrix3::identity() - u * u.transpose();
+        let p = line.point;
+        let point = (p_mat * self.swrr).trace() - 2.0 * p.dot(&(p_mat * self.swr)) + self.sw * p.dot(&(p_mat * p));
+        let dir = self.sa - u.dot(&(self.sauu * u));
+        point.max(0.0) + dir.max(0.0) + self.pitch_chi2
+    }
+
+    /// Covariances of the mean line from the weighted scatter of the lines about it:
+    /// `(point covariance [m²], direction covariance [rad²])`, each divided by the effective
+    /// number of independent lines `(Σw)²/Σw²` and projected normal to the line.
+    pub fn covariances(&self, line: &Line) -> (Matrix3<f64>, Matrix3<f64>) {
+        let u = line.direction;
+        let p_mat = Matrix3::identity() - u * u.transpose();
+        let mean_r = self.swr / self.sw;
+        let scatter_r = self.swrr / self.sw - mean_r * mean_r.transpose();
+        let n_eff_r = (self.sw * self.sw / self.sww).max(1.0);
+        // Scatter of the unit directions about u: E[uuᵀ] projected normal to u.
+        let scatter_u = self.sauu / self.sa;
+        let n_eff_u = (self.sa * self.sa / self.saa).max(1.0);
+        // Formal (model) covariance floors: 1/Σw per axis and 1/Σa per axis.
+        let cov_p = p_mat * (scatter_r / n_eff_r) * p_mat + p_mat / self.sw;
+        let cov_u = p_mat * (scatter_u / n_eff_u) * p_mat + p_mat / self.sa;
+        (cov_p, cov_u)
+    }
+}
+
+/// Sufficient statistics for the plane-of-motion (slide) hypothesis: frames whose rotation
+/// vectors ω_k are parallel to a normal n and whose translations t_k are normal to it.
+///
+/// `χ²(n) = Σ |ω_k × n|²/σ_ω² + Σ (n·t_k)²/σ_t² = tr(S_ωω) - nᵀ S_ωω n + nᵀ S_tt n`
+/// with `S_ωω = Σ ω ωᵀ/σ_ω²`, `S_tt = Σ t tᵀ/σ_t²`; the best n is the eigenvector of the
+/// smallest eigenvalue of `S_tt - S_ωω`. Degrees of freedom: 3 per frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PlaneStats {
+    /// Number of frames.
+    pub n: f64,
+    /// Σ ω ωᵀ / σ_ω².
+    pub sww: Matrix3<f64>,
+    /// Σ t tᵀ / σ_t².
+    pub stt: Matrix3<f64>,
+}
+
+impl PlaneStats {
+    /// Add one frame.
+    #[inline]
+    pub fn add(&mut self, omega: &Vector3<f64>, t: &Vector3<f64>, var_omega: f64, var_t: f64) {
+        self.n += 1.0;
+        self.sww += omega * omega.transpose() / var_omega;
+        self.stt += t * t.transpose() / var_t;
+    }
+
+    /// Merge another set of statistics into this one.
+    pub fn merge(&mut self, o: &Self) {
+        self.n += o.n;
+        self.sww += o.sww;
+        self.stt += o.stt;
+    }
+
+    /// The best-fitting normal (sign arbitrary), `None` without data.
+    pub fn normal(&self) -> Option<Unit<Vector3<f64>>> {
+        if self.n < 1.0 {
+            return None;
+        }
+        let (_, vecs) = sym_eigen(&(self.stt - self.sww));
+        Some(Unit::new_normalize(vecs[0]))
+    }
+
+    /// χ² of these frames against the normal `n`.
+    pub fn chi2(&self, n: &Vector3<f64>) -> f64 {
+        (self.sww.trace() - n.dot(&(self.sww * n)) + n.dot(&(self.stt * n))).max(0.0)
+    }
+
+    /// Covariance [rad²] of the fitted normal: the inverse of the χ² Hessian restricted to the
+    /// plane normal to n, `(S_ωω' + S_tt)` projected, where the Hessian of the quadratic form
+    /// about its minimum is `2(M - λ_min I)` on that plane.
+    pub fn normal_covariance(&self, n: &Vector3<f64>) -> Matrix3<f64> {
+        let m = self.stt - self.sww;
+        let (vals, vecs) = sym_eigen(&m);
+        let mut cov = Matrix3::zeros();
+        for i in 1..3 {
+            let gap = (vals[i] - vals[0]).max(1e-300);
+            cov += vecs[i] * vecs[i].transpose() / gap;
+        }
+        let p = Matrix3::identity() - n * n.transpose();
+        p * cov * p
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn line_mean_recovers_a_line_and_chi2_is_zero_on_it() {
+        let truth = Line::through(Vector3::new(0.05, 0.3, -0.1), Vector3::new(0.0, 1.0, 0.2));
+        let mut s = LineStats::default();
+        for k in 0..10 {
+            let w = 1.0 + k as f64;
+            // Same line, stored by different points along it (all project to the same point).
+            s.add(&truth.point, &(truth.direction * if k % 2 == 0 { 1.0 } else { -1.0 }), w, w, 0.0);
+        }
+        let m = s.mean().unwrap();
+        assert!((m.point - truth.point).norm() < 1e-12);
+        assert!((m.direction.dot(&truth.direction).abs() - 1.0).abs() < 1e-12);
+        assert!(s.chi2(&m) < 1e-9);
+        let shifted = Line::through(truth.point + Vector3::new(0.01, 0.0, 0.0), truth.direction);
+        assert!(s.chi2(&shifted) > 1e-5 * s.sw);
+    }
+
+    #[test]
+    fn plane_normal_from_planar_motion() {
+        let n = Vector3::new(0.0, 0.6, 0.8);
+        let a = n.cross(&Vector3::x()).normalize();
+        let b = n.cross(&a);
+        let mut s = PlaneStats::default();
+        for k in 1..20 {
+            let k = k as f64;
+            s.add(&(n * 0.05 * k), &(a * 0.01 * k + b * 0.003 * k * k), 1e-4, 1e-6);
+        }
+        let fit = s.normal().unwrap();
+        assert!((fit.dot(&n).abs() - 1.0).abs() < 1e-12);
+        assert!(s.chi2(&n) < 1e-6);
+        assert!(s.chi2(&Vector3::x()) > 1.0);
+    }
+}

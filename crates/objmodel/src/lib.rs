@@ -1,0 +1,47 @@
+//! # objmodel
+//!
+//! Learn *object description trees* from 6D pose demonstrations, after Sanan, Bretan & Heck,
+//! "Learning Object Models for Non-prehensile Manipulation" (IROS 2019).
+//!
+//! Data flows one way, and each stage has a module named after the paper's concept:
+//!
+//! ```text
+//! file ─format─▶ trajectory ─clean─▶ screws (se3, screw) ─classify─▶ labels
+//!      ─edge / face─▶ features ─tree─▶ object description tree ─▶ skill
+//! ```
+//!
+//! * [`se3`]: exact exponential and logarithm of SE(3) and SO(3), twists.
+//! * [`screw`]: screw parameters of a twist (paper eq. 1-3) and the plane normal (eq. 5).
+//! * [`format`]: TUM and CSV pose files, with errors that name file, line and problem.
+//! * [`trajectory`]: time-stamped poses, demonstrations (optionally with a palm).
+//! * [`clean`]: quaternion sign continuity and rejection of single-frame tag flips.
+//! * [`noise`]: tracking-noise estimation from the data itself.
+//! * [`stats`]: the few distributions the tests need (chi-square quantiles).
+//! * [`classify`]: Algorithm 1, the paper-literal version and the robust one.
+//! * [`edge`], [`face`]: Algorithm 2 and eq. 5 estimates with covariances.
+//! * [`tree`]: the object description tree, its JSON schema and incremental fusion.
+//! * [`synth`]: a small kinematic generator of demonstrations with exact ground truth.
+//!
+//! Units are SI throughout (m, rad, s, kg). Transforms are named by frames: `world_from_object`
+//! maps a point in object coordinates to world coordinates.
+
+#![warn(missing_docs)]
+
+pub mod classify;
+pub mod clean;
+pub mod edge;
+pub mod error;
+pub mod face;
+pub mod format;
+pub mod geometry;
+pub mod noise;
+pub mod screw;
+pub mod se3;
+pub mod stats;
+pub mod synth;
+pub mod trajectory;
+pub mod tree;
+
+pub use error::{Error, Result};
+pub use se3::Twist;
+pub use trajectory::{Demonstration, StampedPose};
