@@ -1,1 +1,81 @@
-//! TODO
+//! Faces (eq. 5): the planes an object slid on or rested on, in the object's frame.
+//!
+//! A face is the plane `{x : n·x = offset}` with `n` its outward normal.
+//!
+//! **What a slide determines.** A slide is planar motion: every relative motion `g'(t)` rotates
+//! about axes parallel to the face normal and translates normal to it. So a slide gives the
+//! normal's *direction* (from the rotation axes and from the plane of the translations), but
+//! not its offset: the same motion is produced by every plane parallel to the face. It gives
+//! the *sign* (which side of the object the face is on) only with gravity: the face touching
+//! the support has its outward normal along gravity. The offset is known when an edge is known
+//! to lie in the face: a topple about an edge while resting on a face puts that edge in the
+//! face, so `offset = n · edge.point`.
+//!
+//! **What a topple determines.** With gravity known, the faces rested on before and after the
+//! topple are the downward directions in the object frame at those rests, both containing the
+//! edge: normal and offset. The normal is made exactly perpendicular to the edge.
+
+use crate::edge::EdgeObservation;
+use nalgebra::{Matrix3, Vector3};
+use serde::{Deserialize, Serialize};
+
+/// Assumed standard deviation [rad] of the support's tilt from level (tables and palms at rest
+/// are level to about a degree), the accuracy of a face normal taken from gravity at rest.
+pub const SUPPORT_LEVEL_SIGMA_RAD: f64 = 0.017_453_292_519_943_295;
+
+/// Where a face observation comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FaceSource {
+    /// A face slide (eq. 5).
+    Slide,
+    /// The face an object rested on before or after a topple (gravity).
+    Rest,
+}
+
+/// One demonstration's estimate of one face, in the object frame.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FaceObservation {
+    /// The demonstration it comes from.
+    pub demo: String,
+    /// Unit normal (outward when `sign_known`).
+    pub normal: Vector3<f64>,
+    /// Covariance of the normal [rad²] (normal to it).
+    pub normal_cov: Matrix3<f64>,
+    /// Offset [m], when known.
+    pub offset: Option<f64>,
+    /// Variance of the offset [m²], when known.
+    pub offset_var: Option<f64>,
+    /// Whether the normal's sign (outward) is known.
+    pub sign_known: bool,
+    /// Where it comes from.
+    pub source: FaceSource,
+    /// Frames behind it.
+    pub frames: u64,
+}
+
+impl FaceObservation {
+    /// The face an object rested on, from the unit "down" direction in the object frame at rest,
+    /// when toppling about `edge` (which lies in that face).
+    pub fn from_rest(down: &Vector3<f64>, edge: &EdgeObservation) -> Self {
+        let u = edge.line.direction;
+        let n = (down - u * u.dot(down)).normalize();
+        let p = Matrix3::identity() - n * n.transpose();
+        let level = SUPPORT_LEVEL_SIGMA_RAD * SUPPORT_LEVEL_SIGMA_RAD;
+        Self {
+            demo: edge.demo.clone(),
+            normal: n,
+            normal_cov: p * (edge.direction_cov + Matrix3::identity() * level) * p,
+            offset: Some(n.dot(&edge.line.point)),
+            offset_var: Some(n.dot(&(edge.point_cov * n))),
+            sign_known: true,
+            source: FaceSource::Rest,
+            frames: edge.frames,
+        }
+    }
+
+    /// RMS standard deviation [rad] of the normal, per axis.
+    pub fn sigma_normal(&self) -> f64 {
+        (self.normal_cov.trace() / 2.0).max(0.0).sqrt()
+    }
+}

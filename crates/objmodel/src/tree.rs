@@ -1,1 +1,424 @@
-//! TODO
+//! The object description tree (paper Fig. 2): the object's contact features — edges and
+//! faces — each with its geometry in the object frame, the demonstrations that support it, its
+//! uncertainty, and its dynamic models.
+//!
+//! Learning is incremental: [`Tree::add`] fuses a classified demonstration into the tree. Each
+//! feature keeps its per-demonstration observations, and its estimate is recomputed from them:
+//!
+//! * an edge is the information-weighted mean line of its observations ([`LineStats`]), with the
+//!   covariance of that mean: the larger of the propagated one and the between-demonstration
+//!   scatter divided by the number of demonstrations;
+//! * a face's normal is the weighted mean of its observations' normals (their signs aligned), its
+//!   offset the weighted mean of the offsets that are known.
+//!
+//! An observation joins an existing feature when a χ² test at level [`MATCH_ALPHA`] cannot tell
+//! them apart, with both covariances plus a per-demonstration systematic error
+//! ([`SYSTEMATIC_POINT_M`], [`SYSTEMATIC_DIRECTION_RAD`]); otherwise it starts a new feature.
+//! Distinct edges of a polyhedron differ by centimetres or tens of degrees, far outside that gate.
+//!
+//! The JSON schema is documented in `docs/tree-schema.md`; its version is [`VERSION`].
+
+use crate::classify::{Classification, Kind};
+use crate::edge::EdgeObservation;
+use crate::face::{FaceObservation, FaceSource};
+use crate::geometry::{Line, LineStats};
+use crate::noise::NoiseModel;
+use crate::{Error, Result};
+use nalgebra::{Matrix3, Vector3};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// Schema name written into every tree file.
+pub const SCHEMA: &str = "objmodel.tree";
+/// Schema version.
+pub const VERSION: u32 = 1;
+/// Significance level of the test that decides whether an observation is a known feature.
+pub const MATCH_ALPHA: f64 = 1e-4;
+/// Per-demonstration systematic error [m] of an edge's position beyond its propagated noise
+/// (pivot micro-slip, rounded edges), used only when matching observations to features.
+pub const SYSTEMATIC_POINT_M: f64 = 3e-3;
+/// Per-demonstration systematic error [rad] of a direction (2°), used only when matching.
+pub const SYSTEMATIC_DIRECTION_RAD: f64 = 0.034_906_585_039_886_59;
+
+/// A dynamic model on an edge's contact sub-manifold: the planar pendulum of Sec. II-B, one per
+/// face the object rested on when toppling about the edge (filled in by the dynamics stage).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Pendulum {
+    /// Outward normal (object frame) of the face the object rested on before toppling.
+    pub resting_face_normal: Vector3<f64>,
+    /// Angle [rad] of the CoM from the vertical through the edge, when resting on that face.
+    pub phi: Option<f64>,
+    /// Distance [m] of the CoM from the edge.
+    pub l_p: Option<f64>,
+    /// Standard deviation of phi [rad].
+    pub phi_sigma: Option<f64>,
+    /// Demonstrations behind it.
+    pub support: Vec<String>,
+}
+
+/// An edge of the object.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Edge {
+    /// Identifier, `e0`, `e1`, ...
+    pub id: String,
+    /// Point of the edge line closest to the object-frame origin [m].
+    pub point: Vector3<f64>,
+    /// Unit direction of the edge line.
+    pub direction: Vector3<f64>,
+    /// Covariance of `point` [m²], rows.
+    pub point_cov: [[f64; 3]; 3],
+    /// Covariance of `direction` [rad²], rows.
+    pub direction_cov: [[f64; 3]; 3],
+    /// RMS standard deviation of `point` normal to the line [m].
+    pub sigma_point_m: f64,
+    /// RMS standard deviation of `direction` [rad].
+    pub sigma_direction_rad: f64,
+    /// Names of the demonstrations that show this edge.
+    pub support: Vec<String>,
+    /// Number of supporting demonstrations.
+    pub n_support: usize,
+    /// Faces adjacent to this edge (ids), from the rests before and after topples.
+    pub faces: Vec<String>,
+    /// Dynamic models (pendulums), one per resting face.
+    pub pendulums: Vec<Pendulum>,
+    /// The per-demonstration observations.
+    pub observations: Vec<EdgeObservation>,
+}
+
+/// A face of the object: the plane `{x : normal·x = offset}`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Face {
+    /// Identifier, `f0`, `f1`, ...
+    pub id: String,
+    /// Unit normal (outward when `sign_known`).
+    pub normal: Vector3<f64>,
+    /// Offset [m], or null when the data do not determine it (a slide alone does not).
+    pub offset: Option<f64>,
+    /// Standard deviation of the offset [m].
+    pub offset_sigma_m: Option<f64>,
+    /// RMS standard deviation of the normal [rad].
+    pub sigma_normal_rad: f64,
+    /// Whether the normal is known to point out of the object.
+    pub sign_known: bool,
+    /// Names of the demonstrations that show this face.
+    pub support: Vec<String>,
+    /// Number of supporting demonstrations.
+    pub n_support: usize,
+    /// How many observations came from slides and from rests.
+    pub evidence: Evidence,
+    /// The per-demonstration observations.
+    pub observations: Vec<FaceObservation>,
+}
+
+/// Counts of face observations by source.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Evidence {
+    /// From slides.
+    pub slide: usize,
+    /// From rests before or after topples.
+    pub rest: usize,
+}
+
+/// What the tree remembers of each demonstration.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DemoRecord {
+    /// Name.
+    pub name: String,
+    /// Its kind.
+    pub kind: Kind,
+    /// Frames read.
+    pub frames: u64,
+    /// Frames rejected as outliers.
+    pub outliers: u64,
+    /// Whether it was instrumented (palm tracked).
+    pub instrumented: bool,
+    /// Noise the tests used.
+    pub noise: Option<NoiseModel>,
+}
+
+/// The object description tree.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Tree {
+    /// Always [`SCHEMA`].
+    pub schema: String,
+    /// Schema version, [`VERSION`].
+    pub version: u32,
+    /// The frame everything is expressed in.
+    pub frame: String,
+    /// Edges.
+    pub edges: Vec<Edge>,
+    /// Faces.
+    pub faces: Vec<Face>,
+    /// Demonstrations learnt from, in order.
+    pub demos: Vec<DemoRecord>,
+}
+
+impl Default for Tree {
+    fn default() -> Self {
+        Self {
+            schema: SCHEMA.to_string(),
+            version: VERSION,
+            frame: "object: the tracked frame attached to the object (the frame whose pose the demonstration files give)".to_string(),
+            edges: Vec::new(),
+            faces: Vec::new(),
+            demos: Vec::new(),
+        }
+    }
+}
+
+fn rows(m: &Matrix3<f64>) -> [[f64; 3]; 3] {
+    [[m[(0, 0)], m[(0, 1)], m[(0, 2)]], [m[(1, 0)], m[(1, 1)], m[(1, 2)]], [m[(2, 0)], m[(2, 1)], m[(2, 2)]]]
+}
+
+fn angle(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+    a.cross(b).norm().atan2(a.dot(b))
+}
+
+impl Edge {
+    fn new(id: String, obs: EdgeObservation) -> Self {
+        let mut e = Self {
+            id,
+            point: obs.line.point,
+            direction: obs.line.direction,
+            point_cov: [[0.0; 3]; 3],
+            direction_cov: [[0.0; 3]; 3],
+            sigma_point_m: 0.0,
+            sigma_direction_rad: 0.0,
+            support: Vec::new(),
+            n_support: 0,
+            faces: Vec::new(),
+            pendulums: Vec::new(),
+            observations: vec![obs],
+        };
+        e.refit();
+        e
+    }
+
+    /// The edge as a line.
+    pub fn line(&self) -> Line {
+        Line { point: self.point, direction: self.direction }
+    }
+
+    /// Recompute the estimate from the observations.
+    fn refit(&mut self) {
+        let first = self.observations[0].line.direction;
+        let mut s = LineStats::default();
+        for o in &self.observations {
+            let w = 1.0 / (o.sigma_point().powi(2) + 1e-12);
+            let a = 1.0 / (o.sigma_direction().powi(2) + 1e-12);
+            s.add(&o.line.point, &o.line.direction, w, a, 0.0);
+        }
+        let line = s.mean().expect("an edge has at least one observation").aligned_with(&first);
+        let (cp, cd) = s.covariances(&line);
+        self.point = line.point;
+        self.direction = line.direction;
+        self.point_cov = rows(&cp);
+        self.direction_cov = rows(&cd);
+        self.sigma_point_m = (cp.trace() / 2.0).sqrt();
+        self.sigma_direction_rad = (cd.trace() / 2.0).sqrt();
+        self.support = self.observations.iter().map(|o| o.demo.clone()).collect();
+        self.support.dedup();
+        self.n_support = self.support.len();
+    }
+
+    /// χ² (4 dof) of an observation against this edge.
+    fn match_chi2(&self, o: &EdgeObservation) -> f64 {
+        let u = self.direction;
+        let p = Matrix3::identity() - u * u.transpose();
+        let d = p * (o.line.point - self.point);
+        let var_p = self.sigma_point_m.powi(2) + o.sigma_point().powi(2) + SYSTEMATIC_POINT_M.powi(2);
+        let ang = angle(&u, &o.line.direction);
+        let ang = ang.min(std::f64::consts::PI - ang);
+        let var_d = self.sigma_direction_rad.powi(2) + o.sigma_direction().powi(2) + SYSTEMATIC_DIRECTION_RAD.powi(2);
+        d.norm_squared() / var_p + ang * ang / var_d
+    }
+}
+
+impl Face {
+    fn new(id: String, obs: FaceObservation) -> Self {
+        let mut f = Self {
+            id,
+            normal: obs.normal,
+            offset: None,
+            offset_sigma_m: None,
+            sigma_normal_rad: 0.0,
+            sign_known: obs.sign_known,
+            support: Vec::new(),
+            n_support: 0,
+            evidence: Evidence::default(),
+            observations: vec![obs],
+        };
+        f.refit();
+        f
+    }
+
+    /// Recompute the estimate from the observations.
+    fn refit(&mut self) {
+        // Reference sign: the first observation whose sign is known, else the first.
+        let reference = self.observations.iter().find(|o| o.sign_known).unwrap_or(&self.observations[0]).normal;
+        let (mut sum, mut wsum, mut wsum2) = (Vector3::zeros(), 0.0, 0.0);
+        let (mut off, mut off_w) = (0.0, 0.0);
+        let mut evidence = Evidence::default();
+        for o in &self.observations {
+            let w = 1.0 / (o.sigma_normal().powi(2) + 1e-12);
+            let n = if o.normal.dot(&reference) < 0.0 { -o.normal } else { o.normal };
+            sum += n * w;
+            wsum += w;
+            wsum2 += w * w;
+            if let (Some(d), Some(v)) = (o.offset, o.offset_var) {
+                let d = if o.normal.dot(&reference) < 0.0 { -d } else { d };
+                let wo = 1.0 / (v + 1e-12);
+                off += d * wo;
+                off_w += wo;
+            }
+            match o.source {
+                FaceSource::Slide => evidence.slide += 1,
+                FaceSource::Rest => evidence.rest += 1,
+            }
+        }
+        let n = sum.normalize();
+        // Scatter of the normals about their mean, per axis, over the effective count.
+        let n_eff = (wsum * wsum / wsum2).max(1.0);
+        let scatter: f64 = self.observations.iter().map(|o| {
+            let w = 1.0 / (o.sigma_normal().powi(2) + 1e-12);
+            let a = angle(&n, &o.normal);
+            w * a.min(std::f64::consts::PI - a).powi(2)
+        }).sum::<f64>() / wsum;
+        self.normal = n;
+        self.sigma_normal_rad = ((scatter / 2.0) / n_eff + 1.0 / wsum).sqrt();
+        self.sign_known = self.observations.iter().any(|o| o.sign_known);
+        self.offset = (off_w > 0.0).then(|| off / off_w);
+        self.offset_sigma_m = (off_w > 0.0).then(|| (1.0 / off_w).sqrt());
+        self.support = self.observations.iter().map(|o| o.demo.clone()).collect();
+        self.support.sort();
+        self.support.dedup();
+        self.n_support = self.support.len();
+        self.evidence = evidence;
+    }
+
+    /// χ² (2 dof) of an observation's normal against this face, and whether offsets agree.
+    fn match_chi2(&self, o: &FaceObservation) -> f64 {
+        let a = angle(&self.normal, &o.normal);
+        // Signs: when both are known, opposite normals are different faces.
+        let a = if self.sign_known && o.sign_known { a } else { a.min(std::f64::consts::PI - a) };
+        let var = self.sigma_normal_rad.powi(2) + o.sigma_normal().powi(2) + SYSTEMATIC_DIRECTION_RAD.powi(2);
+        let mut chi2 = a * a / var;
+        if let (Some(d0), Some(d1), Some(v1)) = (self.offset, o.offset, o.offset_var) {
+            let d1 = if self.normal.dot(&o.normal) < 0.0 { -d1 } else { d1 };
+            let v = self.offset_sigma_m.unwrap_or(0.0).powi(2) + v1 + SYSTEMATIC_POINT_M.powi(2);
+            chi2 += (d0 - d1).powi(2) / v;
+        }
+        chi2
+    }
+}
+
+impl Tree {
+    /// Fuse a classified demonstration into the tree. A demonstration already in the tree (same
+    /// name) is replaced, so adding it twice changes nothing.
+    pub fn add(&mut self, c: &Classification) {
+        self.remove_demo(&c.name);
+        self.demos.push(DemoRecord { name: c.name.clone(), kind: c.kind, frames: c.frames, outliers: c.outliers, instrumented: c.instrumented, noise: c.noise });
+        for s in &c.segments {
+            let edge_id = match (&s.edge, s.kind) {
+                (Some(e), Kind::Topple) => Some(self.add_edge(e.clone())),
+                _ => None,
+            };
+            if let (Some(f), Kind::Slide) = (&s.face, s.kind) {
+                self.add_face(f.clone());
+            }
+            if let (Some(eid), Some(e)) = (&edge_id, &s.edge) {
+                for n in [s.resting_normal_before, s.resting_normal_after].into_iter().flatten() {
+                    let fid = self.add_face(FaceObservation::from_rest(&n, e));
+                    let edge = self.edges.iter_mut().find(|x| &x.id == eid).unwrap();
+                    if !edge.faces.contains(&fid) {
+                        edge.faces.push(fid);
+                    }
+                }
+            }
+        }
+    }
+
+    fn next_id(prefix: &str, used: impl Iterator<Item = String>) -> String {
+        let max = used.filter_map(|id| id.strip_prefix(prefix).and_then(|n| n.parse::<usize>().ok())).max();
+        format!("{prefix}{}", max.map_or(0, |m| m + 1))
+    }
+
+    fn add_edge(&mut self, o: EdgeObservation) -> String {
+        let threshold = crate::stats::chi2_threshold(4.0, MATCH_ALPHA);
+        let best = self.edges.iter_mut().map(|e| (e.match_chi2(&o), e)).filter(|(c, _)| *c < threshold).min_by(|a, b| a.0.total_cmp(&b.0));
+        match best {
+            Some((_, e)) => {
+                e.observations.push(o);
+                e.refit();
+                e.id.clone()
+            }
+            None => {
+                let id = Self::next_id("e", self.edges.iter().map(|e| e.id.clone()));
+                self.edges.push(Edge::new(id.clone(), o));
+                id
+            }
+        }
+    }
+
+    fn add_face(&mut self, o: FaceObservation) -> String {
+        let dof = if o.offset.is_some() { 3.0 } else { 2.0 };
+        let threshold = crate::stats::chi2_threshold(dof, MATCH_ALPHA);
+        let best = self.faces.iter_mut().map(|f| (f.match_chi2(&o), f)).filter(|(c, _)| *c < threshold).min_by(|a, b| a.0.total_cmp(&b.0));
+        match best {
+            Some((_, f)) => {
+                f.observations.push(o);
+                f.refit();
+                f.id.clone()
+            }
+            None => {
+                let id = Self::next_id("f", self.faces.iter().map(|f| f.id.clone()));
+                self.faces.push(Face::new(id.clone(), o));
+                id
+            }
+        }
+    }
+
+    /// Remove every observation of the demonstration `name`, and features left without any.
+    pub fn remove_demo(&mut self, name: &str) {
+        self.demos.retain(|d| d.name != name);
+        self.edges.retain_mut(|e| {
+            e.observations.retain(|o| o.demo != name);
+            e.pendulums.iter_mut().for_each(|p| p.support.retain(|s| s != name));
+            e.pendulums.retain(|p| !p.support.is_empty());
+            !e.observations.is_empty()
+        });
+        self.edges.iter_mut().for_each(Edge::refit);
+        self.faces.retain_mut(|f| {
+            f.observations.retain(|o| o.demo != name);
+            !f.observations.is_empty()
+        });
+        self.faces.iter_mut().for_each(Face::refit);
+        let ids: Vec<String> = self.faces.iter().map(|f| f.id.clone()).collect();
+        self.edges.iter_mut().for_each(|e| e.faces.retain(|f| ids.contains(f)));
+    }
+
+    /// The tree as pretty JSON.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("the tree serialises")
+    }
+
+    /// Read a tree file, checking its schema and version.
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io { file: path.to_path_buf(), source })?;
+        let value: serde_json::Value = serde_json::from_str(&text).map_err(|e| Error::Parse { file: path.to_path_buf(), line: e.line(), msg: format!("not valid JSON: {e}") })?;
+        match value.get("schema").and_then(|s| s.as_str()) {
+            Some(SCHEMA) => {}
+            other => return Err(Error::File { file: path.to_path_buf(), msg: format!("not an objmodel tree (schema is {other:?}, expected \"{SCHEMA}\")") }),
+        }
+        let version = value.get("version").and_then(|v| v.as_u64()).unwrap_or(0);
+        if version != VERSION as u64 {
+            return Err(Error::File { file: path.to_path_buf(), msg: format!("tree schema version {version} is not supported (this objmodel reads version {VERSION})") });
+        }
+        serde_json::from_value(value).map_err(|e| Error::File { file: path.to_path_buf(), msg: format!("invalid tree: {e}") })
+    }
+
+    /// Write the tree to `path` atomically (temporary file, sync, rename).
+    pub fn save(&self, path: &Path) -> Result<()> {
+        crate::format::write_atomic(path, self.to_json().as_bytes())
+    }
+}

@@ -1,0 +1,65 @@
+//! `objmodel`: learn object description trees from pose demonstrations, and use them.
+//!
+//! A thin front end: argument parsing and printing. The work is done by the `objmodel`
+//! library (learning) and `objmodel-sim` (simulation).
+
+mod demo;
+mod learn;
+mod opts;
+mod synth_cmd;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Learn models of objects (edges, faces, dynamics) from demonstrations in which they are
+/// toppled, slid or moved, after Sanan, Bretan & Heck, IROS 2019.
+#[derive(Parser)]
+#[command(name = "objmodel", version, about, long_about = None, propagate_version = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Tell whether a demonstration is a topple, a slide or a general motion, and why.
+    Classify(learn::ClassifyArgs),
+    /// Learn (or update) an object description tree from demonstrations.
+    Learn(learn::LearnArgs),
+    /// Run the whole story on built-in data: demonstrations, learning, a report.
+    Demo(demo::DemoArgs),
+    /// Write synthetic (kinematic) demonstrations with ground truth.
+    Synth(synth_cmd::SynthArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Classify(a) => learn::run_classify(a),
+        Command::Learn(a) => learn::run_learn(a),
+        Command::Demo(a) => demo::run(a),
+        Command::Synth(a) => synth_cmd::run(a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) if is_broken_pipe(&e) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("objmodel: error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// A reader of our output went away (`objmodel ... | head`): not an error.
+fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| c.downcast_ref::<std::io::Error>().is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe))
+}
+
+/// Write `s` to standard output, reporting a closed pipe as an error instead of panicking.
+pub fn out(s: &str) -> anyhow::Result<()> {
+    use std::io::Write;
+    let mut o = std::io::stdout().lock();
+    o.write_all(s.as_bytes())?;
+    o.flush()?;
+    Ok(())
+}

@@ -1,0 +1,113 @@
+//! Options shared by the commands that classify: every threshold of Algorithm 1, in SI units.
+
+use anyhow::{bail, Context, Result};
+use nalgebra::Vector3;
+use objmodel::classify::{Config, Method};
+
+/// Parse "x,y,z" into a vector.
+pub fn parse_vec3(s: &str) -> Result<Vector3<f64>> {
+    let v: Vec<f64> = s.split(',').map(|x| x.trim().parse::<f64>()).collect::<Result<_, _>>().with_context(|| format!("'{s}' is not three comma-separated numbers"))?;
+    if v.len() != 3 || v.iter().any(|x| !x.is_finite()) {
+        bail!("'{s}' is not three comma-separated finite numbers");
+    }
+    Ok(Vector3::new(v[0], v[1], v[2]))
+}
+
+/// How to classify.
+#[derive(clap::Args, Clone, Debug)]
+pub struct ClassifyOpts {
+    /// Algorithm 1 variant: `robust` (statistical tests, works at real tracking noise) or
+    /// `paper` (the paper's thresholds, literally).
+    #[arg(long, default_value = "robust", value_parser = ["robust", "paper"])]
+    pub method: String,
+    /// Gravity in the tracker's world frame, "gx,gy,gz" (any length), or "none" if unknown.
+    /// A camera-frame tracker gives it as the camera's down direction, e.g. "0,1,0" for a
+    /// level camera with y down.
+    #[arg(long, default_value = "0,0,-1")]
+    pub gravity: String,
+    /// Significance level of the per-frame χ² tests (robust).
+    #[arg(long, default_value_t = 1e-3)]
+    pub alpha: f64,
+    /// Significance level of the tag-flip outlier test (robust).
+    #[arg(long, default_value_t = 1e-6)]
+    pub outlier_alpha: f64,
+    /// Window [s] of the local-velocity fit that tells rest from motion (robust).
+    #[arg(long, default_value_t = 0.6)]
+    pub rest_window: f64,
+    /// Shortest rest [s] that separates two motion segments (robust).
+    #[arg(long, default_value_t = 0.3)]
+    pub min_rest: f64,
+    /// Tracking position noise [m] per axis; estimated from the data if not given (robust).
+    #[arg(long)]
+    pub noise_position: Option<f64>,
+    /// Tracking orientation noise [rad] per axis; estimated if not given (robust).
+    #[arg(long)]
+    pub noise_rotation: Option<f64>,
+    /// Edge model tolerance [m]: how far a real contact line may wander (robust).
+    #[arg(long, default_value_t = 3e-4)]
+    pub edge_tolerance: f64,
+    /// Direction model tolerance [rad] (robust; default 0.5°).
+    #[arg(long, default_value_t = 0.5f64.to_radians())]
+    pub edge_tolerance_angle: f64,
+    /// Largest tilt [rad] of a topple axis from horizontal / a slide normal from vertical
+    /// (robust, when gravity is known; default 45°).
+    #[arg(long, default_value_t = 45f64.to_radians())]
+    pub max_axis_tilt: f64,
+    /// r_palm [m]: axes farther than this from the object origin are not edges.
+    #[arg(long, default_value_t = 0.5)]
+    pub r_palm: f64,
+    /// p_th [m/rad]: pitch threshold (paper).
+    #[arg(long, default_value_t = 0.01)]
+    pub pitch_threshold: f64,
+    /// l_th [rad]: axis angle threshold between consecutive frames (paper; default 5°).
+    #[arg(long, default_value_t = 5f64.to_radians())]
+    pub axis_angle_threshold: f64,
+    /// n_th [rad]: plane normal angle threshold (paper; default 5°).
+    #[arg(long, default_value_t = 5f64.to_radians())]
+    pub normal_angle_threshold: f64,
+}
+
+impl ClassifyOpts {
+    /// The library configuration, validated.
+    pub fn config(&self) -> Result<Config> {
+        let mut c = Config::default();
+        c.method = if self.method == "paper" { Method::Paper } else { Method::Robust };
+        c.gravity = match self.gravity.trim() {
+            "none" => None,
+            g => {
+                let v = parse_vec3(g).context("--gravity")?;
+                if v.norm() == 0.0 {
+                    bail!("--gravity must not be zero (use \"none\" if unknown)");
+                }
+                Some(v)
+            }
+        };
+        for (name, v) in [("--alpha", self.alpha), ("--outlier-alpha", self.outlier_alpha)] {
+            if !(v > 0.0 && v < 1.0) {
+                bail!("{name} must be a probability in (0, 1), got {v}");
+            }
+        }
+        for (name, v) in [("--rest-window", self.rest_window), ("--r-palm", self.r_palm), ("--pitch-threshold", self.pitch_threshold), ("--axis-angle-threshold", self.axis_angle_threshold), ("--normal-angle-threshold", self.normal_angle_threshold)] {
+            if !(v > 0.0 && v.is_finite()) {
+                bail!("{name} must be positive, got {v}");
+            }
+        }
+        c.robust.alpha = self.alpha;
+        c.robust.outlier_alpha = self.outlier_alpha;
+        c.robust.rest_window_s = self.rest_window;
+        c.robust.min_rest_s = self.min_rest;
+        c.robust.edge_tolerance_m = self.edge_tolerance;
+        c.robust.edge_tolerance_rad = self.edge_tolerance_angle;
+        c.robust.max_axis_tilt_rad = self.max_axis_tilt;
+        c.robust.noise = match (self.noise_position, self.noise_rotation) {
+            (Some(p), Some(r)) => Some(objmodel::noise::NoiseModel { sigma_position: p, sigma_rotation: r }),
+            (None, None) => None,
+            _ => bail!("give both --noise-position and --noise-rotation, or neither"),
+        };
+        c.paper.r_palm = self.r_palm;
+        c.paper.pitch = self.pitch_threshold;
+        c.paper.axis_angle = self.axis_angle_threshold;
+        c.paper.normal_angle = self.normal_angle_threshold;
+        Ok(c)
+    }
+}

@@ -1,0 +1,283 @@
+//! Robust fits of a segment's edge line and face plane over its blocks (MSAC + weighted least
+//! squares), and the labels they give.
+
+use super::stream::{Block, Phase, SegState};
+use super::{Config, Kind, Label, Segment, Votes};
+use crate::edge::EdgeObservation;
+use crate::face::{FaceObservation, FaceSource};
+use crate::geometry::{Line, LineStats, PlaneStats};
+use nalgebra::Vector3;
+use std::collections::HashMap;
+
+/// Candidates tried by MSAC: the blocks with the most information.
+const MSAC_CANDIDATES: usize = 48;
+/// Refinement iterations after MSAC.
+const REFINE_ITERATIONS: usize = 10;
+
+/// χ² thresholds by degrees of freedom, cached.
+struct Thresholds {
+    alpha: f64,
+    cache: HashMap<u64, f64>,
+}
+
+impl Thresholds {
+    fn get(&mut self, dof: f64) -> f64 {
+        let k = dof.round().max(1.0) as u64;
+        let alpha = self.alpha;
+        *self.cache.entry(k).or_insert_with(|| crate::stats::chi2_threshold(k as f64, alpha))
+    }
+}
+
+fn line_cost(blocks: &[Block], idx: &[usize], line: &Line, th: &mut Thresholds) -> f64 {
+    idx.iter()
+        .map(|&i| &blocks[i].line)
+        .filter(|s| s.n > 0.0)
+        .map(|s| s.chi2(line).min(th.get(5.0 * s.n)))
+        .sum()
+}
+
+fn plane_cost(blocks: &[Block], idx: &[usize], n: &Vector3<f64>, th: &mut Thresholds) -> f64 {
+    idx.iter()
+        .map(|&i| &blocks[i].plane)
+        .filter(|s| s.n > 0.0)
+        .map(|s| s.chi2(n).min(th.get(3.0 * s.n)))
+        .sum()
+}
+
+fn line_inlier(s: &LineStats, line: &Line, th: &mut Thresholds) -> bool {
+    s.n > 0.0 && s.chi2(line) < th.get(5.0 * s.n)
+}
+
+fn plane_inlier(s: &PlaneStats, n: &Vector3<f64>, th: &mut Thresholds) -> bool {
+    s.n > 0.0 && s.chi2(n) < th.get(3.0 * s.n)
+}
+
+/// The indices of the `k` blocks with the largest `key`.
+fn top_k(idx: &[usize], k: usize, key: impl Fn(usize) -> f64) -> Vec<usize> {
+    let mut v: Vec<(f64, usize)> = idx.iter().map(|&i| (key(i), i)).filter(|(w, _)| *w > 0.0).collect();
+    v.sort_by(|a, b| b.0.total_cmp(&a.0));
+    v.truncate(k);
+    v.into_iter().map(|(_, i)| i).collect()
+}
+
+/// MSAC over candidate lines, then refinement on the inliers.
+fn fit_line(blocks: &[Block], idx: &[usize], valid: impl Fn(&Line) -> bool, th: &mut Thresholds) -> Option<Line> {
+    let mut all = LineStats::default();
+    idx.iter().for_each(|&i| all.merge(&blocks[i].line));
+    let mut candidates: Vec<Line> = top_k(idx, MSAC_CANDIDATES, |i| blocks[i].line.sw).iter().filter_map(|&i| blocks[i].line.mean()).collect();
+    candidates.extend(all.mean());
+    let mut best = candidates
+        .into_iter()
+        .filter(|l| valid(l))
+        .map(|l| (line_cost(blocks, idx, &l, th), l))
+        .min_by(|a, b| a.0.total_cmp(&b.0))?
+        .1;
+    let mut previous: Vec<usize> = Vec::new();
+    for _ in 0..REFINE_ITERATIONS {
+        let inliers: Vec<usize> = idx.iter().copied().filter(|&i| line_inlier(&blocks[i].line, &best, th)).collect();
+        if inliers.is_empty() || inliers == previous {
+            break;
+        }
+        let mut s = LineStats::default();
+        inliers.iter().for_each(|&i| s.merge(&blocks[i].line));
+        match s.mean() {
+            Some(l) if valid(&l) => best = l,
+            _ => break,
+        }
+        previous = inliers;
+    }
+    Some(best)
+}
+
+/// MSAC over candidate plane normals, then refinement on the inliers.
+fn fit_plane(blocks: &[Block], idx: &[usize], valid: impl Fn(&Vector3<f64>) -> bool, th: &mut Thresholds) -> Option<Vector3<f64>> {
+    let mut all = PlaneStats::default();
+    idx.iter().for_each(|&i| all.merge(&blocks[i].plane));
+    let info = |i: usize| blocks[i].plane.sww.trace() + blocks[i].plane.stt.trace();
+    let mut candidates: Vec<Vector3<f64>> = top_k(idx, MSAC_CANDIDATES, info).iter().filter_map(|&i| blocks[i].plane.normal().map(|n| n.into_inner())).collect();
+    candidates.extend(all.normal().map(|n| n.into_inner()));
+    let mut best = candidates
+        .into_iter()
+        .filter(|n| valid(n))
+        .map(|n| (plane_cost(blocks, idx, &n, th), n))
+        .min_by(|a, b| a.0.total_cmp(&b.0))?
+        .1;
+    let mut previous: Vec<usize> = Vec::new();
+    for _ in 0..REFINE_ITERATIONS {
+        let inliers: Vec<usize> = idx.iter().copied().filter(|&i| plane_inlier(&blocks[i].plane, &best, th)).collect();
+        if inliers.is_empty() || inliers == previous {
+            break;
+        }
+        let mut s = PlaneStats::default();
+        inliers.iter().for_each(|&i| s.merge(&blocks[i].plane));
+        match s.normal() {
+            Some(n) if valid(&n) => best = n.into_inner(),
+            _ => break,
+        }
+        previous = inliers;
+    }
+    Some(best)
+}
+
+/// Change-point trimming of a fitted edge: the object may leave or slip along its edge at the
+/// end of a topple (or slide before it starts to turn), and such frames, each within the
+/// noise, still bias the line as a group, all the more because the last frames of a topple
+/// (largest rotation) weigh the most.
+///
+/// With `order` the line-inlier blocks in time order, every cut τ splits them into a before and
+/// an after. Under a fixed edge both halves' weighted mean axis points agree, so
+/// `T(τ) = |P (r̄_before - r̄_after)|² / (1/W_before + 1/W_after)` is χ²₂ (P projects normal to the
+/// line, W are the summed point weights). The largest T over all cuts is compared with the χ²₂
+/// quantile at `alpha` divided by the number of cuts (Bonferroni, for the scan); if significant,
+/// the side with fewer frames is dropped and the test repeated. Returns the kept blocks.
+fn trim_change_points(blocks: &[Block], order: &[usize], line: Line, alpha: f64) -> Vec<usize> {
+    let mut kept: Vec<usize> = order.to_vec();
+    let u = line.direction;
+    let p_mat = nalgebra::Matrix3::identity() - u * u.transpose();
+    while kept.len() >= 3 {
+        let cuts = kept.len() - 1;
+        let threshold = -2.0 * (alpha / cuts as f64).ln();
+        let mut total = LineStats::default();
+        kept.iter().for_each(|&i| total.merge(&blocks[i].line));
+        let mut before = LineStats::default();
+        let mut best: Option<(f64, usize)> = None;
+        for (k, &i) in kept.iter().enumerate().take(cuts) {
+            before.merge(&blocks[i].line);
+            let (wb, wa) = (before.sw, total.sw - before.sw);
+            if wb <= 0.0 || wa <= 0.0 {
+                continue;
+            }
+            let d = p_mat * (before.swr / wb - (total.swr - before.swr) / wa);
+            let t = d.norm_squared() / (1.0 / wb + 1.0 / wa);
+            if t > threshold && best.is_none_or(|b| t > b.0) {
+                best = Some((t, k + 1));
+            }
+        }
+        let Some((_, n_before)) = best else { break };
+        let frames = |r: &[usize]| r.iter().map(|&i| blocks[i].line.n).sum::<f64>();
+        if frames(&kept[..n_before]) < frames(&kept[n_before..]) {
+            kept.drain(..n_before);
+        } else {
+            kept.truncate(n_before);
+        }
+    }
+    kept
+}
+
+/// Fit, label and summarise one motion segment.
+pub(super) fn analyse_segment(index: usize, seg: &SegState, blocks: &mut [Block], config: &Config, alpha: f64, demo: &str) -> Segment {
+    let idx: Vec<usize> = (0..blocks.len()).filter(|&i| blocks[i].segment == Some(index) && blocks[i].phase == Phase::Moving).collect();
+    let up = seg.down_ref.map(|d| -d);
+    let (r_palm, sin_tilt, cos_tilt) = (config.paper.r_palm, config.robust.max_axis_tilt_rad.sin(), config.robust.max_axis_tilt_rad.cos());
+    let valid_line = |l: &Line| l.point.norm() <= r_palm && up.is_none_or(|u| l.direction.dot(&u).abs() <= sin_tilt);
+    let valid_plane = |n: &Vector3<f64>| up.is_none_or(|u| n.dot(&u).abs() >= cos_tilt);
+    let mut th = Thresholds { alpha, cache: HashMap::new() };
+    let mut line = fit_line(blocks, &idx, valid_line, &mut th);
+    let plane = fit_plane(blocks, &idx, valid_plane, &mut th);
+    // Blocks cut off as "after (or before) the pure rotation": labelled general.
+    let mut cut: std::collections::HashSet<usize> = std::collections::HashSet::new();
+    if let Some(l) = line {
+        let order: Vec<usize> = idx.iter().copied().filter(|&i| line_inlier(&blocks[i].line, &l, &mut th)).collect();
+        let kept = trim_change_points(blocks, &order, l, alpha);
+        let mut s = LineStats::default();
+        kept.iter().for_each(|&i| s.merge(&blocks[i].line));
+        if let Some(trimmed) = s.mean().filter(|t| valid_line(t)) {
+            let kept: std::collections::HashSet<usize> = kept.into_iter().collect();
+            cut = order.into_iter().filter(|i| !kept.contains(i)).collect();
+            line = Some(trimmed);
+        }
+    }
+
+    let mut votes = Votes::default();
+    for &i in &idx {
+        let b = &blocks[i];
+        let label = if b.significant == 0 {
+            Label::Still
+        } else if cut.contains(&i) {
+            Label::General
+        } else if let Some(l) = line.filter(|l| {
+            if b.line.n > 0.0 {
+                line_inlier(&b.line, l, &mut th)
+            } else {
+                // Too little rotation to have an axis: consistent with the edge if its motion
+                // lies in the plane normal to the edge.
+                plane_inlier(&b.plane, &l.direction, &mut th)
+            }
+        }) {
+            let _ = l;
+            Label::Topple
+        } else if plane.is_some_and(|n| plane_inlier(&b.plane, &n, &mut th)) {
+            Label::Slide
+        } else {
+            Label::General
+        };
+        blocks[i].label = label;
+        if let Some(k) = label.vote() {
+            votes.add(k, blocks[i].significant);
+        }
+    }
+    let kind = votes.winner().unwrap_or(Kind::General);
+    let max_angle = idx.iter().map(|&i| blocks[i].max_angle).fold(0.0, f64::max);
+    let blocks: &[Block] = blocks;
+    let with_label = |l: Label| -> Vec<usize> { idx.iter().copied().filter(|&i| blocks[i].label == l).collect() };
+    let topple_blocks = with_label(Label::Topple);
+    let slide_blocks = with_label(Label::Slide);
+
+    let edge = (kind == Kind::Topple).then(|| {
+        let mut s = LineStats::default();
+        topple_blocks.iter().for_each(|&i| s.merge(&blocks[i].line));
+        let mean = s.mean().or(line)?;
+        let (best_line, omega) = topple_blocks
+            .iter()
+            .filter_map(|&i| blocks[i].max_line.map(|m| (blocks[i].max_angle, m)))
+            .max_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(_, m)| m)?;
+        let mean = mean.aligned_with(&omega);
+        let (point_cov, direction_cov) = s.covariances(&mean);
+        let dof = (5.0 * s.n).max(1.0);
+        Some(EdgeObservation {
+            demo: demo.to_string(),
+            line: mean,
+            point_cov,
+            direction_cov,
+            paper_line: Some(best_line.aligned_with(&omega)),
+            frames: s.n as u64,
+            max_angle,
+            chi2_per_dof: s.chi2(&mean) / dof,
+        })
+    });
+    let edge = edge.flatten();
+
+    let face = (kind == Kind::Slide).then(|| {
+        let mut s = PlaneStats::default();
+        slide_blocks.iter().for_each(|&i| s.merge(&blocks[i].plane));
+        let mut n = s.normal().map(|n| n.into_inner()).or(plane)?;
+        if let Some(d) = seg.down_ref {
+            if n.dot(&d) < 0.0 {
+                n = -n;
+            }
+        }
+        Some(FaceObservation {
+            demo: demo.to_string(),
+            normal: n,
+            normal_cov: s.normal_covariance(&n),
+            offset: None,
+            offset_var: None,
+            sign_known: seg.down_ref.is_some(),
+            source: FaceSource::Slide,
+            frames: s.n as u64,
+        })
+    });
+
+    Segment {
+        t_start: seg.t_start,
+        t_end: seg.t_end,
+        kind,
+        votes,
+        max_angle,
+        edge,
+        face: face.flatten(),
+        resting_normal_before: seg.rest_before,
+        resting_normal_after: seg.rest_after,
+    }
+}

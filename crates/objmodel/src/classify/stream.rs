@@ -1,0 +1,653 @@
+//! The streaming front end: cleaning, the palm-relative motion, rest detection, segments and
+//! the per-frame statistics, with memory bounded independently of the file length.
+//!
+//! Frames are summarised into *blocks* of sufficient statistics ([`LineStats`], [`PlaneStats`]).
+//! While a file has fewer than [`MAX_BLOCKS`] frames every block is one frame, so per-frame
+//! labels are exact; beyond that, adjacent blocks of the same phase and segment are merged in
+//! pairs (and new blocks take twice as many frames), so labels become per block of 2, 4, ...
+//! frames and memory stays flat.
+
+use super::fit;
+use super::paper::PaperCore;
+use super::rest::{Item, RestDetector};
+use super::{Classification, Config, Label, LabelRun, Method, Segment, Votes};
+use crate::clean::{Cleaner, RawFrame};
+use crate::geometry::{Line, LineStats, PlaneStats};
+use crate::noise::{self, NoiseModel};
+use crate::se3::{so3_log, Twist};
+use crate::trajectory::StampedPose;
+use nalgebra::{Quaternion, UnitQuaternion, Vector3, Vector4};
+use std::collections::VecDeque;
+
+/// Largest number of blocks kept per demonstration.
+pub const MAX_BLOCKS: usize = 1 << 14;
+
+/// Upper bound [m] on the axis distance used in the axis-point variance (beyond the palm the
+/// frame cannot be a topple anyway; this keeps far-away axes from underflowing the weight).
+const MAX_AXIS_DISTANCE_M: f64 = 10.0;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Phase {
+    Rest,
+    Outlier,
+    Moving,
+}
+
+/// Sufficient statistics of a run of consecutive frames of one phase and segment.
+#[derive(Clone, Debug)]
+pub(super) struct Block {
+    pub first: usize,
+    pub last: usize,
+    pub t0: f64,
+    pub t1: f64,
+    pub frames: u64,
+    pub phase: Phase,
+    pub segment: Option<usize>,
+    /// Frames measurably displaced from the segment reference (they vote).
+    pub significant: u64,
+    pub line: LineStats,
+    pub plane: PlaneStats,
+    /// Largest rotation in the block and the screw axis at that frame.
+    pub max_angle: f64,
+    pub max_line: Option<(Line, Vector3<f64>)>,
+    pub label: Label,
+}
+
+impl Block {
+    fn new(index: usize, t: f64, phase: Phase, segment: Option<usize>) -> Self {
+        Self {
+            first: index,
+            last: index,
+            t0: t,
+            t1: t,
+            frames: 0,
+            phase,
+            segment,
+            significant: 0,
+            line: LineStats::default(),
+            plane: PlaneStats::default(),
+            max_angle: 0.0,
+            max_line: None,
+            label: match phase {
+                Phase::Rest => Label::Rest,
+                Phase::Outlier => Label::Outlier,
+                Phase::Moving => Label::Still,
+            },
+        }
+    }
+
+    fn merge(&mut self, o: &Block) {
+        self.last = o.last;
+        self.t1 = o.t1;
+        self.frames += o.frames;
+        self.significant += o.significant;
+        self.line.merge(&o.line);
+        self.plane.merge(&o.plane);
+        if o.max_angle > self.max_angle {
+            self.max_angle = o.max_angle;
+            self.max_line = o.max_line;
+        }
+    }
+}
+
+/// Mean pose and mean "down" over a rest.
+#[derive(Clone, Copy, Debug, Default)]
+struct RestAcc {
+    n: f64,
+    q: Vector4<f64>,
+    p: Vector3<f64>,
+    down_obj: Vector3<f64>,
+    has_down: bool,
+    t0: f64,
+    t1: f64,
+}
+
+impl RestAcc {
+    fn add(&mut self, f: &RawFrame) {
+        if self.n == 0.0 {
+            self.t0 = f.t;
+        }
+        self.t1 = f.t;
+        let mut q = f.q.into_inner().coords;
+        if self.n > 0.0 && q.dot(&self.q) < 0.0 {
+            q = -q;
+        }
+        self.n += 1.0;
+        self.q += q;
+        self.p += f.p;
+        if let Some(d) = f.down {
+            self.down_obj += f.q.inverse() * d;
+            self.has_down = true;
+        }
+    }
+
+    fn mean(&self) -> Option<(UnitQuaternion<f64>, Vector3<f64>)> {
+        (self.n > 0.0).then(|| (UnitQuaternion::from_quaternion(Quaternion::from(self.q)), self.p / self.n))
+    }
+
+    fn down(&self) -> Option<Vector3<f64>> {
+        (self.has_down && self.n > 0.0).then(|| self.down_obj.normalize())
+    }
+}
+
+pub(super) struct SegState {
+    pub ref_q: UnitQuaternion<f64>,
+    pub ref_p: Vector3<f64>,
+    pub t_start: f64,
+    pub t_end: f64,
+    /// Down (unit) in object coordinates at the reference, if gravity is known.
+    pub down_ref: Option<Vector3<f64>>,
+    pub rest_before: Option<Vector3<f64>>,
+    pub rest_after: Option<Vector3<f64>>,
+}
+
+/// Per-frame variances and the χ² level, shared by the block statistics.
+#[derive(Clone, Copy, Debug)]
+struct FrameModel {
+    var_p: f64,
+    var_r: f64,
+    tol_p2: f64,
+    tol_r2: f64,
+    displaced: f64,
+    rotated: f64,
+}
+
+/// The robust core: noise warm-up, rest detection, segments and blocks.
+struct Core {
+    config: Config,
+    warm: Vec<Item>,
+    noise: Option<NoiseModel>,
+    model: Option<FrameModel>,
+    rest: Option<RestDetector>,
+    blocks: Vec<Block>,
+    block_size: u64,
+    segments: Vec<SegState>,
+    rest_acc: RestAcc,
+    in_motion: bool,
+    outliers: u64,
+}
+
+impl Core {
+    fn new(config: &Config) -> Self {
+        Self {
+            config: *config,
+            warm: Vec::new(),
+            noise: config.robust.noise.map(NoiseModel::floored),
+            model: None,
+            rest: None,
+            blocks: Vec::new(),
+            block_size: 1,
+            segments: Vec::new(),
+            rest_acc: RestAcc::default(),
+            in_motion: false,
+            outliers: 0,
+        }
+    }
+
+    fn start(&mut self) {
+        if self.noise.is_none() {
+            let samples: Vec<noise::PoseSample> = self
+                .warm
+                .iter()
+                .filter_map(|i| match i {
+                    Item::Frame(f) => Some((f.t, f.q, f.p)),
+                    Item::Outlier(..) => None,
+                })
+                .collect();
+            self.noise = Some(noise::estimate(&samples).unwrap_or(NoiseModel {
+                sigma_position: noise::MIN_SIGMA_POSITION_M,
+                sigma_rotation: noise::MIN_SIGMA_ROTATION_RAD,
+            }));
+        }
+        let n = self.noise.unwrap();
+        let r = &self.config.robust;
+        self.model = Some(FrameModel {
+            var_p: n.sigma_position.powi(2),
+            var_r: n.sigma_rotation.powi(2),
+            tol_p2: r.edge_tolerance_m.powi(2),
+            tol_r2: r.edge_tolerance_rad.powi(2),
+            displaced: crate::stats::chi2_threshold(6.0, r.alpha),
+            rotated: crate::stats::chi2_threshold(3.0, r.alpha),
+        });
+        self.rest = Some(RestDetector::new(r.rest_window_s, n.sigma_position, n.sigma_rotation, r.alpha));
+        for item in std::mem::take(&mut self.warm) {
+            self.feed_rest(item);
+        }
+    }
+
+    fn push(&mut self, item: Item) {
+        if self.rest.is_none() {
+            self.warm.push(item);
+            if self.warm.len() >= self.config.robust.warmup_frames.max(3) {
+                self.start();
+            }
+        } else {
+            self.feed_rest(item);
+        }
+    }
+
+    fn feed_rest(&mut self, item: Item) {
+        let mut rest = self.rest.take().unwrap();
+        rest.push(item, &mut |i, m| self.judged(i, m));
+        self.rest = Some(rest);
+    }
+
+    fn judged(&mut self, item: Item, moving: bool) {
+        match item {
+            Item::Outlier(index, t) => {
+                self.outliers += 1;
+                self.append(index, t, Phase::Outlier, None, |_| {});
+            }
+            Item::Frame(f) if !moving => {
+                if self.in_motion {
+                    self.in_motion = false;
+                    self.rest_acc = RestAcc::default();
+                }
+                self.rest_acc.add(&f);
+                self.append(f.index, f.t, Phase::Rest, None, |_| {});
+            }
+            Item::Frame(f) => self.moving(f),
+        }
+    }
+
+    fn moving(&mut self, f: RawFrame) {
+        if !self.in_motion {
+            self.in_motion = true;
+            let long_rest = self.rest_acc.n > 0.0 && self.rest_acc.t1 - self.rest_acc.t0 >= self.config.robust.min_rest_s;
+            if self.segments.is_empty() || long_rest {
+                if let Some(prev) = self.segments.last_mut() {
+                    prev.rest_after = self.rest_acc.down();
+                }
+                let (ref_q, ref_p) = self.rest_acc.mean().unwrap_or((f.q, f.p));
+                let down_ref = self.rest_acc.down().or_else(|| f.down.map(|d| (f.q.inverse() * d).normalize()));
+                self.segments.push(SegState {
+                    ref_q,
+                    ref_p,
+                    t_start: f.t,
+                    t_end: f.t,
+                    down_ref,
+                    rest_before: self.rest_acc.down(),
+                    rest_after: None,
+                });
+            }
+        }
+        let seg_index = self.segments.len() - 1;
+        let seg = &mut self.segments[seg_index];
+        seg.t_end = f.t;
+        let m = self.model.unwrap();
+        let q_rel = seg.ref_q.inverse() * f.q;
+        let t_rel = seg.ref_q.inverse() * (f.p - seg.ref_p);
+        let omega = so3_log(&q_rel);
+        let theta2 = omega.norm_squared();
+        let significant = theta2 / m.var_r + t_rel.norm_squared() / m.var_p > m.displaced;
+        let r_palm = self.config.paper.r_palm;
+        self.append(f.index, f.t, Phase::Moving, Some(seg_index), |b| {
+            if !significant {
+                return;
+            }
+            b.significant += 1;
+            b.plane.add(&omega, &t_rel, m.var_r + m.tol_r2, m.var_p + m.tol_p2);
+            if theta2 / m.var_r <= m.rotated {
+                return;
+            }
+            let theta = theta2.sqrt();
+            let u = omega / theta;
+            let xi = Twist::log_with_omega(omega, &t_rel);
+            let r = omega.cross(&xi.v) / theta2;
+            let dist = r.norm().min(MAX_AXIS_DISTANCE_M);
+            let chord2 = 4.0 * (0.5 * theta).sin().powi(2);
+            let var_point = (m.var_p + m.var_r * dist * dist) / chord2 + m.tol_p2;
+            let var_dir = m.var_r / theta2 + m.tol_r2;
+            let h = u.dot(&t_rel);
+            b.line.add(&r, &u, 1.0 / var_point, 1.0 / var_dir, h * h / (m.var_p + m.tol_p2));
+            if theta > b.max_angle {
+                b.max_angle = theta;
+                b.max_line = Some((Line::through(r, u), omega));
+            }
+            let _ = r_palm;
+        });
+    }
+
+    /// Add one frame to the current block (or a new one) and update it with `update`.
+    fn append(&mut self, index: usize, t: f64, phase: Phase, segment: Option<usize>, update: impl FnOnce(&mut Block)) {
+        let fits = self
+            .blocks
+            .last()
+            .map(|b| b.phase == phase && b.segment == segment && b.frames < self.block_size)
+            .unwrap_or(false);
+        if !fits {
+            if self.blocks.len() >= MAX_BLOCKS {
+                self.compact();
+            }
+            self.blocks.push(Block::new(index, t, phase, segment));
+        }
+        let b = self.blocks.last_mut().unwrap();
+        b.last = index;
+        b.t1 = t;
+        b.frames += 1;
+        update(b);
+    }
+
+    /// Merge adjacent pairs of compatible blocks and double the block size.
+    fn compact(&mut self) {
+        self.block_size *= 2;
+        let old = std::mem::take(&mut self.blocks);
+        let mut it = old.into_iter().peekable();
+        while let Some(mut b) = it.next() {
+            if let Some(n) = it.peek() {
+                if n.phase == b.phase && n.segment == b.segment && b.frames + n.frames <= self.block_size {
+                    let n = it.next().unwrap();
+                    b.merge(&n);
+                }
+            }
+            self.blocks.push(b);
+        }
+    }
+
+    fn finish(mut self, name: &str, instrumented: bool, frames: u64) -> crate::Result<Classification> {
+        if self.rest.is_none() {
+            self.start();
+        }
+        let rest = self.rest.take().unwrap();
+        rest.finish(&mut |i, m| self.judged(i, m));
+        if !self.in_motion {
+            if let Some(prev) = self.segments.last_mut() {
+                prev.rest_after = self.rest_acc.down();
+            }
+        }
+        let alpha = self.config.robust.alpha;
+        let mut segments = Vec::with_capacity(self.segments.len());
+        let mut votes = Votes::default();
+        for (i, seg) in self.segments.iter().enumerate() {
+            let s = fit::analyse_segment(i, seg, &mut self.blocks, &self.config, alpha, name);
+            votes.add(s.kind, 0);
+            for (k, n) in [(super::Kind::Topple, s.votes.topple), (super::Kind::Slide, s.votes.slide), (super::Kind::General, s.votes.general)] {
+                votes.add(k, n);
+            }
+            segments.push(s);
+        }
+        let paper_edge = segments
+            .iter()
+            .filter(|s: &&Segment| s.kind == super::Kind::Topple)
+            .filter_map(|s| s.edge.as_ref().and_then(|e| e.paper_line))
+            .next();
+        Ok(Classification {
+            name: name.to_string(),
+            kind: votes.winner().unwrap_or(super::Kind::General),
+            method: Method::Robust,
+            instrumented,
+            frames,
+            outliers: self.outliers,
+            votes,
+            noise: self.noise,
+            segments,
+            labels: runs(&self.blocks),
+            paper_edge,
+        })
+    }
+}
+
+/// Run-length encode block labels.
+pub(super) fn runs(blocks: &[Block]) -> Vec<LabelRun> {
+    let mut out: Vec<LabelRun> = Vec::new();
+    for b in blocks {
+        if let Some(r) = out.last_mut() {
+            if r.label == b.label && r.segment == b.segment {
+                r.last = b.last;
+                r.t_end = b.t1;
+                r.frames += b.frames;
+                continue;
+            }
+        }
+        out.push(LabelRun { first: b.first, last: b.last, t_start: b.t0, t_end: b.t1, frames: b.frames, label: b.label, segment: b.segment });
+    }
+    out
+}
+
+/// Cleans one stream: noise warm-up, then the tag-flip [`Cleaner`].
+struct StreamCleaner {
+    warm: Vec<RawFrame>,
+    warmup: usize,
+    alpha: f64,
+    noise: Option<NoiseModel>,
+    cleaner: Option<Cleaner>,
+}
+
+impl StreamCleaner {
+    fn new(config: &Config) -> Self {
+        Self { warm: Vec::new(), warmup: config.robust.warmup_frames.max(3), alpha: config.robust.outlier_alpha, noise: config.robust.noise, cleaner: None }
+    }
+
+    fn start(&mut self, out: &mut impl FnMut(RawFrame, bool)) {
+        let samples: Vec<noise::PoseSample> = self.warm.iter().map(|f| (f.t, f.q, f.p)).collect();
+        let n = self.noise.or_else(|| noise::estimate(&samples)).unwrap_or(NoiseModel { sigma_position: 1e-3, sigma_rotation: 1e-2 });
+        let mut c = Cleaner::new(n.floored().sigma_rotation, self.alpha);
+        for f in std::mem::take(&mut self.warm) {
+            c.push(f, out);
+        }
+        self.cleaner = Some(c);
+    }
+
+    fn push(&mut self, f: RawFrame, out: &mut impl FnMut(RawFrame, bool)) {
+        match &mut self.cleaner {
+            Some(c) => c.push(f, out),
+            None => {
+                self.warm.push(f);
+                if self.warm.len() >= self.warmup {
+                    self.start(out);
+                }
+            }
+        }
+    }
+
+    fn finish(mut self, out: &mut impl FnMut(RawFrame, bool)) {
+        if self.cleaner.is_none() {
+            self.start(out);
+        }
+        self.cleaner.take().unwrap().finish(out);
+    }
+}
+
+/// Pairs object frames with the palm pose at the same time (interpolated between the palm
+/// frames around it) and forms `palm_from_object`.
+///
+/// The support's "down" in the palm frame is taken once, from gravity at the palm's first
+/// frame (the palm is level when a demonstration starts), and held fixed: the object rests on
+/// the palm's surface however the palm is tilted later, so that is the direction whose face
+/// the object rests on, not the current gravity.
+#[derive(Default)]
+struct PalmMerger {
+    palm: VecDeque<RawFrame>,
+    pending: VecDeque<(RawFrame, bool)>,
+    palm_done: bool,
+    support_down: Option<Option<Vector3<f64>>>,
+}
+
+impl PalmMerger {
+    fn push_palm(&mut self, f: RawFrame, out: &mut impl FnMut(Item)) {
+        if self.support_down.is_none() {
+            self.support_down = Some(f.down.map(|d| f.q.inverse() * d));
+        }
+        self.palm.push_back(f);
+        self.drain(out);
+    }
+
+    /// Queue an object frame (or an object outlier, kept in order).
+    fn push_object(&mut self, f: RawFrame, outlier: bool, out: &mut impl FnMut(Item)) {
+        self.pending.push_back((f, outlier));
+        self.drain(out);
+    }
+
+    fn drain(&mut self, out: &mut impl FnMut(Item)) {
+        while let Some((o, outlier)) = self.pending.front().copied() {
+            if outlier {
+                self.pending.pop_front();
+                out(Item::Outlier(o.index, o.t));
+                continue;
+            }
+            while self.palm.len() >= 2 && self.palm[1].t <= o.t {
+                self.palm.pop_front();
+            }
+            let Some(a) = self.palm.front().copied() else {
+                if self.palm_done {
+                    self.pending.pop_front();
+                    out(Item::Outlier(o.index, o.t));
+                    continue;
+                }
+                return;
+            };
+            let palm = if a.t == o.t {
+                Some((a.q, a.p))
+            } else if a.t > o.t {
+                None // Before the palm's first frame.
+            } else if let Some(b) = self.palm.get(1) {
+                let s = (o.t - a.t) / (b.t - a.t);
+                Some((a.q.slerp(&b.q, s), a.p * (1.0 - s) + b.p * s))
+            } else if self.palm_done {
+                None // After the palm's last frame.
+            } else {
+                return; // Wait for the next palm frame.
+            };
+            self.pending.pop_front();
+            match palm {
+                None => out(Item::Outlier(o.index, o.t)),
+                Some((pq, pp)) => {
+                    let inv = pq.inverse();
+                    out(Item::Frame(RawFrame { index: o.index, t: o.t, q: inv * o.q, p: inv * (o.p - pp), down: self.support_down.flatten() }))
+                }
+            }
+        }
+    }
+
+    fn finish(&mut self, out: &mut impl FnMut(Item)) {
+        self.palm_done = true;
+        self.drain(out);
+    }
+}
+
+enum Back {
+    Robust(Core),
+    Paper(PaperCore),
+}
+
+impl Back {
+    fn push(&mut self, item: Item) {
+        match self {
+            Back::Robust(c) => c.push(item),
+            Back::Paper(p) => p.push(item),
+        }
+    }
+}
+
+/// Streaming classifier of one demonstration: push poses in time order (object and palm
+/// interleaved, palm first at equal times), then [`Analyzer::finish`].
+pub struct Analyzer {
+    name: String,
+    instrumented: bool,
+    down_world: Option<Vector3<f64>>,
+    robust: bool,
+    object: StreamCleaner,
+    palm: Option<StreamCleaner>,
+    merger: PalmMerger,
+    back: Back,
+    frames: u64,
+    palm_frames: u64,
+    last_t: Option<f64>,
+}
+
+impl Analyzer {
+    /// A classifier for the demonstration `name`; `instrumented` if palm poses will be pushed.
+    pub fn new(name: &str, config: &Config, instrumented: bool) -> Self {
+        Self {
+            name: name.to_string(),
+            instrumented,
+            down_world: config.gravity.and_then(|g| g.try_normalize(1e-12)),
+            robust: config.method == Method::Robust,
+            object: StreamCleaner::new(config),
+            palm: instrumented.then(|| StreamCleaner::new(config)),
+            merger: PalmMerger::default(),
+            back: match config.method {
+                Method::Robust => Back::Robust(Core::new(config)),
+                Method::Paper => Back::Paper(PaperCore::new(config)),
+            },
+            frames: 0,
+            palm_frames: 0,
+            last_t: None,
+        }
+    }
+
+    fn raw(&self, index: usize, p: &StampedPose) -> RawFrame {
+        RawFrame { index, t: p.t, q: p.pose.rotation, p: p.pose.translation.vector, down: self.down_world }
+    }
+
+    /// Push the next object pose (`world_from_object`).
+    pub fn push_object(&mut self, p: &StampedPose) {
+        let f = self.raw(self.frames as usize, p);
+        self.frames += 1;
+        self.last_t = Some(p.t);
+        let Self { object, merger, back, instrumented, robust, .. } = self;
+        let mut to_back = |f: RawFrame, outlier: bool| {
+            if *instrumented {
+                merger.push_object(f, outlier, &mut |i| back.push(i));
+            } else if outlier {
+                back.push(Item::Outlier(f.index, f.t));
+            } else {
+                back.push(Item::Frame(f));
+            }
+        };
+        if *robust {
+            object.push(f, &mut to_back);
+        } else {
+            to_back(f, false);
+        }
+    }
+
+    /// Push the next palm pose (`world_from_palm`).
+    pub fn push_palm(&mut self, p: &StampedPose) {
+        let f = self.raw(self.palm_frames as usize, p);
+        self.palm_frames += 1;
+        let Self { palm, merger, back, robust, .. } = self;
+        let mut to_merger = |f: RawFrame, outlier: bool| {
+            if !outlier {
+                merger.push_palm(f, &mut |i| back.push(i));
+            }
+        };
+        match palm {
+            Some(c) if *robust => c.push(f, &mut to_merger),
+            _ => to_merger(f, false),
+        }
+    }
+
+    /// Finish the stream and classify.
+    pub fn finish(self) -> crate::Result<Classification> {
+        let Self { name, instrumented, object, palm, mut merger, mut back, frames, robust, .. } = self;
+        if frames == 0 {
+            return Err(crate::Error::Data(format!("{name}: no object poses")));
+        }
+        if robust {
+            if let Some(p) = palm {
+                p.finish(&mut |f, outlier| {
+                    if !outlier {
+                        merger.push_palm(f, &mut |i| back.push(i));
+                    }
+                });
+            }
+            object.finish(&mut |f, outlier| {
+                if instrumented {
+                    merger.push_object(f, outlier, &mut |i| back.push(i));
+                } else if outlier {
+                    back.push(Item::Outlier(f.index, f.t));
+                } else {
+                    back.push(Item::Frame(f));
+                }
+            });
+        }
+        if instrumented {
+            merger.finish(&mut |i| back.push(i));
+        }
+        match back {
+            Back::Robust(c) => c.finish(&name, instrumented, frames),
+            Back::Paper(p) => p.finish(&name, instrumented, frames),
+        }
+    }
+}
