@@ -174,7 +174,7 @@ pub fn run_learn(a: &LearnArgs) -> Result<()> {
     } else {
         for c in &cs {
             let n_edges = c.edges().count();
-            eprintln!("{}: {}{}", c.name, c.kind.as_str(), if c.kind == Kind::Topple { format!(" ({n_edges} edge)") } else { String::new() });
+            eprintln!("{}: {}{}", c.name, c.kind.as_str(), if c.kind == Kind::Topple { format!(" ({n_edges} topple(s))") } else { String::new() });
         }
         crate::out(&tree_summary(&tree))?;
         if let Some(out) = a.output.as_ref().or(a.into.as_ref()) {

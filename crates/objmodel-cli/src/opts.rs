@@ -35,7 +35,7 @@ pub struct ClassifyOpts {
     #[arg(long, default_value_t = 0.6)]
     pub rest_window: f64,
     /// Shortest rest [s] that separates two motion segments (robust).
-    #[arg(long, default_value_t = 0.3)]
+    #[arg(long, default_value_t = 1.0)]
     pub min_rest: f64,
     /// Tracking position noise [m] per axis; estimated from the data if not given (robust).
     #[arg(long)]

@@ -76,8 +76,19 @@ impl Cleaner {
     }
 
     fn is_flip(&self, a: &RawFrame, b: &RawFrame, f: &RawFrame) -> bool {
+        // Fast rejection, exact: the residual r from the geodesic point at fraction s obeys
+        // r <= |s| d(a,b) + d(a,f) (triangle inequality), so a flip needs both
+        // |s| d(a,b) + d(a,f) > d(a,b) and (|s| d(a,b) + d(a,f))² > threshold.
+        let s = ((f.t - a.t) / (b.t - a.t)).abs();
+        let dab = rotation_angle_between(&a.q, &b.q);
+        let daf = rotation_angle_between(&a.q, &f.q);
+        let bound = s * dab + daf;
+        // The variance factor 1 + s² + (1-s)² is at least 1.5.
+        if bound <= dab || bound * bound <= self.threshold_sq * self.var_rot * 1.5 {
+            return false;
+        }
         let (r, k) = residual(a, b, f);
-        r * r > self.threshold_sq * self.var_rot * k && r > rotation_angle_between(&a.q, &b.q)
+        r * r > self.threshold_sq * self.var_rot * k && r > dab
     }
 
     fn emit(&mut self, f: RawFrame, outlier: bool, out: &mut impl FnMut(RawFrame, bool)) {

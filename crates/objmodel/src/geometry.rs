@@ -86,12 +86,22 @@ pub struct LineStats {
     pub sauu: Matrix3<f64>,
     /// Σ of the χ² of the along-axis translation (pitch) residuals.
     pub pitch_chi2: f64,
+    /// Σ w / c, with c the chord `2 sin(θ/2)` of each line's rotation: the weighted mean of
+    /// 1/c tells how strongly a common reference-pose error shifts these lines.
+    pub sw_inv_chord: f64,
 }
 
 impl LineStats {
     /// Add one line with point weight `w` and direction weight `a`, and its pitch χ².
     #[inline]
     pub fn add(&mut self, r: &Vector3<f64>, u: &Vector3<f64>, w: f64, a: f64, pitch_chi2: f64) {
+        self.add_with_chord(r, u, w, a, pitch_chi2, 0.0);
+    }
+
+    /// [`LineStats::add`] for a line from a rotation with chord `2 sin(θ/2)` = 1/`inv_chord`.
+    #[inline]
+    pub fn add_with_chord(&mut self, r: &Vector3<f64>, u: &Vector3<f64>, w: f64, a: f64, pitch_chi2: f64, inv_chord: f64) {
+        self.sw_inv_chord += w * inv_chord;
         self.n += 1.0;
         self.sw += w;
         self.sww += w * w;
@@ -114,6 +124,7 @@ impl LineStats {
         self.saa += o.saa;
         self.sauu += o.sauu;
         self.pitch_chi2 += o.pitch_chi2;
+        self.sw_inv_chord += o.sw_inv_chord;
     }
 
     /// The mean line, or `None` without data.

@@ -318,21 +318,18 @@ impl Tree {
     pub fn add(&mut self, c: &Classification) {
         self.remove_demo(&c.name);
         self.demos.push(DemoRecord { name: c.name.clone(), kind: c.kind, frames: c.frames, outliers: c.outliers, instrumented: c.instrumented, noise: c.noise });
-        for s in &c.segments {
-            let edge_id = match (&s.edge, s.kind) {
-                (Some(e), Kind::Topple) => Some(self.add_edge(e.clone())),
-                _ => None,
-            };
-            if let (Some(f), Kind::Slide) = (&s.face, s.kind) {
+        for s in c.segments.iter().filter(|s| s.kind == Kind::Slide) {
+            if let Some(f) = &s.face {
                 self.add_face(f.clone());
             }
-            if let (Some(eid), Some(e)) = (&edge_id, &s.edge) {
-                for n in [s.resting_normal_before, s.resting_normal_after].into_iter().flatten() {
-                    let fid = self.add_face(FaceObservation::from_rest(&n, e));
-                    let edge = self.edges.iter_mut().find(|x| &x.id == eid).unwrap();
-                    if !edge.faces.contains(&fid) {
-                        edge.faces.push(fid);
-                    }
+        }
+        for t in &c.topples {
+            let eid = self.add_edge(t.edge.clone());
+            for n in [t.resting_normal_before, t.resting_normal_after].into_iter().flatten() {
+                let fid = self.add_face(FaceObservation::from_rest(&n, &t.edge));
+                let edge = self.edges.iter_mut().find(|x| x.id == eid).expect("the edge was just added");
+                if !edge.faces.contains(&fid) {
+                    edge.faces.push(fid);
                 }
             }
         }

@@ -23,35 +23,38 @@ fn write(dir: &Path, name: &str, content: &str) -> PathBuf {
     p
 }
 
+/// Run `f` on a file `name` holding `content`, in a fresh directory.
+fn with_file<T>(name: &str, content: &str, f: impl FnOnce(&Path) -> T) -> T {
+    let dir = tmpdir("f");
+    let r = f(&write(&dir, name, content));
+    let _ = std::fs::remove_dir_all(&dir);
+    r
+}
+
 /// Read `content` as file `name` and return the error's text, asserting it is at `line`.
 fn parse_error(name: &str, content: &str, line: usize) -> String {
-    let dir = tmpdir("err");
-    let p = write(&dir, name, content);
-    let e = format::read_trajectory(&p).expect_err(content);
-    let text = e.to_string();
-    assert!(matches!(e, Error::Parse { .. }), "{text}");
-    let prefix = format!("{}:{line}: ", p.display());
-    assert!(text.starts_with(&prefix), "expected {prefix:?} in {text:?}");
-    let _ = std::fs::remove_dir_all(&dir);
-    text
+    with_file(name, content, |p| {
+        let e = format::read_trajectory(p).expect_err(content);
+        let (text, prefix) = (e.to_string(), format!("{}:{line}: ", p.display()));
+        assert!(matches!(e, Error::Parse { .. }), "{text}");
+        assert!(text.starts_with(&prefix), "expected {prefix:?} in {text:?}");
+        text
+    })
 }
 
 /// Read `content` as file `name` and return the whole-file error's text.
 fn file_error(name: &str, content: &str) -> String {
-    let dir = tmpdir("ferr");
-    let p = write(&dir, name, content);
-    let e = format::read_trajectory(&p).expect_err(content);
-    assert!(matches!(e, Error::File { .. }), "{e}");
-    let _ = std::fs::remove_dir_all(&dir);
-    e.to_string()
+    with_file(name, content, |p| {
+        let e = format::read_trajectory(p).expect_err(content);
+        assert!(matches!(e, Error::File { .. }), "{e}");
+        e.to_string()
+    })
 }
 
 fn read_str(name: &str, content: &str) -> Vec<StampedPose> {
-    let dir = tmpdir("ok");
-    let p = write(&dir, name, content);
-    let r = format::read_trajectory(&p).unwrap_or_else(|e| panic!("{e}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    r
+    with_file(name, content, |p| {
+        format::read_trajectory(p).unwrap_or_else(|e| panic!("{e}"))
+    })
 }
 
 fn xyzw(p: &StampedPose) -> [f64; 4] {
@@ -176,93 +179,51 @@ fn slightly_non_unit_quaternion_is_normalised() {
 
 #[test]
 fn errors_name_file_line_and_problem() {
-    let head = "# comment\n1 0 0 0 0 0 0 1\n\n";
-    let e = parse_error("demo.tum", &format!("{head}2 0 0 0 0 0 1\n"), 4);
-    assert!(
-        e.ends_with("expected 8 columns (timestamp tx ty tz qx qy qz qw), found 7"),
-        "{e}"
-    );
-    let e = parse_error("demo.tum", &format!("{head}2 0 0 0 0 0 0 1 9\n"), 4);
-    assert!(e.contains("found 9"), "{e}");
-    let e = parse_error("demo.tum", &format!("{head}2,0,0,0,0,0,0,1\n"), 4);
-    assert!(e.contains("found 1") && e.contains("header"), "{e}");
-    let e = parse_error("demo.tum", &format!("{head}2 0 0 0 0.5x 0 0 1\n"), 4);
-    assert!(
-        e.contains("\"0.5x\"") && e.contains("qx") && e.contains("not a number"),
-        "{e}"
-    );
-    let e = parse_error("demo.tum", &format!("{head}2 0 nan 0 0 0 0 1\n"), 4);
-    assert!(e.contains("ty is NaN"), "{e}");
-    let e = parse_error("demo.tum", &format!("{head}2 0 0 -inf 0 0 0 1\n"), 4);
-    assert!(e.contains("tz is infinite") && e.contains("-inf"), "{e}");
-    let e = parse_error("demo.tum", &format!("{head}2 0 0 0 0 1e999 0 1\n"), 4);
-    assert!(e.contains("qy is infinite"), "{e}");
-    let e = parse_error("demo.tum", &format!("{head}2 0 0 0 0 0 0 0\n"), 4);
-    assert!(e.contains("zero"), "{e}");
-    let e = parse_error("demo.tum", &format!("{head}2 0 0 0 0 0 0 1.02\n"), 4);
-    assert!(
-        e.contains("norm 1.02") && e.contains(&QUAT_NORM_TOLERANCE.to_string()),
-        "{e}"
-    );
-    let e = parse_error(
-        "demo.tum",
-        &format!("{head}2 0 0 0 0.5 0.5 0.5 0.5\n3 0 0 0 0 0 0 0.98\n"),
-        5,
-    );
-    assert!(e.contains("norm 0.98"), "{e}");
-    // within the tolerance: fine
+    let h = "# comment\n1 0 0 0 0 0 0 1\n\n";
+    let c = "t,x,y,z,qx,qy,qz,qw,extra\n1,0,0,0,0,0,0,1,a\n";
+    let long = format!("{LINE}\n1 {}\n", "0 ".repeat(700_000));
+    #[rustfmt::skip]
+    let cases: Vec<(&str, String, usize, Vec<&str>)> = vec![
+        ("demo.tum", format!("{h}2 0 0 0 0 0 1\n"), 4,
+         vec!["expected 8 columns (timestamp tx ty tz qx qy qz qw), found 7"]),
+        ("demo.tum", format!("{h}2 0 0 0 0 0 0 1 9\n"), 4, vec!["found 9"]),
+        ("demo.tum", format!("{h}2,0,0,0,0,0,0,1\n"), 4, vec!["found 1", "header"]),
+        ("demo.tum", format!("{h}2 0 0 0 0.5x 0 0 1\n"), 4,
+         vec!["column 5 (qx): \"0.5x\" is not a number"]),
+        ("demo.tum", format!("{h}2 0 nan 0 0 0 0 1\n"), 4, vec!["ty is NaN (\"nan\")"]),
+        ("demo.tum", format!("{h}2 0 0 -inf 0 0 0 1\n"), 4, vec!["tz is infinite (\"-inf\")"]),
+        ("demo.tum", format!("{h}2 0 0 0 0 1e999 0 1\n"), 4, vec!["qy is infinite"]),
+        ("demo.tum", format!("{h}2 0 0 0 0 0 0 0\n"), 4, vec!["is zero"]),
+        ("demo.tum", format!("{h}2 0 0 0 0 0 0 1.02\n"), 4, vec!["norm 1.02", "tolerance 0.01"]),
+        ("demo.tum", format!("{h}2 0 0 0 .5 .5 .5 .5\n3 0 0 0 0 0 0 .98\n"), 5, vec!["norm 0.98"]),
+        ("demo.tum", format!("{h}1 0 0 0 0 0 0 1\n"), 4,
+         vec!["timestamp 1 on line 4 repeats timestamp 1 on line 2"]),
+        ("demo.tum", format!("{h}5 0 0 0 0 0 0 1\n4.5 0 0 0 0 0 0 1\n"), 5,
+         vec!["timestamp 4.5 on line 5 goes back from timestamp 5 on line 4"]),
+        ("long.tum", long, 2, vec!["longer than"]),
+        ("bin.tum", "\u{0}\u{1}\u{7f}\u{ff} \u{2603} 1 2\n".into(), 1, vec!["found 4"]),
+        ("e.csv", "t,x,y,z,qx,qy,qz\n1,0,0,0,0,0,0\n".into(), 1, vec!["no column for qw"]),
+        ("e.csv", "# c\ntime,tx,ty,tz,qw\n".into(), 2, vec!["no column for qx, qy, qz"]),
+        ("e.csv", "t,x,tx,y,z,qx,qy,qz,qw\n".into(), 1, vec!["both give tx"]),
+        ("e.csv", "1,0,0,0,0,0,0,1\n".into(), 1, vec!["no column for"]),
+        ("e.csv", format!("{c}2,0,0,0,0,0,0,1\n"), 3,
+         vec!["expected 9 columns (as in the CSV header on line 1), found 8"]),
+        ("e.csv", format!("{c}2,0,0,0,0,0,zero,1,b\n"), 3,
+         vec!["column 7 (qz): \"zero\" is not a number"]),
+        ("e.csv", format!("{c}2,0,,0,0,0,0,1,b\n"), 3, vec!["column 3 (ty) is empty"]),
+        ("e.csv", format!("{c}2,0,0,0,0,0,0,NaN,b\n"), 3, vec!["qw is NaN"]),
+        ("e.csv", format!("{c}1,0,0,0,0,0,0,1,b\n"), 3, vec!["repeats timestamp 1 on line 2"]),
+    ];
+    for (name, content, line, needles) in &cases {
+        let e = parse_error(name, content, *line);
+        for needle in needles {
+            assert!(e.contains(needle), "{needle:?} not in {e:?}");
+        }
+    }
+    assert_eq!(QUAT_NORM_TOLERANCE, 0.01);
+    // within the tolerance, gaps in time and absurd positions are all fine
     read_str("ok.tum", "1 0 0 0 0 0 0 1.0099\n2 0 0 0 0 0 0 0.9901\n");
-    // time must increase strictly; gaps are fine; absurd positions are fine
-    let e = parse_error("demo.tum", &format!("{head}1 0 0 0 0 0 0 1\n"), 4);
-    assert!(
-        e.contains("timestamp 1 on line 4 repeats timestamp 1 on line 2"),
-        "{e}"
-    );
-    let e = parse_error(
-        "demo.tum",
-        &format!("{head}5 0 0 0 0 0 0 1\n4.5 0 0 0 0 0 0 1\n"),
-        5,
-    );
-    assert!(
-        e.contains("timestamp 4.5 on line 5 goes back from timestamp 5 on line 4"),
-        "{e}"
-    );
     read_str("gap.tum", "1 -1e6 0 0 0 0 0 1\n1000 1e9 -5 0 0 0 0 1\n");
-    // a long line and binary garbage: errors, no panic
-    let e = parse_error(
-        "long.tum",
-        &format!("{LINE}\n1 {}\n", "0 ".repeat(700_000)),
-        2,
-    );
-    assert!(e.contains("longer than"), "{e}");
-    let garbage = "\u{0}\u{1}\u{7f}\u{ff} \u{2603} 1 2\n";
-    parse_error("bin.tum", garbage, 1);
-}
-
-#[test]
-fn csv_errors() {
-    let head = "t,x,y,z,qx,qy,qz,qw,extra\n1,0,0,0,0,0,0,1,a\n";
-    let e = parse_error("e.csv", "t,x,y,z,qx,qy,qz\n1,0,0,0,0,0,0\n", 1);
-    assert!(e.contains("no column for qw"), "{e}");
-    let e = parse_error("e.csv", "# c\ntime,tx,ty,tz,qw\n", 2);
-    assert!(e.contains("no column for qx, qy, qz"), "{e}");
-    let e = parse_error("e.csv", "t,x,tx,y,z,qx,qy,qz,qw\n", 1);
-    assert!(e.contains("both give tx"), "{e}");
-    let e = parse_error("e.csv", &format!("{head}2,0,0,0,0,0,0,1\n"), 3);
-    assert!(
-        e.contains("expected 9 columns (as in the CSV header on line 1), found 8"),
-        "{e}"
-    );
-    let e = parse_error("e.csv", &format!("{head}2,0,0,0,0,0,zero,1,b\n"), 3);
-    assert!(e.contains("column 7 (qz): \"zero\" is not a number"), "{e}");
-    let e = parse_error("e.csv", &format!("{head}2,0,,0,0,0,0,1,b\n"), 3);
-    assert!(e.contains("column 3 (ty) is empty"), "{e}");
-    let e = parse_error("e.csv", &format!("{head}2,0,0,0,0,0,0,NaN,b\n"), 3);
-    assert!(e.contains("qw is NaN"), "{e}");
-    let e = parse_error("e.csv", &format!("{head}1,0,0,0,0,0,0,1,b\n"), 3);
-    assert!(e.contains("on line 2"), "{e}");
-    let e = parse_error("e.csv", "1,0,0,0,0,0,0,1\n", 1);
-    assert!(e.contains("no column for"), "{e}");
 }
 
 #[test]

@@ -2,6 +2,7 @@
 
 use super::{Analyzer, Classification, Config};
 use crate::format;
+use crate::trajectory::StampedPose;
 use crate::Result;
 use std::path::Path;
 
@@ -11,7 +12,7 @@ use std::path::Path;
 pub fn classify_files(object: &Path, palm: Option<&Path>, config: &Config) -> Result<Classification> {
     let name = object.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| object.display().to_string());
     let mut a = Analyzer::new(&name, config, palm.is_some());
-    let mut objects = format::open(object)?;
+    let mut objects = ThreadedPoses::spawn(format::open(object)?);
     match palm {
         None => {
             for p in objects {
@@ -19,7 +20,7 @@ pub fn classify_files(object: &Path, palm: Option<&Path>, config: &Config) -> Re
             }
         }
         Some(palm) => {
-            let mut palms = format::open(palm)?;
+            let mut palms = ThreadedPoses::spawn(format::open(palm)?);
             let (mut o, mut p) = (objects.next().transpose()?, palms.next().transpose()?);
             loop {
                 match (&o, &p) {
@@ -44,4 +45,47 @@ pub fn classify_files(object: &Path, palm: Option<&Path>, config: &Config) -> Re
         crate::Error::Data(msg) => crate::Error::File { file: object.to_path_buf(), msg },
         e => e,
     })
+}
+
+/// Poses parsed on a background thread, handed over in chunks through a bounded channel:
+/// parsing (the largest single cost) overlaps the analysis, and memory stays bounded
+/// (at most `CHANNEL_CHUNKS` chunks of `CHUNK_POSES` poses in flight).
+struct ThreadedPoses {
+    rx: std::sync::mpsc::Receiver<Vec<Result<StampedPose>>>,
+    chunk: std::vec::IntoIter<Result<StampedPose>>,
+}
+
+/// Poses per chunk handed from the parsing thread.
+const CHUNK_POSES: usize = 4096;
+/// Chunks in flight between the threads.
+const CHANNEL_CHUNKS: usize = 4;
+
+impl ThreadedPoses {
+    fn spawn<I: Iterator<Item = Result<StampedPose>> + Send + 'static>(poses: I) -> Self {
+        let (tx, rx) = std::sync::mpsc::sync_channel(CHANNEL_CHUNKS);
+        std::thread::spawn(move || {
+            let mut poses = poses;
+            loop {
+                let chunk: Vec<Result<StampedPose>> = poses.by_ref().take(CHUNK_POSES).collect();
+                let done = chunk.len() < CHUNK_POSES || chunk.last().is_some_and(|r| r.is_err());
+                if chunk.is_empty() || tx.send(chunk).is_err() || done {
+                    break;
+                }
+            }
+        });
+        Self { rx, chunk: Vec::new().into_iter() }
+    }
+}
+
+impl Iterator for ThreadedPoses {
+    type Item = Result<StampedPose>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        loop {
+            if let Some(p) = self.chunk.next() {
+                return Some(p);
+            }
+            self.chunk = self.rx.recv().ok()?.into_iter();
+        }
+    }
 }

@@ -119,18 +119,21 @@ fn fit_plane(blocks: &[Block], idx: &[usize], valid: impl Fn(&Vector3<f64>) -> b
     Some(best)
 }
 
-/// Change-point trimming of a fitted edge: the object may leave or slip along its edge at the
-/// end of a topple (or slide before it starts to turn), and such frames, each within the
-/// noise, still bias the line as a group, all the more because the last frames of a topple
-/// (largest rotation) weigh the most.
+/// Change-point trimming of a fitted edge: at the end of a topple the object may leave or slip
+/// along its edge, and such frames, each within the noise, still bias the line as a group, all
+/// the more because the last frames of a topple (largest rotation) weigh the most.
 ///
 /// With `order` the line-inlier blocks in time order, every cut τ splits them into a before and
-/// an after. Under a fixed edge both halves' weighted mean axis points agree, so
+/// an after. Under a fixed edge both parts' weighted mean axis points agree, so
 /// `T(τ) = |P (r̄_before - r̄_after)|² / (1/W_before + 1/W_after)` is χ²₂ (P projects normal to the
-/// line, W are the summed point weights). The largest T over all cuts is compared with the χ²₂
-/// quantile at `alpha` divided by the number of cuts (Bonferroni, for the scan); if significant,
-/// the side with fewer frames is dropped and the test repeated. Returns the kept blocks.
-fn trim_change_points(blocks: &[Block], order: &[usize], line: Line, alpha: f64) -> Vec<usize> {
+/// line, W are the summed point weights). The largest T over the cuts that keep at least half
+/// of the frames is compared with the χ²₂ quantile at `alpha` divided by the number of cuts
+/// (Bonferroni, for the scan); if significant, the frames after the cut are dropped and the
+/// test repeated. The error of the reference pose is common to all frames and shifts each
+/// frame's axis by about `σ_ref / (2 sin(θ/2))`, more for small rotations; its effect on the
+/// difference, `σ_ref² (mean 1/c before - mean 1/c after)²`, is added to the variance, with
+/// `σ_ref` [m] the reference's point-equivalent standard deviation. Returns the kept blocks.
+fn trim_change_points(blocks: &[Block], order: &[usize], line: Line, alpha: f64, sigma_ref: f64) -> Vec<usize> {
     let mut kept: Vec<usize> = order.to_vec();
     let u = line.direction;
     let p_mat = nalgebra::Matrix3::identity() - u * u.transpose();
@@ -144,24 +147,85 @@ fn trim_change_points(blocks: &[Block], order: &[usize], line: Line, alpha: f64)
         for (k, &i) in kept.iter().enumerate().take(cuts) {
             before.merge(&blocks[i].line);
             let (wb, wa) = (before.sw, total.sw - before.sw);
-            if wb <= 0.0 || wa <= 0.0 {
+            if wb <= 0.0 || wa <= 0.0 || before.n < 0.5 * total.n {
                 continue;
             }
             let d = p_mat * (before.swr / wb - (total.swr - before.swr) / wa);
-            let t = d.norm_squared() / (1.0 / wb + 1.0 / wa);
+            let dc = before.sw_inv_chord / wb - (total.sw_inv_chord - before.sw_inv_chord) / wa;
+            let t = d.norm_squared() / (1.0 / wb + 1.0 / wa + (sigma_ref * dc).powi(2));
             if t > threshold && best.is_none_or(|b| t > b.0) {
                 best = Some((t, k + 1));
             }
         }
         let Some((_, n_before)) = best else { break };
-        let frames = |r: &[usize]| r.iter().map(|&i| blocks[i].line.n).sum::<f64>();
-        if frames(&kept[..n_before]) < frames(&kept[n_before..]) {
-            kept.drain(..n_before);
-        } else {
-            kept.truncate(n_before);
-        }
+        kept.truncate(n_before);
     }
     kept
+}
+
+/// The edge observation from pooled per-frame line statistics and the frame of largest
+/// rotation `(angle, line, ω)` (the paper's estimate; its ω also fixes the direction's sign).
+pub(super) fn edge_observation(s: &LineStats, best: (f64, Line, Vector3<f64>), demo: &str) -> Option<EdgeObservation> {
+    let (max_angle, best_line, omega) = best;
+    let mean = s.mean()?.aligned_with(&omega);
+    let (point_cov, direction_cov) = s.covariances(&mean);
+    Some(EdgeObservation {
+        demo: demo.to_string(),
+        line: mean,
+        point_cov,
+        direction_cov,
+        paper_line: Some(best_line.aligned_with(&omega)),
+        frames: s.n as u64,
+        max_angle,
+        chi2_per_dof: s.chi2(&mean) / (5.0 * s.n).max(1.0),
+    })
+}
+
+/// Group the topple segments of a demonstration by edge. The line of a topple is fixed in the
+/// object, so per-frame line statistics of different segments (different reference poses) are
+/// directly comparable: a segment joins a group when the likelihood-ratio statistic
+/// `χ²(pooled) - χ²(group) - χ²(segment)`, each about its own mean line, is below the χ²₄
+/// quantile at `alpha` (4 = the parameters of a line). A topple that paused half way (or a
+/// quasi-static one slow enough to pass for rest now and then) thus stays one topple.
+pub(super) fn group_topples(segments: &[Segment], alpha: f64, demo: &str) -> Vec<super::Topple> {
+    let threshold = crate::stats::chi2_threshold(4.0, alpha);
+    let own = |s: &LineStats| s.mean().map_or(0.0, |l| s.chi2(&l));
+    let mut groups: Vec<(Vec<usize>, LineStats, (f64, Line, Vector3<f64>))> = Vec::new();
+    for (i, seg) in segments.iter().enumerate() {
+        let (Kind::Topple, Some(best)) = (seg.kind, seg.topple_best) else { continue };
+        let s = &seg.topple_stats;
+        let joinable = groups
+            .iter_mut()
+            .map(|g| {
+                let mut pooled = g.1;
+                pooled.merge(s);
+                (own(&pooled) - own(&g.1) - own(s), g)
+            })
+            .filter(|(lr, _)| *lr < threshold)
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        match joinable {
+            Some((_, g)) => {
+                g.0.push(i);
+                g.1.merge(s);
+                if best.0 > g.2 .0 {
+                    g.2 = best;
+                }
+            }
+            None => groups.push((vec![i], *s, best)),
+        }
+    }
+    groups
+        .into_iter()
+        .filter_map(|(idx, stats, best)| {
+            let edge = edge_observation(&stats, best, demo)?;
+            Some(super::Topple {
+                resting_normal_before: segments[idx[0]].resting_normal_before,
+                resting_normal_after: segments[*idx.last().unwrap()].resting_normal_after,
+                segments: idx,
+                edge,
+            })
+        })
+        .collect()
 }
 
 /// Fit, label and summarise one motion segment.
@@ -178,7 +242,9 @@ pub(super) fn analyse_segment(index: usize, seg: &SegState, blocks: &mut [Block]
     let mut cut: std::collections::HashSet<usize> = std::collections::HashSet::new();
     if let Some(l) = line {
         let order: Vec<usize> = idx.iter().copied().filter(|&i| line_inlier(&blocks[i].line, &l, &mut th)).collect();
-        let kept = trim_change_points(blocks, &order, l, alpha);
+        let noise = config.robust.noise.unwrap_or(crate::noise::NoiseModel { sigma_position: 0.0, sigma_rotation: 0.0 });
+        let sigma_ref = ((noise.sigma_position.powi(2) + (noise.sigma_rotation * l.point.norm()).powi(2)) / seg.n_ref).sqrt();
+        let kept = trim_change_points(blocks, &order, l, alpha, sigma_ref);
         let mut s = LineStats::default();
         kept.iter().for_each(|&i| s.merge(&blocks[i].line));
         if let Some(trimmed) = s.mean().filter(|t| valid_line(t)) {
@@ -223,30 +289,16 @@ pub(super) fn analyse_segment(index: usize, seg: &SegState, blocks: &mut [Block]
     let topple_blocks = with_label(Label::Topple);
     let slide_blocks = with_label(Label::Slide);
 
-    let edge = (kind == Kind::Topple).then(|| {
-        let mut s = LineStats::default();
-        topple_blocks.iter().for_each(|&i| s.merge(&blocks[i].line));
-        let mean = s.mean().or(line)?;
-        let (best_line, omega) = topple_blocks
+    let mut topple_stats = LineStats::default();
+    let mut topple_best: Option<(f64, Line, Vector3<f64>)> = None;
+    if kind == Kind::Topple {
+        topple_blocks.iter().for_each(|&i| topple_stats.merge(&blocks[i].line));
+        topple_best = topple_blocks
             .iter()
-            .filter_map(|&i| blocks[i].max_line.map(|m| (blocks[i].max_angle, m)))
-            .max_by(|a, b| a.0.total_cmp(&b.0))
-            .map(|(_, m)| m)?;
-        let mean = mean.aligned_with(&omega);
-        let (point_cov, direction_cov) = s.covariances(&mean);
-        let dof = (5.0 * s.n).max(1.0);
-        Some(EdgeObservation {
-            demo: demo.to_string(),
-            line: mean,
-            point_cov,
-            direction_cov,
-            paper_line: Some(best_line.aligned_with(&omega)),
-            frames: s.n as u64,
-            max_angle,
-            chi2_per_dof: s.chi2(&mean) / dof,
-        })
-    });
-    let edge = edge.flatten();
+            .filter_map(|&i| blocks[i].max_line.map(|(l, w)| (blocks[i].max_angle, l, w)))
+            .max_by(|a, b| a.0.total_cmp(&b.0));
+    }
+    let edge = topple_best.and_then(|best| edge_observation(&topple_stats, best, demo));
 
     let face = (kind == Kind::Slide).then(|| {
         let mut s = PlaneStats::default();
@@ -270,6 +322,8 @@ pub(super) fn analyse_segment(index: usize, seg: &SegState, blocks: &mut [Block]
     });
 
     Segment {
+        topple_stats,
+        topple_best,
         t_start: seg.t_start,
         t_end: seg.t_end,
         kind,

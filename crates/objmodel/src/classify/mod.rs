@@ -117,7 +117,7 @@ impl Default for RobustConfig {
             alpha: 1e-3,
             outlier_alpha: 1e-6,
             rest_window_s: 0.6,
-            min_rest_s: 0.3,
+            min_rest_s: 1.0,
             warmup_frames: 300,
             noise: None,
             edge_tolerance_m: 3e-4,
@@ -271,6 +271,12 @@ pub struct LabelRun {
 /// One motion segment: the frames between two rests, analysed against one reference pose.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Segment {
+    /// Pooled line statistics of the frames labelled topple.
+    #[serde(skip)]
+    pub(crate) topple_stats: crate::geometry::LineStats,
+    /// Largest rotation among them: (angle, screw axis, rotation vector).
+    #[serde(skip)]
+    pub(crate) topple_best: Option<(f64, Line, Vector3<f64>)>,
     /// Time of the first moving frame [s].
     pub t_start: f64,
     /// Time of the last moving frame [s].
@@ -288,6 +294,19 @@ pub struct Segment {
     /// Outward normal (object frame) of the face the object rested on before, if known.
     pub resting_normal_before: Option<Vector3<f64>>,
     /// Outward normal (object frame) of the face it rested on after, if known.
+    pub resting_normal_after: Option<Vector3<f64>>,
+}
+
+/// One topple of a demonstration: one or more topple segments about one edge.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Topple {
+    /// Indices of its segments.
+    pub segments: Vec<usize>,
+    /// The edge, from all its segments' frames.
+    pub edge: EdgeObservation,
+    /// Outward normal (object frame) of the face rested on before, if known.
+    pub resting_normal_before: Option<Vector3<f64>>,
+    /// Outward normal (object frame) of the face rested on after, if known.
     pub resting_normal_after: Option<Vector3<f64>>,
 }
 
@@ -312,6 +331,8 @@ pub struct Classification {
     pub noise: Option<NoiseModel>,
     /// Motion segments.
     pub segments: Vec<Segment>,
+    /// The topples (segments grouped by edge), with their edges.
+    pub topples: Vec<Topple>,
     /// Per-frame labels, run-length encoded.
     pub labels: Vec<LabelRun>,
     /// The paper's Algorithm 2 edge (line at the frame of largest rotation), for a topple.
@@ -319,24 +340,17 @@ pub struct Classification {
 }
 
 impl Classification {
-    /// Edge observations of all topple segments.
+    /// Edge observations, one per topple.
     pub fn edges(&self) -> impl Iterator<Item = &EdgeObservation> {
-        self.segments.iter().filter(|s| s.kind == Kind::Topple).filter_map(|s| s.edge.as_ref())
+        self.topples.iter().map(|t| &t.edge)
     }
 
     /// Face observations: slides' planes and, for topples, the faces rested on before and after.
     pub fn faces(&self) -> Vec<FaceObservation> {
-        let mut out = Vec::new();
-        for s in &self.segments {
-            if s.kind == Kind::Slide {
-                out.extend(s.face.clone());
-            }
-            if s.kind == Kind::Topple {
-                if let Some(e) = &s.edge {
-                    for n in [s.resting_normal_before, s.resting_normal_after].into_iter().flatten() {
-                        out.push(FaceObservation::from_rest(&n, e));
-                    }
-                }
+        let mut out: Vec<FaceObservation> = self.segments.iter().filter(|s| s.kind == Kind::Slide).filter_map(|s| s.face.clone()).collect();
+        for t in &self.topples {
+            for n in [t.resting_normal_before, t.resting_normal_after].into_iter().flatten() {
+                out.push(FaceObservation::from_rest(&n, &t.edge));
             }
         }
         out

@@ -127,7 +127,8 @@ impl PaperCore {
             outliers: 0,
             votes: self.votes,
             noise: None,
-            segments: vec![Segment { t_start: t0, t_end: t1, kind, votes: self.votes, max_angle: self.best.map_or(0.0, |b| b.0), edge, face, resting_normal_before: down, resting_normal_after: None }],
+            topples: edge.clone().map(|e| super::Topple { segments: vec![0], edge: e, resting_normal_before: down, resting_normal_after: None }).into_iter().collect(),
+            segments: vec![Segment { topple_stats: Default::default(), topple_best: None, t_start: t0, t_end: t1, kind, votes: self.votes, max_angle: self.best.map_or(0.0, |b| b.0), edge, face, resting_normal_before: down, resting_normal_after: None }],
             labels: self.runs,
             paper_edge,
         })

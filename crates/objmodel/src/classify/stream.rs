@@ -10,7 +10,7 @@
 use super::fit;
 use super::paper::PaperCore;
 use super::rest::{Item, RestDetector};
-use super::{Classification, Config, Label, LabelRun, Method, Segment, Votes};
+use super::{Classification, Config, Label, LabelRun, Method, Votes};
 use crate::clean::{Cleaner, RawFrame};
 use crate::geometry::{Line, LineStats, PlaneStats};
 use crate::noise::{self, NoiseModel};
@@ -21,6 +21,11 @@ use std::collections::VecDeque;
 
 /// Largest number of blocks kept per demonstration.
 pub const MAX_BLOCKS: usize = 1 << 14;
+/// Smallest rotation, in units of the rotation noise σ_r, from which a frame's screw axis is
+/// used: the axis estimate's bias is of order (σ_r/θ)² relative, 1% at 10 σ_r.
+pub const MIN_AXIS_SNR: f64 = 10.0;
+/// Largest number of motion segments per demonstration; later rests no longer split.
+pub const MAX_SEGMENTS: usize = 256;
 
 /// Upper bound [m] on the axis distance used in the axis-point variance (beyond the palm the
 /// frame cannot be a topple anyway; this keeps far-away axes from underflowing the weight).
@@ -77,6 +82,16 @@ impl Block {
     }
 
     fn merge(&mut self, o: &Block) {
+        // A mixed block takes the phase that carries the most information.
+        let rank = |p: Phase| match p {
+            Phase::Moving => 2,
+            Phase::Rest => 1,
+            Phase::Outlier => 0,
+        };
+        if rank(o.phase) > rank(self.phase) {
+            self.phase = o.phase;
+            self.label = o.label;
+        }
         self.last = o.last;
         self.t1 = o.t1;
         self.frames += o.frames;
@@ -90,7 +105,8 @@ impl Block {
     }
 }
 
-/// Mean pose and mean "down" over a rest.
+/// Mean pose and mean "down" over a rest, and the least-squares drift of the pose over the
+/// whole rest (to tell a real rest from a motion too slow for the windowed rest test).
 #[derive(Clone, Copy, Debug, Default)]
 struct RestAcc {
     n: f64,
@@ -100,14 +116,47 @@ struct RestAcc {
     has_down: bool,
     t0: f64,
     t1: f64,
+    q0: Option<UnitQuaternion<f64>>,
+    p0: Vector3<f64>,
+    st: f64,
+    stt: f64,
+    sx: [f64; 6],
+    stx: [f64; 6],
 }
 
 impl RestAcc {
+    /// χ²₆ statistic of the pose's drift (least-squares slope) over the whole rest.
+    fn drift_chi2(&self, var_r: f64, var_p: f64) -> f64 {
+        let den = self.n * self.stt - self.st * self.st;
+        if self.n < 3.0 || den <= 0.0 {
+            return 0.0;
+        }
+        let stt_c = den / self.n;
+        (0..6)
+            .map(|j| {
+                let beta = (self.n * self.stx[j] - self.st * self.sx[j]) / den;
+                beta * beta * stt_c / if j < 3 { var_r } else { var_p }
+            })
+            .sum()
+    }
+
     fn add(&mut self, f: &RawFrame) {
         if self.n == 0.0 {
             self.t0 = f.t;
+            self.q0 = Some(f.q);
+            self.p0 = f.p;
         }
         self.t1 = f.t;
+        let dt = f.t - self.t0;
+        let w = so3_log(&(self.q0.unwrap().inverse() * f.q));
+        let d = f.p - self.p0;
+        let x = [w.x, w.y, w.z, d.x, d.y, d.z];
+        self.st += dt;
+        self.stt += dt * dt;
+        for j in 0..6 {
+            self.sx[j] += x[j];
+            self.stx[j] += dt * x[j];
+        }
         let mut q = f.q.into_inner().coords;
         if self.n > 0.0 && q.dot(&self.q) < 0.0 {
             q = -q;
@@ -137,6 +186,8 @@ pub(super) struct SegState {
     pub t_end: f64,
     /// Down (unit) in object coordinates at the reference, if gravity is known.
     pub down_ref: Option<Vector3<f64>>,
+    /// Number of frames averaged into the reference pose.
+    pub n_ref: f64,
     pub rest_before: Option<Vector3<f64>>,
     pub rest_after: Option<Vector3<f64>>,
 }
@@ -236,7 +287,7 @@ impl Core {
         match item {
             Item::Outlier(index, t) => {
                 self.outliers += 1;
-                self.append(index, t, Phase::Outlier, None, |_| {});
+                self.append(index, t, Phase::Outlier, self.segments.len().checked_sub(1), |_| {});
             }
             Item::Frame(f) if !moving => {
                 if self.in_motion {
@@ -244,7 +295,8 @@ impl Core {
                     self.rest_acc = RestAcc::default();
                 }
                 self.rest_acc.add(&f);
-                self.append(f.index, f.t, Phase::Rest, None, |_| {});
+                // Rests belong to the segment they follow (None before the first motion).
+                self.append(f.index, f.t, Phase::Rest, self.segments.len().checked_sub(1), |_| {});
             }
             Item::Frame(f) => self.moving(f),
         }
@@ -253,8 +305,13 @@ impl Core {
     fn moving(&mut self, f: RawFrame) {
         if !self.in_motion {
             self.in_motion = true;
-            let long_rest = self.rest_acc.n > 0.0 && self.rest_acc.t1 - self.rest_acc.t0 >= self.config.robust.min_rest_s;
-            if self.segments.is_empty() || long_rest {
+            // A new segment starts after a rest that is long enough and over which the pose did
+            // not drift measurably (a slow motion can pass the windowed test as rest).
+            let m = self.model.unwrap();
+            let long_rest = self.rest_acc.n > 0.0
+                && self.rest_acc.t1 - self.rest_acc.t0 >= self.config.robust.min_rest_s
+                && self.rest_acc.drift_chi2(m.var_r, m.var_p) <= m.displaced;
+            if self.segments.is_empty() || (long_rest && self.segments.len() < MAX_SEGMENTS) {
                 if let Some(prev) = self.segments.last_mut() {
                     prev.rest_after = self.rest_acc.down();
                 }
@@ -266,6 +323,7 @@ impl Core {
                     t_start: f.t,
                     t_end: f.t,
                     down_ref,
+                    n_ref: self.rest_acc.n.max(1.0),
                     rest_before: self.rest_acc.down(),
                     rest_after: None,
                 });
@@ -287,7 +345,9 @@ impl Core {
             }
             b.significant += 1;
             b.plane.add(&omega, &t_rel, m.var_r + m.tol_r2, m.var_p + m.tol_p2);
-            if theta2 / m.var_r <= m.rotated {
+            // An axis only from a rotation well above the noise: the axis point's bias is of
+            // order (σ_r/θ)² relative, kept below 1% by θ >= 10 σ_r (MIN_AXIS_SNR).
+            if theta2 / m.var_r <= m.rotated.max(MIN_AXIS_SNR * MIN_AXIS_SNR) {
                 return;
             }
             let theta = theta2.sqrt();
@@ -299,7 +359,7 @@ impl Core {
             let var_point = (m.var_p + m.var_r * dist * dist) / chord2 + m.tol_p2;
             let var_dir = m.var_r / theta2 + m.tol_r2;
             let h = u.dot(&t_rel);
-            b.line.add(&r, &u, 1.0 / var_point, 1.0 / var_dir, h * h / (m.var_p + m.tol_p2));
+            b.line.add_with_chord(&r, &u, 1.0 / var_point, 1.0 / var_dir, h * h / (m.var_p + m.tol_p2), 1.0 / chord2.sqrt());
             if theta > b.max_angle {
                 b.max_angle = theta;
                 b.max_line = Some((Line::through(r, u), omega));
@@ -328,19 +388,26 @@ impl Core {
         update(b);
     }
 
-    /// Merge adjacent pairs of compatible blocks and double the block size.
+    /// Merge adjacent pairs of blocks and double the block size: first pairs of one phase and
+    /// segment; if that does not free a quarter of the blocks (phases alternate), any pairs of
+    /// one segment. Blocks of different segments (different references) are never merged.
     fn compact(&mut self) {
         self.block_size *= 2;
-        let old = std::mem::take(&mut self.blocks);
-        let mut it = old.into_iter().peekable();
-        while let Some(mut b) = it.next() {
-            if let Some(n) = it.peek() {
-                if n.phase == b.phase && n.segment == b.segment && b.frames + n.frames <= self.block_size {
-                    let n = it.next().unwrap();
-                    b.merge(&n);
+        for same_phase in [true, false] {
+            let old = std::mem::take(&mut self.blocks);
+            let mut it = old.into_iter().peekable();
+            while let Some(mut b) = it.next() {
+                if let Some(n) = it.peek() {
+                    if (!same_phase || n.phase == b.phase) && n.segment == b.segment {
+                        let n = it.next().unwrap();
+                        b.merge(&n);
+                    }
                 }
+                self.blocks.push(b);
             }
-            self.blocks.push(b);
+            if self.blocks.len() <= MAX_BLOCKS * 3 / 4 {
+                break;
+            }
         }
     }
 
@@ -356,21 +423,21 @@ impl Core {
             }
         }
         let alpha = self.config.robust.alpha;
+        // The fits use the noise in force (given or estimated).
+        let mut config = self.config;
+        config.robust.noise = self.noise;
         let mut segments = Vec::with_capacity(self.segments.len());
         let mut votes = Votes::default();
         for (i, seg) in self.segments.iter().enumerate() {
-            let s = fit::analyse_segment(i, seg, &mut self.blocks, &self.config, alpha, name);
+            let s = fit::analyse_segment(i, seg, &mut self.blocks, &config, alpha, name);
             votes.add(s.kind, 0);
             for (k, n) in [(super::Kind::Topple, s.votes.topple), (super::Kind::Slide, s.votes.slide), (super::Kind::General, s.votes.general)] {
                 votes.add(k, n);
             }
             segments.push(s);
         }
-        let paper_edge = segments
-            .iter()
-            .filter(|s: &&Segment| s.kind == super::Kind::Topple)
-            .filter_map(|s| s.edge.as_ref().and_then(|e| e.paper_line))
-            .next();
+        let topples = fit::group_topples(&segments, alpha, name);
+        let paper_edge = topples.iter().max_by_key(|t| t.edge.frames).and_then(|t| t.edge.paper_line);
         Ok(Classification {
             name: name.to_string(),
             kind: votes.winner().unwrap_or(super::Kind::General),
@@ -381,6 +448,7 @@ impl Core {
             votes,
             noise: self.noise,
             segments,
+            topples,
             labels: runs(&self.blocks),
             paper_edge,
         })

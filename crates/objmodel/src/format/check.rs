@@ -69,15 +69,22 @@ impl State {
 
     #[cold]
     fn bad_norm(&self, v: &[f64; 8], norm: f64) -> Error {
-        let q = format!("({}, {}, {}, {})", v[4], v[5], v[6], v[7]);
+        let q = format!(
+            "({}, {}, {}, {})",
+            num(v[4]),
+            num(v[5]),
+            num(v[6]),
+            num(v[7])
+        );
         if norm == 0.0 {
             self.err(format!(
                 "quaternion (qx qy qz qw) = {q} is zero, which is no rotation"
             ))
         } else {
             self.err(format!(
-                "quaternion (qx qy qz qw) = {q} has norm {norm}, which differs from 1 by more \
-                 than the tolerance {QUAT_NORM_TOLERANCE}"
+                "quaternion (qx qy qz qw) = {q} has norm {}, which differs from 1 by more \
+                 than the tolerance {QUAT_NORM_TOLERANCE}",
+                num(norm)
             ))
         }
     }
@@ -86,6 +93,7 @@ impl State {
     fn bad_time(&self, t: f64, pt: f64, pl: usize) -> Error {
         let l = self.line_no;
         let how = if t == pt { "repeats" } else { "goes back from" };
+        let (t, pt) = (num(t), num(pt));
         self.err(format!(
             "timestamp {t} on line {l} {how} timestamp {pt} on line {pl} \
              (timestamps must strictly increase)"
@@ -108,6 +116,16 @@ impl State {
         }
         let (k, a, b) = scan.bad.unwrap_or((0, 0, 0));
         self.err(not_a_number(k + 1, k, &s[a..b]))
+    }
+}
+
+/// A number for messages: plain (shortest round trip) unless very large or very small.
+fn num(x: f64) -> String {
+    let a = x.abs();
+    if a != 0.0 && !(1e-5..1e16).contains(&a) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
     }
 }
 

@@ -18,6 +18,8 @@ mod check;
 mod csv;
 mod number;
 mod reader;
+#[cfg(test)]
+mod tests;
 mod tum;
 
 pub use number::parse_f64;
@@ -34,7 +36,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 pub const QUAT_NORM_TOLERANCE: f64 = 1e-2;
 
 /// Capacity of the read buffer used by [`open`].
-const BUF_CAPACITY: usize = 262144;
+const BUF_CAPACITY: usize = 1 << 20;
 
 /// Which text format a file is in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

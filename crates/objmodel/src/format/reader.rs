@@ -19,10 +19,12 @@ const MAX_LINE: usize = 1 << 20;
 
 /// Streaming reader of a pose file: an iterator of `Result<StampedPose>`.
 ///
-/// Memory stays O(1) in the file length (one buffer plus at most one line). Comment lines
-/// (`#`), trailing `# ...` comments and blank lines are skipped, `\r\n` is accepted. After the
-/// first error the iterator ends (returns `None`), so `collect::<Result<Vec<_>>>()` reports the
-/// first problem in the file.
+/// Memory stays O(1) in the file length (the reader's buffer, at most one line that straddles
+/// two buffer fills, and a batch of up to 128 poses decoded ahead from bytes already read: it
+/// never waits for input it does not need, so it can follow a live stream on stdin). Comment
+/// lines (`#`), trailing `# ...` comments and blank lines are skipped, `\r\n` is accepted.
+/// After the first error the iterator ends (returns `None`), so
+/// `collect::<Result<Vec<_>>>()` reports the first problem in the file.
 pub struct PoseReader<R: BufRead> {
     reader: R,
     st: State,
