@@ -183,3 +183,33 @@ pub fn run_learn(a: &LearnArgs) -> Result<()> {
     }
     Ok(())
 }
+
+/// Arguments of `objmodel evaluate`.
+#[derive(clap::Args)]
+pub struct EvaluateArgs {
+    /// Dataset folder (written by `objmodel dataset`, with manifest.json).
+    pub data: PathBuf,
+    /// Print the per-demonstration results as JSON instead of the tables.
+    #[arg(long)]
+    pub json: bool,
+    /// Also write the tables (Markdown) to this file.
+    #[arg(long)]
+    pub markdown: Option<PathBuf>,
+    #[command(flatten)]
+    pub opts: ClassifyOpts,
+}
+
+/// Run `objmodel evaluate`.
+pub fn run_evaluate(a: &EvaluateArgs) -> Result<()> {
+    let config = a.opts.config()?;
+    let e = objmodel_sim::eval::evaluate(&a.data, &config).with_context(|| format!("evaluating {}", a.data.display()))?;
+    let md = e.markdown();
+    if let Some(p) = &a.markdown {
+        objmodel::format::write_atomic(p, md.as_bytes())?;
+    }
+    if a.json {
+        crate::out(&(serde_json::to_string_pretty(&e)? + "\n"))
+    } else {
+        crate::out(&md)
+    }
+}

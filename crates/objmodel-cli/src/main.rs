@@ -6,6 +6,7 @@
 mod demo;
 mod learn;
 mod opts;
+mod sim_cmds;
 mod synth_cmd;
 
 use clap::{Parser, Subcommand};
@@ -30,6 +31,12 @@ enum Command {
     Demo(demo::DemoArgs),
     /// Write synthetic (kinematic) demonstrations with ground truth.
     Synth(synth_cmd::SynthArgs),
+    /// Simulate one demonstration with rapier physics (demo files plus ground truth).
+    Simulate(sim_cmds::SimulateArgs),
+    /// Write the standard simulated dataset (boxes x kinds x noise levels, with a manifest).
+    Dataset(sim_cmds::DatasetArgs),
+    /// Measure the learner on a simulated dataset against its ground truth.
+    Evaluate(learn::EvaluateArgs),
 }
 
 fn main() -> ExitCode {
@@ -39,6 +46,9 @@ fn main() -> ExitCode {
         Command::Learn(a) => learn::run_learn(a),
         Command::Demo(a) => demo::run(a),
         Command::Synth(a) => synth_cmd::run(a),
+        Command::Simulate(a) => sim_cmds::run_simulate(a),
+        Command::Dataset(a) => sim_cmds::run_dataset(a),
+        Command::Evaluate(a) => learn::run_evaluate(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -12,11 +12,12 @@ use crate::se3::so3_log;
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
-/// Smallest noise [m] the tests assume: TUM files print 9 decimals, and below 1 µm numerical
-/// round-off of the pose pipeline itself dominates.
-pub const MIN_SIGMA_POSITION_M: f64 = 1e-6;
-/// Smallest rotation noise [rad] the tests assume (1 µrad), for the same reason.
-pub const MIN_SIGMA_ROTATION_RAD: f64 = 1e-6;
+/// Smallest position noise [m] the tests assume (50 µm). Below it, pose changes are not
+/// demonstrations: rigid contacts comply and settle at this scale (a box on a tilting palm
+/// shifts by micrometres as the load moves), and no camera tracker resolves them.
+pub const MIN_SIGMA_POSITION_M: f64 = 5e-5;
+/// Smallest rotation noise [rad] the tests assume (2e-4 rad, 0.011°), for the same reason.
+pub const MIN_SIGMA_ROTATION_RAD: f64 = 2e-4;
 
 /// Per-axis standard deviations of the tracking noise.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

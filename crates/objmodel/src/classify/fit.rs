@@ -13,6 +13,11 @@ use std::collections::HashMap;
 const MSAC_CANDIDATES: usize = 48;
 /// Refinement iterations after MSAC.
 const REFINE_ITERATIONS: usize = 10;
+/// Change-point trimming keeps at least this many blocks of a topple...
+const MIN_KEPT_BLOCKS: usize = 3;
+/// ... and at least this fraction of its frames: in a fast topple the object may pivot for
+/// only a third of the frames in which it turns, and fly or slide for the rest.
+const MIN_KEPT_FRACTION: f64 = 0.2;
 
 /// χ² thresholds by degrees of freedom, cached.
 struct Thresholds {
@@ -126,8 +131,8 @@ fn fit_plane(blocks: &[Block], idx: &[usize], valid: impl Fn(&Vector3<f64>) -> b
 /// With `order` the line-inlier blocks in time order, every cut τ splits them into a before and
 /// an after. Under a fixed edge both parts' weighted mean axis points agree, so
 /// `T(τ) = |P (r̄_before - r̄_after)|² / (1/W_before + 1/W_after)` is χ²₂ (P projects normal to the
-/// line, W are the summed point weights). The largest T over the cuts that keep at least half
-/// of the frames is compared with the χ²₂ quantile at `alpha` divided by the number of cuts
+/// line, W are the summed point weights). The largest T over the cuts that keep at least
+/// [`MIN_KEPT_BLOCKS`] blocks and [`MIN_KEPT_FRACTION`] of the frames is compared with the χ²₂ quantile at `alpha` divided by the number of cuts
 /// (Bonferroni, for the scan); if significant, the frames after the cut are dropped and the
 /// test repeated. The error of the reference pose is common to all frames and shifts each
 /// frame's axis by about `σ_ref / (2 sin(θ/2))`, more for small rotations; its effect on the
@@ -147,7 +152,7 @@ fn trim_change_points(blocks: &[Block], order: &[usize], line: Line, alpha: f64,
         for (k, &i) in kept.iter().enumerate().take(cuts) {
             before.merge(&blocks[i].line);
             let (wb, wa) = (before.sw, total.sw - before.sw);
-            if wb <= 0.0 || wa <= 0.0 || before.n < 0.5 * total.n {
+            if wb <= 0.0 || wa <= 0.0 || k + 1 < MIN_KEPT_BLOCKS || before.n < MIN_KEPT_FRACTION * total.n {
                 continue;
             }
             let d = p_mat * (before.swr / wb - (total.swr - before.swr) / wa);

@@ -1,15 +1,21 @@
 //! Rest detection: is the object's pose changing at time t, given the tracking noise?
 //!
-//! For each frame c, the pose over the window `|t - t_c| <= w/2` is fitted with a straight line
-//! in time, per coordinate: the three coordinates of the accumulated rotation increments
-//! `Σ log(q_{k-1}⁻¹ q_k)` (continuous, unlike a rotation vector from a fixed reference, which
-//! wraps at π) and the three of the position. Under rest, each slope β_j is Gaussian with
-//! variance `σ_j² / S_tt`, `S_tt = Σ (t_k - t̄)²`, so `Σ_j β_j² S_tt / σ_j²` is χ²₆; the frame is
-//! moving when that exceeds the χ²₆ quantile at level `alpha`. The slope test uses every frame of
-//! the window, so it detects a slow tilt (0.1 rad/s at 0.5° noise and 30 Hz) that a
-//! frame-to-frame difference misses.
+//! The pose over a window of frames is fitted with a straight line in time, per coordinate:
+//! the three coordinates of the accumulated rotation increments `Σ log(q_{k-1}⁻¹ q_k)`
+//! (continuous, unlike a rotation vector from a fixed reference, which wraps at π) and the
+//! three of the position. Under rest each slope β_j is Gaussian with variance `σ_j² / S_tt`,
+//! `S_tt = Σ (t_k - t̄)²`, so `Σ_j β_j² S_tt / σ_j²` is χ²₆; the window moves when that
+//! exceeds the χ²₆ quantile at level `alpha`. The slope test uses every frame of the window,
+//! so it detects a slow tilt (0.1 rad/s at 0.5° noise and 30 Hz) that a frame-to-frame
+//! difference misses.
 //!
-//! Sums over the window are kept incrementally, re-based on a local time and pose origin every
+//! Frame c is *moving* when both the window that ends at c and the window that starts at c
+//! (each [`RestDetector::new`]'s `window_s` long) move. A centred window would call the first
+//! frames of the rest after a motion "moving" (and the last ones before it), and those are many
+//! copies of one pose; with the two one-sided windows, a frame is at rest as soon as the pose is
+//! steady on either side of it.
+//!
+//! Sums over the windows are kept incrementally, re-based on a local time and pose origin every
 //! [`REBASE_EVERY`] frames so that long files do not lose precision to cancellation.
 
 use crate::clean::RawFrame;
@@ -32,28 +38,13 @@ pub enum Item {
 #[derive(Clone, Copy, Debug)]
 struct Entry {
     item: Item,
+    t: f64,
+    is_frame: bool,
     /// (accumulated rotation, position), for frames.
     x: [f64; 6],
 }
 
-/// Streaming rest detector; emits items in order with a `moving` verdict for frames.
-#[derive(Debug)]
-pub struct RestDetector {
-    half: f64,
-    threshold: f64,
-    inv_var: [f64; 6],
-    buf: VecDeque<Entry>,
-    /// Index in `buf` of the next frame to judge.
-    center: usize,
-    /// `buf[lo..hi]` are the frames (and outliers) in the current window.
-    hi: usize,
-    cum_rot: Vector3<f64>,
-    last_q: Option<nalgebra::UnitQuaternion<f64>>,
-    origin: (f64, [f64; 6]),
-    sums: Sums,
-    since_rebase: usize,
-}
-
+/// Running least-squares sums of (t, x) over a window, about a local origin.
 #[derive(Clone, Copy, Debug, Default)]
 struct Sums {
     n: f64,
@@ -63,55 +54,91 @@ struct Sums {
     stx: [f64; 6],
 }
 
+impl Sums {
+    fn add(&mut self, e: &Entry, origin: &(f64, [f64; 6]), sign: f64) {
+        if !e.is_frame {
+            return;
+        }
+        let dt = e.t - origin.0;
+        self.n += sign;
+        self.st += sign * dt;
+        self.stt += sign * dt * dt;
+        for j in 0..6 {
+            let x = e.x[j] - origin.1[j];
+            self.sx[j] += sign * x;
+            self.stx[j] += sign * dt * x;
+        }
+    }
+
+    /// χ²₆ statistic of the slope (0 with fewer than 3 frames).
+    fn statistic(&self, inv_var: &[f64; 6]) -> f64 {
+        if self.n < 3.0 {
+            return 0.0;
+        }
+        let den = self.n * self.stt - self.st * self.st;
+        if den <= 0.0 {
+            return 0.0;
+        }
+        let stt_c = den / self.n;
+        (0..6)
+            .map(|j| {
+                let beta = (self.n * self.stx[j] - self.st * self.sx[j]) / den;
+                beta * beta * stt_c * inv_var[j]
+            })
+            .sum()
+    }
+}
+
+/// Streaming rest detector; emits items in order with a `moving` verdict for frames.
+#[derive(Debug)]
+pub struct RestDetector {
+    window: f64,
+    threshold: f64,
+    inv_var: [f64; 6],
+    buf: VecDeque<Entry>,
+    /// Index in `buf` of the next item to judge; `buf[..center]` is the left window's past.
+    center: usize,
+    /// `buf[center..hi]` is the right window.
+    hi: usize,
+    left: Sums,
+    right: Sums,
+    cum_rot: Vector3<f64>,
+    last_q: Option<nalgebra::UnitQuaternion<f64>>,
+    origin: (f64, [f64; 6]),
+    since_rebase: usize,
+}
+
 impl RestDetector {
-    /// A detector with window width `window_s` [s], noise sigmas, and level `alpha`.
+    /// A detector with windows of `window_s` [s], noise sigmas, and level `alpha`.
     pub fn new(window_s: f64, sigma_position: f64, sigma_rotation: f64, alpha: f64) -> Self {
         let vr = 1.0 / (sigma_rotation * sigma_rotation);
         let vp = 1.0 / (sigma_position * sigma_position);
         Self {
-            half: 0.5 * window_s + 1e-9,
+            window: window_s + 1e-9,
             threshold: crate::stats::chi2_threshold(6.0, alpha),
             inv_var: [vr, vr, vr, vp, vp, vp],
             buf: VecDeque::new(),
             center: 0,
             hi: 0,
+            left: Sums::default(),
+            right: Sums::default(),
             cum_rot: Vector3::zeros(),
             last_q: None,
             origin: (0.0, [0.0; 6]),
-            sums: Sums::default(),
             since_rebase: 0,
-        }
-    }
-
-    fn time(e: &Entry) -> f64 {
-        match e.item {
-            Item::Frame(f) => f.t,
-            Item::Outlier(_, t) => t,
-        }
-    }
-
-    fn add(&mut self, i: usize, sign: f64) {
-        let e = self.buf[i];
-        if let Item::Frame(_) = e.item {
-            let dt = Self::time(&e) - self.origin.0;
-            let s = &mut self.sums;
-            s.n += sign;
-            s.st += sign * dt;
-            s.stt += sign * dt * dt;
-            for j in 0..6 {
-                let x = e.x[j] - self.origin.1[j];
-                s.sx[j] += sign * x;
-                s.stx[j] += sign * dt * x;
-            }
         }
     }
 
     fn rebase(&mut self) {
         let c = self.buf[self.center];
-        self.origin = (Self::time(&c), c.x);
-        self.sums = Sums::default();
-        for i in 0..self.hi {
-            self.add(i, 1.0);
+        self.origin = (c.t, c.x);
+        self.left = Sums::default();
+        self.right = Sums::default();
+        for i in 0..=self.center {
+            self.left.add(&self.buf[i], &self.origin, 1.0);
+        }
+        for i in self.center..self.hi {
+            self.right.add(&self.buf[i], &self.origin, 1.0);
         }
         self.since_rebase = 0;
     }
@@ -119,14 +146,18 @@ impl RestDetector {
     /// Push the next item; judged items are passed to `out` with `moving` (false for outliers).
     pub fn push(&mut self, item: Item, out: &mut impl FnMut(Item, bool)) {
         let mut x = [0.0; 6];
-        if let Item::Frame(f) = &item {
-            if let Some(q0) = self.last_q {
-                self.cum_rot += so3_log(&(q0.inverse() * f.q));
+        let (t, is_frame) = match &item {
+            Item::Frame(f) => {
+                if let Some(q0) = self.last_q {
+                    self.cum_rot += so3_log(&(q0.inverse() * f.q));
+                }
+                self.last_q = Some(f.q);
+                x = [self.cum_rot.x, self.cum_rot.y, self.cum_rot.z, f.p.x, f.p.y, f.p.z];
+                (f.t, true)
             }
-            self.last_q = Some(f.q);
-            x = [self.cum_rot.x, self.cum_rot.y, self.cum_rot.z, f.p.x, f.p.y, f.p.z];
-        }
-        self.buf.push_back(Entry { item, x });
+            Item::Outlier(_, t) => (*t, false),
+        };
+        self.buf.push_back(Entry { item, t, is_frame, x });
         self.drain(false, out);
     }
 
@@ -137,50 +168,37 @@ impl RestDetector {
 
     fn drain(&mut self, at_end: bool, out: &mut impl FnMut(Item, bool)) {
         while self.center < self.buf.len() {
-            let tc = Self::time(&self.buf[self.center]);
-            // Extend the window to the right.
-            while self.hi < self.buf.len() && Self::time(&self.buf[self.hi]) <= tc + self.half {
-                self.add(self.hi, 1.0);
+            let tc = self.buf[self.center].t;
+            // Extend the right window [tc, tc + w].
+            while self.hi < self.buf.len() && self.buf[self.hi].t <= tc + self.window {
+                let e = self.buf[self.hi];
+                self.right.add(&e, &self.origin, 1.0);
                 self.hi += 1;
             }
             if self.hi == self.buf.len() && !at_end {
-                return; // The window is not complete yet.
+                return; // The right window is not complete yet.
             }
-            // Shrink it on the left.
-            while self.center > 0 && Self::time(&self.buf[0]) < tc - self.half {
-                self.add(0, -1.0);
-                self.buf.pop_front();
+            // Drop frames older than tc - w from the left window [tc - w, tc].
+            while self.center > 0 && self.buf[0].t < tc - self.window {
+                let e = self.buf.pop_front().unwrap();
+                self.left.add(&e, &self.origin, -1.0);
                 self.center -= 1;
                 self.hi -= 1;
             }
             if self.since_rebase == 0 || self.since_rebase >= REBASE_EVERY {
                 self.rebase();
+            } else {
+                let e = self.buf[self.center];
+                self.left.add(&e, &self.origin, 1.0);
             }
             self.since_rebase += 1;
             let e = self.buf[self.center];
-            let moving = matches!(e.item, Item::Frame(_)) && self.statistic() > self.threshold;
+            let moving = e.is_frame && self.left.statistic(&self.inv_var) > self.threshold && self.right.statistic(&self.inv_var) > self.threshold;
             out(e.item, moving);
+            // The centre leaves the right window (it stays in the left one).
+            self.right.add(&e, &self.origin, -1.0);
             self.center += 1;
         }
-    }
-
-    /// χ²₆ statistic of the slope over the current window (0 with fewer than 3 frames).
-    fn statistic(&self) -> f64 {
-        let s = &self.sums;
-        if s.n < 3.0 {
-            return 0.0;
-        }
-        let den = s.n * s.stt - s.st * s.st;
-        if den <= 0.0 {
-            return 0.0;
-        }
-        let stt_c = den / s.n; // Σ (t - t̄)²
-        let mut chi2 = 0.0;
-        for j in 0..6 {
-            let beta = (s.n * s.stx[j] - s.st * s.sx[j]) / den;
-            chi2 += beta * beta * stt_c * self.inv_var[j];
-        }
-        chi2
     }
 }
 

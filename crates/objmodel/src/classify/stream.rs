@@ -125,17 +125,21 @@ struct RestAcc {
 }
 
 impl RestAcc {
-    /// χ²₆ statistic of the pose's drift (least-squares slope) over the whole rest.
-    fn drift_chi2(&self, var_r: f64, var_p: f64) -> f64 {
+    /// χ²₆ statistic of the pose's drift (least-squares slope) over the whole rest. The slope's
+    /// variance is the noise's, `σ²/S_tt`, plus the model tolerance spread over the rest,
+    /// `(tol/T)²`: contacts settle by that much without the object being moved.
+    fn drift_chi2(&self, m: &FrameModel) -> f64 {
         let den = self.n * self.stt - self.st * self.st;
-        if self.n < 3.0 || den <= 0.0 {
+        let duration = self.t1 - self.t0;
+        if self.n < 3.0 || den <= 0.0 || duration <= 0.0 {
             return 0.0;
         }
         let stt_c = den / self.n;
         (0..6)
             .map(|j| {
                 let beta = (self.n * self.stx[j] - self.st * self.sx[j]) / den;
-                beta * beta * stt_c / if j < 3 { var_r } else { var_p }
+                let (var, tol2) = if j < 3 { (m.var_r, m.tol_r2) } else { (m.var_p, m.tol_p2) };
+                beta * beta / (var / stt_c + tol2 / (duration * duration))
             })
             .sum()
     }
@@ -310,7 +314,7 @@ impl Core {
             let m = self.model.unwrap();
             let long_rest = self.rest_acc.n > 0.0
                 && self.rest_acc.t1 - self.rest_acc.t0 >= self.config.robust.min_rest_s
-                && self.rest_acc.drift_chi2(m.var_r, m.var_p) <= m.displaced;
+                && self.rest_acc.drift_chi2(&m) <= m.displaced;
             if self.segments.is_empty() || (long_rest && self.segments.len() < MAX_SEGMENTS) {
                 if let Some(prev) = self.segments.last_mut() {
                     prev.rest_after = self.rest_acc.down();

@@ -1,0 +1,279 @@
+//! The standard data set: several boxes (one with an offset centre of mass) × every kind of
+//! demonstration × three noise levels × a few seeds, with a `manifest.json`.
+//!
+//! Each (box, kind, seed) is simulated once; the three noise levels are drawn on the same clean
+//! trajectory, so noise is the only difference between them.
+
+use crate::demo::{simulate_clean, write_demo, SimOptions};
+use crate::noise::NoiseModel;
+use crate::spec::{BoxFace, BoxSpec, TagMount};
+use crate::{Result, SceneKind, SimError};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// What to generate.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DatasetPlan {
+    /// The boxes.
+    pub boxes: Vec<BoxSpec>,
+    /// The kinds of demonstration.
+    pub kinds: Vec<SceneKind>,
+    /// The noise levels.
+    pub noises: Vec<NoiseModel>,
+    /// Seeds per (box, kind) cell.
+    pub seeds: Vec<u64>,
+    /// Rates.
+    pub options: SimOptions,
+    /// Worker threads (scenes run in parallel).
+    pub threads: usize,
+}
+
+/// The standard boxes, each with its own tag sticker:
+///
+/// | name | dims \[m\] | mass \[kg\] | CoM offset \[m\] | μ |
+/// |---|---|---|---|---|
+/// | tall | 0.10 × 0.10 × 0.20 | 0.6 | 0 | 0.8 |
+/// | brick | 0.09 × 0.07 × 0.13 | 0.45 | 0 | 1.0 |
+/// | slab | 0.12 × 0.06 × 0.10 | 0.4 | 0 | 0.9 |
+/// | weighted | 0.08 × 0.08 × 0.16 | 0.8 | (0.015, 0, −0.02) | 0.9 |
+/// | post | 0.06 × 0.07 × 0.22 | 0.35 | (0, 0.008, 0.03) | 0.7 |
+pub fn standard_boxes() -> Vec<BoxSpec> {
+    let tag = |face, o0, o1, yaw_deg: f64| TagMount {
+        face,
+        offset: [o0, o1],
+        yaw: yaw_deg.to_radians(),
+    };
+    vec![
+        BoxSpec::new("tall", [0.10, 0.10, 0.20], 0.6)
+            .with_friction(0.8)
+            .with_tag(tag(BoxFace::PosX, 0.004, -0.003, 17.0)),
+        BoxSpec::new("brick", [0.09, 0.07, 0.13], 0.45)
+            .with_friction(1.0)
+            .with_tag(tag(BoxFace::NegY, -0.003, 0.005, -25.0)),
+        BoxSpec::new("slab", [0.12, 0.06, 0.10], 0.4)
+            .with_friction(0.9)
+            .with_tag(tag(BoxFace::PosY, 0.005, 0.002, 8.0)),
+        BoxSpec::new("weighted", [0.08, 0.08, 0.16], 0.8)
+            .with_com([0.015, 0.0, -0.02])
+            .with_friction(0.9)
+            .with_tag(tag(BoxFace::NegX, -0.002, -0.004, 33.0)),
+        BoxSpec::new("post", [0.06, 0.07, 0.22], 0.35)
+            .with_com([0.0, 0.008, 0.03])
+            .with_friction(0.7)
+            .with_tag(tag(BoxFace::PosX, 0.003, 0.006, -12.0)),
+    ]
+}
+
+/// The standard plan: 5 boxes × 5 kinds × (clean, real, noisy) × 3 seeds; `quick` keeps 4
+/// boxes and 1 seed.
+pub fn standard_dataset(quick: bool) -> DatasetPlan {
+    let mut boxes = standard_boxes();
+    if quick {
+        boxes.truncate(4);
+    }
+    DatasetPlan {
+        boxes,
+        kinds: SceneKind::ALL.to_vec(),
+        noises: NoiseModel::PRESETS
+            .iter()
+            .filter_map(|n| NoiseModel::preset(n))
+            .collect(),
+        seeds: if quick { vec![1] } else { vec![1, 2, 3] },
+        options: SimOptions::default(),
+        threads: std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1)
+            .min(2),
+    }
+}
+
+/// One demo in the manifest.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ManifestEntry {
+    /// File stem.
+    pub name: String,
+    /// Scene kind name (topple, instrumented, slide, general, compound).
+    pub scene: String,
+    /// Truth kind (topple, slide, general, compound).
+    pub kind: String,
+    /// Whether a palm was tracked.
+    pub instrumented: bool,
+    /// Box name.
+    pub r#box: String,
+    /// Noise preset name.
+    pub noise: String,
+    /// Seed actually used (a failed scene is retried with another seed).
+    pub seed: u64,
+    /// Tag trajectory file, relative to the manifest.
+    pub tum: String,
+    /// Palm trajectory file, if any.
+    pub palm: Option<String>,
+    /// Truth file.
+    pub truth: String,
+    /// Number of written object poses.
+    pub frames: usize,
+    /// Duration \[s\].
+    pub duration: f64,
+}
+
+/// `manifest.json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Manifest {
+    /// Schema version.
+    pub version: u32,
+    /// The boxes.
+    pub boxes: Vec<BoxSpec>,
+    /// The noise models.
+    pub noises: Vec<NoiseModel>,
+    /// Every demo written.
+    pub demos: Vec<ManifestEntry>,
+    /// Cells that failed even after retries, with the reason.
+    pub failures: Vec<(String, String)>,
+    /// Wall-clock generation time \[s\].
+    pub seconds: f64,
+    /// Simulated time \[s\] (each clean run counted once).
+    pub simulated_seconds: f64,
+}
+
+/// Progress report: `done` of `total` scenes finished, the last one's name.
+#[derive(Debug, Clone)]
+pub struct Progress {
+    /// Scenes finished.
+    pub done: usize,
+    /// Scenes planned.
+    pub total: usize,
+    /// Name of the scene just finished.
+    pub name: String,
+}
+
+/// A cell's demos and simulated duration, or why it could not be made.
+type CellOutcome = std::result::Result<(Vec<ManifestEntry>, f64), String>;
+type CellResult = (usize, CellOutcome);
+
+fn run_cell(
+    dir: &Path,
+    plan: &DatasetPlan,
+    b: &BoxSpec,
+    kind: SceneKind,
+    seed: u64,
+) -> CellOutcome {
+    let mut last_err = String::new();
+    for attempt in 0..4u64 {
+        let s = seed + 1000 * attempt;
+        match simulate_clean(kind, b, s, &plan.options) {
+            Ok(clean) => {
+                let mut entries = Vec::new();
+                for noise in &plan.noises {
+                    let name = format!("{}_{}_{}_s{}", b.name, kind.name(), noise.name, seed);
+                    let demo = clean.with_noise(noise);
+                    let files = write_demo(dir, &name, &demo).map_err(|e| e.to_string())?;
+                    let rel = |p: &PathBuf| {
+                        p.file_name()
+                            .map(|f| f.to_string_lossy().into_owned())
+                            .unwrap_or_default()
+                    };
+                    entries.push(ManifestEntry {
+                        name,
+                        scene: kind.name().into(),
+                        kind: kind.truth_kind().into(),
+                        instrumented: demo.truth.instrumented,
+                        r#box: b.name.clone(),
+                        noise: noise.name.clone(),
+                        seed: s,
+                        tum: rel(&files.tum),
+                        palm: files.palm.as_ref().map(rel),
+                        truth: rel(&files.truth),
+                        frames: demo.object.len(),
+                        duration: demo.truth.duration,
+                    });
+                }
+                return Ok((entries, clean.truth.duration));
+            }
+            Err(SimError::InvalidSpec(m)) => return Err(m),
+            Err(e) => last_err = format!("seed {s}: {e}"),
+        }
+    }
+    Err(last_err)
+}
+
+/// Generate `plan` into `dir` (created if needed) and write `dir/manifest.json`, calling
+/// `progress` after each scene. A cell that cannot be made (an impossible box for a kind, or
+/// four failed seeds) is listed in `failures`, not fatal.
+pub fn write_dataset(
+    dir: &Path,
+    plan: &DatasetPlan,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<Manifest> {
+    std::fs::create_dir_all(dir).map_err(|source| objmodel::Error::Io {
+        file: dir.to_path_buf(),
+        source,
+    })?;
+    for n in &plan.noises {
+        n.validate()?;
+    }
+    let start = Instant::now();
+    let mut cells = Vec::new();
+    for b in &plan.boxes {
+        for &kind in &plan.kinds {
+            for &seed in &plan.seeds {
+                cells.push((b, kind, seed));
+            }
+        }
+    }
+    let total = cells.len();
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let (tx, rx) = std::sync::mpsc::channel::<CellResult>();
+    let mut results: Vec<Option<CellOutcome>> = vec![None; total];
+    std::thread::scope(|scope| {
+        for _ in 0..plan.threads.max(1) {
+            let tx = tx.clone();
+            let (cells, next) = (&cells, &next);
+            scope.spawn(move || loop {
+                let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                if i >= cells.len() {
+                    break;
+                }
+                let (b, kind, seed) = cells[i];
+                let _ = tx.send((i, run_cell(dir, plan, b, kind, seed)));
+            });
+        }
+        drop(tx);
+        for (done, (i, r)) in rx.iter().enumerate() {
+            let (b, kind, seed) = cells[i];
+            results[i] = Some(r);
+            progress(&Progress {
+                done: done + 1,
+                total,
+                name: format!("{}_{}_s{}", b.name, kind.name(), seed),
+            });
+        }
+    });
+    let mut demos = Vec::new();
+    let mut failures = Vec::new();
+    let mut simulated = 0.0;
+    for (i, r) in results.into_iter().enumerate() {
+        let (b, kind, seed) = cells[i];
+        match r.expect("every cell reports") {
+            Ok((entries, dur)) => {
+                demos.extend(entries);
+                simulated += dur;
+            }
+            Err(m) => failures.push((format!("{}_{}_s{}", b.name, kind.name(), seed), m)),
+        }
+    }
+    let manifest = Manifest {
+        version: 1,
+        boxes: plan.boxes.clone(),
+        noises: plan.noises.clone(),
+        demos,
+        failures,
+        seconds: start.elapsed().as_secs_f64(),
+        simulated_seconds: simulated,
+    };
+    objmodel::format::write_atomic(
+        &dir.join("manifest.json"),
+        serde_json::to_string_pretty(&manifest)?.as_bytes(),
+    )?;
+    Ok(manifest)
+}

@@ -1,0 +1,179 @@
+//! Measuring the learner against the simulator's ground truth: classification accuracy per kind
+//! and noise level, edge errors per demonstration and after fusing, face normal errors.
+
+use crate::dataset::Manifest;
+use crate::truth::Truth;
+use nalgebra::Vector3;
+use objmodel::classify::{classify_files, Config, Kind};
+use objmodel::tree::Tree;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// One demonstration's result.
+#[derive(Clone, Debug, Serialize)]
+pub struct DemoResult {
+    /// Demo name.
+    pub name: String,
+    /// Scene (topple, instrumented, slide, general, compound).
+    pub scene: String,
+    /// Box name.
+    pub r#box: String,
+    /// Noise preset.
+    pub noise: String,
+    /// True kind.
+    pub truth: String,
+    /// Learnt kind.
+    pub kind: String,
+    /// Whether the learnt kind is right (for a compound: a topple about the true edge was found).
+    pub correct: bool,
+    /// Edge direction error [deg], for demos with an edge.
+    pub edge_direction_deg: Option<f64>,
+    /// Edge position error [mm]: distance between learnt and true points closest to the origin.
+    pub edge_position_mm: Option<f64>,
+    /// Face normal error [deg] (sign included), for slides.
+    pub face_normal_deg: Option<f64>,
+}
+
+/// Errors of one fused edge.
+#[derive(Clone, Debug, Serialize)]
+pub struct FusedResult {
+    /// Box name.
+    pub r#box: String,
+    /// Noise preset.
+    pub noise: String,
+    /// Demonstrations fused into the edge.
+    pub support: usize,
+    /// Direction error [deg].
+    pub direction_deg: f64,
+    /// Position error [mm].
+    pub position_mm: f64,
+}
+
+/// The whole evaluation.
+#[derive(Clone, Debug, Serialize)]
+pub struct Evaluation {
+    /// Per demonstration.
+    pub demos: Vec<DemoResult>,
+    /// Per fused edge.
+    pub fused: Vec<FusedResult>,
+}
+
+fn v(a: [f64; 3]) -> Vector3<f64> {
+    Vector3::new(a[0], a[1], a[2])
+}
+
+fn line_angle_deg(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+    a.cross(b).norm().atan2(a.dot(b).abs()).to_degrees()
+}
+
+fn edge_errors(tree_or_obs: impl Iterator<Item = (Vector3<f64>, Vector3<f64>)>, truth: &Truth) -> Option<(f64, f64)> {
+    let e = truth.edge?;
+    let (tp, td) = (v(e.point), v(e.direction));
+    tree_or_obs.map(|(p, d)| (line_angle_deg(&d, &td), (p - tp).norm() * 1e3)).min_by(|a, b| (a.0 + a.1).total_cmp(&(b.0 + b.1)))
+}
+
+/// Evaluate the learner on the dataset in `dir` (with `manifest.json`).
+pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
+    let manifest: Manifest = serde_json::from_str(&std::fs::read_to_string(dir.join("manifest.json"))?)?;
+    let mut demos = Vec::new();
+    let mut groups: BTreeMap<(String, String), Vec<(objmodel::classify::Classification, Truth)>> = BTreeMap::new();
+    for m in &manifest.demos {
+        let truth: Truth = serde_json::from_str(&std::fs::read_to_string(dir.join(&m.truth))?)?;
+        let palm = m.palm.as_ref().map(|p| dir.join(p));
+        let c = classify_files(&dir.join(&m.tum), palm.as_deref(), config)?;
+        let edge = edge_errors(c.edges().map(|e| (e.line.point, e.line.direction)), &truth);
+        let face_normal_deg = truth.face.filter(|_| truth.kind == "slide").and_then(|f| {
+            let n = v(f.normal);
+            c.segments.iter().filter_map(|s| s.face.as_ref()).map(|o| o.normal.angle(&n).to_degrees()).min_by(|a, b| a.total_cmp(b))
+        });
+        let correct = match truth.kind.as_str() {
+            "compound" => edge.is_some_and(|(d, p)| d < 5.0 && p < 10.0),
+            k => c.kind.as_str() == k,
+        };
+        demos.push(DemoResult {
+            name: m.name.clone(),
+            scene: m.scene.clone(),
+            r#box: m.r#box.clone(),
+            noise: m.noise.clone(),
+            truth: truth.kind.clone(),
+            kind: c.kind.as_str().to_string(),
+            correct,
+            edge_direction_deg: edge.map(|e| e.0),
+            edge_position_mm: edge.map(|e| e.1),
+            face_normal_deg,
+        });
+        if truth.edge.is_some() && c.kind == Kind::Topple {
+            groups.entry((m.r#box.clone(), m.noise.clone())).or_default().push((c, truth));
+        }
+    }
+    // Fuse, per box and noise level, all topples; score each true edge against the tree.
+    let mut fused = Vec::new();
+    for ((b, noise), items) in groups {
+        let mut tree = Tree::default();
+        items.iter().for_each(|(c, _)| tree.add(c));
+        let mut seen: Vec<Vector3<f64>> = Vec::new();
+        for (_, t) in &items {
+            let e = t.edge.unwrap();
+            let key = v(e.point);
+            if seen.iter().any(|s| (s - key).norm() < 1e-6) {
+                continue;
+            }
+            seen.push(key);
+            let best = tree.edges.iter().map(|x| (x, edge_errors(std::iter::once((x.point, x.direction)), t).unwrap())).min_by(|a, b| (a.1 .0 + a.1 .1).total_cmp(&(b.1 .0 + b.1 .1)));
+            if let Some((x, (d, p))) = best {
+                fused.push(FusedResult { r#box: b.clone(), noise: noise.clone(), support: x.n_support, direction_deg: d, position_mm: p });
+            }
+        }
+    }
+    Ok(Evaluation { demos, fused })
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    objmodel::stats::median(&mut v).unwrap_or(f64::NAN)
+}
+
+fn max(v: &[f64]) -> f64 {
+    v.iter().copied().fold(f64::NAN, f64::max)
+}
+
+impl Evaluation {
+    /// The tables as Markdown.
+    pub fn markdown(&self) -> String {
+        let mut s = String::from("### Classification accuracy (correct / demos)\n\n| scene | clean | real | noisy |\n|---|---|---|---|\n");
+        let noises = ["clean", "real", "noisy"];
+        for scene in ["topple", "instrumented", "slide", "general", "compound"] {
+            s += &format!("| {scene} |");
+            for n in noises {
+                let d: Vec<&DemoResult> = self.demos.iter().filter(|d| d.scene == scene && d.noise == n).collect();
+                let ok = d.iter().filter(|d| d.correct).count();
+                s += &format!(" {ok}/{} |", d.len());
+            }
+            s += "\n";
+        }
+        s += "\nA compound demonstration (a slide that turns into a topple) counts as correct when a topple about its true edge is found (direction within 5°, position within 10 mm).\n\n";
+        s += "### Edge errors per demonstration (median / max)\n\n| scene | noise | demos | direction [deg] | position [mm] |\n|---|---|---|---|---|\n";
+        for scene in ["topple", "instrumented", "compound"] {
+            for n in noises {
+                let d: Vec<&DemoResult> = self.demos.iter().filter(|d| d.scene == scene && d.noise == n && d.edge_direction_deg.is_some()).collect();
+                let dir: Vec<f64> = d.iter().filter_map(|d| d.edge_direction_deg).collect();
+                let pos: Vec<f64> = d.iter().filter_map(|d| d.edge_position_mm).collect();
+                s += &format!("| {scene} | {n} | {} | {:.3} / {:.3} | {:.2} / {:.2} |\n", d.len(), median(dir.clone()), max(&dir), median(pos.clone()), max(&pos));
+            }
+        }
+        s += "\n### Edges after fusing all topples of a box (median / max over edges)\n\n| noise | edges | demos per edge | direction [deg] | position [mm] |\n|---|---|---|---|---|\n";
+        for n in noises {
+            let f: Vec<&FusedResult> = self.fused.iter().filter(|f| f.noise == n).collect();
+            let dir: Vec<f64> = f.iter().map(|f| f.direction_deg).collect();
+            let pos: Vec<f64> = f.iter().map(|f| f.position_mm).collect();
+            let sup: Vec<f64> = f.iter().map(|f| f.support as f64).collect();
+            s += &format!("| {n} | {} | {:.1} | {:.3} / {:.3} | {:.2} / {:.2} |\n", f.len(), median(sup), median(dir.clone()), max(&dir), median(pos.clone()), max(&pos));
+        }
+        s += "\n### Face normal errors of slides (median / max)\n\n| noise | demos | normal [deg] |\n|---|---|---|\n";
+        for n in noises {
+            let d: Vec<f64> = self.demos.iter().filter(|d| d.noise == n).filter_map(|d| d.face_normal_deg).collect();
+            s += &format!("| {n} | {} | {:.3} / {:.3} |\n", d.len(), median(d.clone()), max(&d));
+        }
+        s
+    }
+}

@@ -1,0 +1,110 @@
+//! A kinematic fingertip that pushes a box along a straight horizontal line.
+//!
+//! A push is described in the box frame at the moment it starts: the finger moves along the
+//! horizontal direction `e = Rz(δ) · s e_k` (box axis `k ∈ {x, y}`, sign `s`, small yaw error
+//! `δ`) and meets the face with outward normal `-s e_k` at height `h` above the support and
+//! lateral offset `l` along the other horizontal box axis from the face centre.
+
+use super::Run;
+use crate::spec::BoxSpec;
+use crate::world::Body;
+use crate::Result;
+use nalgebra::{UnitQuaternion, Vector3};
+
+/// Fingertip radius \[m\].
+pub const FINGER_RADIUS: f64 = 0.006;
+/// Fingertip friction (a smooth probe: it pushes along the face normal).
+pub const FINGER_MU: f64 = 0.05;
+
+/// A straight push.
+#[derive(Debug, Clone, Copy)]
+pub struct Push {
+    /// Box axis pushed along (0 = x, 1 = y).
+    pub axis: usize,
+    /// Sign of the push along that axis.
+    pub sign: f64,
+    /// Height of the fingertip centre above the support \[m\].
+    pub height: f64,
+    /// Lateral offset from the face centre line \[m\].
+    pub lateral: f64,
+    /// Yaw error of the push direction \[rad\].
+    pub yaw: f64,
+    /// Finger speed \[m/s\].
+    pub speed: f64,
+}
+
+/// The finger.
+pub struct Finger {
+    /// Its body.
+    pub body: Body,
+    /// Its current centre, world frame \[m\].
+    pub pos: Vector3<f64>,
+}
+
+impl Push {
+    /// World-frame start point (1.5 cm before the face) and unit direction of this push for the
+    /// box's current pose in `run` (the support is the level table).
+    pub fn line(&self, run: &Run, spec: &BoxSpec) -> (Vector3<f64>, Vector3<f64>) {
+        let s = run.samples.last().expect("a sample");
+        let b = s.world_from_box;
+        let h = spec.half_extents();
+        let other = 1 - self.axis;
+        let mut e_box = Vector3::zeros();
+        e_box[self.axis] = self.sign;
+        let e_box = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), self.yaw) * e_box;
+        let mut contact = Vector3::zeros();
+        contact[self.axis] = -self.sign * h[self.axis];
+        contact[other] = self.lateral;
+        // Express the direction and the contact point in the world, then fix the height above
+        // the table, measured in the world (the box rests level).
+        let mut e = b.rotation * e_box;
+        e.z = 0.0;
+        let e = e.normalize();
+        let mut c = b * nalgebra::Point3::from(contact);
+        c.z = self.height;
+        (c.coords - e * (FINGER_RADIUS + 0.015), e)
+    }
+}
+
+impl Finger {
+    /// Add a finger at `pos`.
+    pub fn new(run: &mut Run, pos: Vector3<f64>) -> Finger {
+        let body = run.world.add_finger(FINGER_RADIUS, FINGER_MU, &pos);
+        Finger { body, pos }
+    }
+
+    /// Move in a straight line to `target` at `speed` \[m/s\], stepping the world, until there or
+    /// until `stop(run)` holds. Returns whether `stop` ended the move.
+    pub fn move_to(
+        &mut self,
+        run: &mut Run,
+        target: Vector3<f64>,
+        speed: f64,
+        mut stop: impl FnMut(&Run) -> bool,
+    ) -> Result<bool> {
+        let dt = run.world.dt;
+        loop {
+            let d = target - self.pos;
+            let n = d.norm();
+            if n < 1e-9 {
+                return Ok(false);
+            }
+            let stepl = (speed * dt).min(n);
+            self.pos += d * (stepl / n);
+            let pose = nalgebra::Isometry3::translation(self.pos.x, self.pos.y, self.pos.z);
+            run.world.set_kinematic(self.body, &pose);
+            run.step()?;
+            if stop(run) {
+                return Ok(true);
+            }
+        }
+    }
+
+    /// Jump the (out of contact) finger to `pos` over one step.
+    pub fn teleport(&mut self, run: &mut Run, pos: Vector3<f64>) -> Result<()> {
+        self.pos = pos;
+        let pose = nalgebra::Isometry3::translation(pos.x, pos.y, pos.z);
+        run.world.set_kinematic(self.body, &pose);
+        run.step()
+    }
+}
