@@ -25,12 +25,27 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     let demos = a.output.join("demos");
     let b = SynthBox::random(&mut StdRng::seed_from_u64(a.seed));
     let mut files = Vec::new();
-    for (i, (kind, side)) in [("topple", 0), ("topple", 1), ("instrumented", 2), ("slide", 0), ("general", 0), ("topple", 0), ("topple", 1)].iter().enumerate() {
+    for (i, (kind, side)) in [
+        ("topple", 0),
+        ("topple", 1),
+        ("instrumented", 2),
+        ("slide", 0),
+        ("general", 0),
+        ("topple", 0),
+        ("topple", 1),
+    ]
+    .iter()
+    .enumerate()
+    {
         let d = make(kind, &b, *side, &SynthNoise::REAL, a.seed * 100 + i as u64);
         write_demo(&demos, &d)?;
         files.push(demos.join(format!("{}.tum", d.demo.name)));
     }
-    println!("wrote {} demonstrations of one box (kinematic generator, real tracking noise) to {}", files.len(), demos.display());
+    println!(
+        "wrote {} demonstrations of one box (kinematic generator, real tracking noise) to {}",
+        files.len(),
+        demos.display()
+    );
     let mut tree = Tree::default();
     let cs = learn_into(&mut tree, &files, None, &Config::default())?;
     for c in &cs {

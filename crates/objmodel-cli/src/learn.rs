@@ -81,15 +81,41 @@ fn summary(c: &Classification, frames: bool) -> String {
         c.votes.general
     );
     if let Some(n) = c.noise {
-        s += &format!("  tracking noise (estimated): {:.2} mm, {:.2} deg per axis\n", n.sigma_position * 1e3, n.sigma_rotation.to_degrees());
+        s += &format!(
+            "  tracking noise (estimated): {:.2} mm, {:.2} deg per axis\n",
+            n.sigma_position * 1e3,
+            n.sigma_rotation.to_degrees()
+        );
     }
     for (i, seg) in c.segments.iter().enumerate() {
-        s += &format!("  segment {i}: {:.2}-{:.2} s, {}, up to {:.1} deg\n", seg.t_start, seg.t_end, seg.kind.as_str(), seg.max_angle.to_degrees());
+        s += &format!(
+            "  segment {i}: {:.2}-{:.2} s, {}, up to {:.1} deg\n",
+            seg.t_start,
+            seg.t_end,
+            seg.kind.as_str(),
+            seg.max_angle.to_degrees()
+        );
         if let Some(e) = &seg.edge {
-            s += &format!("    edge: point {} m, direction {}, ±{:.2} mm, ±{:.2} deg ({} frames)\n", v3(&e.line.point), v3(&e.line.direction), e.sigma_point() * 1e3, e.sigma_direction().to_degrees(), e.frames);
+            s += &format!(
+                "    edge: point {} m, direction {}, ±{:.2} mm, ±{:.2} deg ({} frames)\n",
+                v3(&e.line.point),
+                v3(&e.line.direction),
+                e.sigma_point() * 1e3,
+                e.sigma_direction().to_degrees(),
+                e.frames
+            );
         }
         if let Some(f) = &seg.face {
-            s += &format!("    face normal {}{}, ±{:.2} deg\n", v3(&f.normal), if f.sign_known { " (outward)" } else { " (sign unknown)" }, f.sigma_normal().to_degrees());
+            s += &format!(
+                "    face normal {}{}, ±{:.2} deg\n",
+                v3(&f.normal),
+                if f.sign_known {
+                    " (outward)"
+                } else {
+                    " (sign unknown)"
+                },
+                f.sigma_normal().to_degrees()
+            );
         }
     }
     if frames {
@@ -104,7 +130,10 @@ fn summary(c: &Classification, frames: bool) -> String {
                 Label::General => "general",
                 Label::Unlabelled => "unlabelled",
             };
-            s += &format!("    {:>6}-{:<6} {:>8.3}-{:<8.3} s  {label}\n", r.first, r.last, r.t_start, r.t_end);
+            s += &format!(
+                "    {:>6}-{:<6} {:>8.3}-{:<8.3} s  {label}\n",
+                r.first, r.last, r.t_start, r.t_end
+            );
         }
     }
     s
@@ -127,13 +156,21 @@ pub fn run_classify(a: &ClassifyArgs) -> Result<()> {
 }
 
 /// Classify every demonstration file and fuse it into `tree`; returns the classifications.
-pub fn learn_into(tree: &mut Tree, demos: &[PathBuf], palm: Option<&Path>, config: &Config) -> Result<Vec<Classification>> {
+pub fn learn_into(
+    tree: &mut Tree,
+    demos: &[PathBuf],
+    palm: Option<&Path>,
+    config: &Config,
+) -> Result<Vec<Classification>> {
     let objects: Vec<&PathBuf> = demos.iter().filter(|d| !is_palm_file(d)).collect();
     if objects.is_empty() {
         bail!("no demonstration files (only palm files were given)");
     }
     if palm.is_some() && objects.len() > 1 {
-        bail!("--palm names the palm of a single demonstration, but {} were given", objects.len());
+        bail!(
+            "--palm names the palm of a single demonstration, but {} were given",
+            objects.len()
+        );
     }
     let mut out = Vec::new();
     for d in objects {
@@ -147,13 +184,39 @@ pub fn learn_into(tree: &mut Tree, demos: &[PathBuf], palm: Option<&Path>, confi
 
 /// A short human summary of a tree.
 pub fn tree_summary(tree: &Tree) -> String {
-    let mut s = format!("{} demonstrations, {} edges, {} faces (object frame)\n", tree.demos.len(), tree.edges.len(), tree.faces.len());
+    let mut s = format!(
+        "{} demonstrations, {} edges, {} faces (object frame)\n",
+        tree.demos.len(),
+        tree.edges.len(),
+        tree.faces.len()
+    );
     for e in &tree.edges {
-        s += &format!("  {}: point {} m, direction {}, ±{:.2} mm, ±{:.2} deg, {} demos\n", e.id, v3(&e.point), v3(&e.direction), e.sigma_point_m * 1e3, e.sigma_direction_rad.to_degrees(), e.n_support);
+        s += &format!(
+            "  {}: point {} m, direction {}, ±{:.2} mm, ±{:.2} deg, {} demos\n",
+            e.id,
+            v3(&e.point),
+            v3(&e.direction),
+            e.sigma_point_m * 1e3,
+            e.sigma_direction_rad.to_degrees(),
+            e.n_support
+        );
     }
     for f in &tree.faces {
-        let off = f.offset.map_or("offset unknown".to_string(), |o| format!("offset {o:+.4} m ±{:.2} mm", f.offset_sigma_m.unwrap_or(0.0) * 1e3));
-        s += &format!("  {}: normal {}, {off}, ±{:.2} deg, {} demos ({} slides, {} rests)\n", f.id, v3(&f.normal), f.sigma_normal_rad.to_degrees(), f.n_support, f.evidence.slide, f.evidence.rest);
+        let off = f.offset.map_or("offset unknown".to_string(), |o| {
+            format!(
+                "offset {o:+.4} m ±{:.2} mm",
+                f.offset_sigma_m.unwrap_or(0.0) * 1e3
+            )
+        });
+        s += &format!(
+            "  {}: normal {}, {off}, ±{:.2} deg, {} demos ({} slides, {} rests)\n",
+            f.id,
+            v3(&f.normal),
+            f.sigma_normal_rad.to_degrees(),
+            f.n_support,
+            f.evidence.slide,
+            f.evidence.rest
+        );
     }
     s
 }
@@ -167,14 +230,24 @@ pub fn run_learn(a: &LearnArgs) -> Result<()> {
     };
     let cs = learn_into(&mut tree, &a.demos, a.palm.as_deref(), &config)?;
     if let Some(out) = a.output.as_ref().or(a.into.as_ref()) {
-        tree.save(out).with_context(|| format!("writing {}", out.display()))?;
+        tree.save(out)
+            .with_context(|| format!("writing {}", out.display()))?;
     }
     if a.json {
         crate::out(&(tree.to_json() + "\n"))?;
     } else {
         for c in &cs {
             let n_edges = c.edges().count();
-            eprintln!("{}: {}{}", c.name, c.kind.as_str(), if c.kind == Kind::Topple { format!(" ({n_edges} topple(s))") } else { String::new() });
+            eprintln!(
+                "{}: {}{}",
+                c.name,
+                c.kind.as_str(),
+                if c.kind == Kind::Topple {
+                    format!(" ({n_edges} topple(s))")
+                } else {
+                    String::new()
+                }
+            );
         }
         crate::out(&tree_summary(&tree))?;
         if let Some(out) = a.output.as_ref().or(a.into.as_ref()) {
@@ -202,7 +275,8 @@ pub struct EvaluateArgs {
 /// Run `objmodel evaluate`.
 pub fn run_evaluate(a: &EvaluateArgs) -> Result<()> {
     let config = a.opts.config()?;
-    let e = objmodel_sim::eval::evaluate(&a.data, &config).with_context(|| format!("evaluating {}", a.data.display()))?;
+    let e = objmodel_sim::eval::evaluate(&a.data, &config)
+        .with_context(|| format!("evaluating {}", a.data.display()))?;
     let md = e.markdown();
     if let Some(p) = &a.markdown {
         objmodel::format::write_atomic(p, md.as_bytes())?;

@@ -15,7 +15,12 @@ use std::process::ExitCode;
 /// Learn models of objects (edges, faces, dynamics) from demonstrations in which they are
 /// toppled, slid or moved, after Sanan, Bretan & Heck, IROS 2019.
 #[derive(Parser)]
-#[command(name = "objmodel", version, about, long_about = None, propagate_version = true)]
+#[command(
+    name = "objmodel",
+    version,
+    propagate_version = true,
+    after_help = "Commands that classify (classify, learn, evaluate) take --gravity gx,gy,gz (the direction of gravity in the tracking frame; default 0,0,-1, i.e. z up) or --gravity none; see `objmodel classify --help` for every threshold."
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -62,7 +67,10 @@ fn main() -> ExitCode {
 
 /// A reader of our output went away (`objmodel ... | head`): not an error.
 fn is_broken_pipe(e: &anyhow::Error) -> bool {
-    e.chain().any(|c| c.downcast_ref::<std::io::Error>().is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe))
+    e.chain().any(|c| {
+        c.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
 }
 
 /// Write `s` to standard output, reporting a closed pipe as an error instead of panicking.

@@ -6,7 +6,11 @@ use objmodel::classify::{Config, Method};
 
 /// Parse "x,y,z" into a vector.
 pub fn parse_vec3(s: &str) -> Result<Vector3<f64>> {
-    let v: Vec<f64> = s.split(',').map(|x| x.trim().parse::<f64>()).collect::<Result<_, _>>().with_context(|| format!("'{s}' is not three comma-separated numbers"))?;
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("'{s}' is not three comma-separated numbers"))?;
     if v.len() != 3 || v.iter().any(|x| !x.is_finite()) {
         bail!("'{s}' is not three comma-separated finite numbers");
     }
@@ -71,7 +75,11 @@ impl ClassifyOpts {
     /// The library configuration, validated.
     pub fn config(&self) -> Result<Config> {
         let mut c = Config::default();
-        c.method = if self.method == "paper" { Method::Paper } else { Method::Robust };
+        c.method = if self.method == "paper" {
+            Method::Paper
+        } else {
+            Method::Robust
+        };
         c.gravity = match self.gravity.trim() {
             "none" => None,
             g => {
@@ -82,12 +90,21 @@ impl ClassifyOpts {
                 Some(v)
             }
         };
-        for (name, v) in [("--alpha", self.alpha), ("--outlier-alpha", self.outlier_alpha)] {
+        for (name, v) in [
+            ("--alpha", self.alpha),
+            ("--outlier-alpha", self.outlier_alpha),
+        ] {
             if !(v > 0.0 && v < 1.0) {
                 bail!("{name} must be a probability in (0, 1), got {v}");
             }
         }
-        for (name, v) in [("--rest-window", self.rest_window), ("--r-palm", self.r_palm), ("--pitch-threshold", self.pitch_threshold), ("--axis-angle-threshold", self.axis_angle_threshold), ("--normal-angle-threshold", self.normal_angle_threshold)] {
+        for (name, v) in [
+            ("--rest-window", self.rest_window),
+            ("--r-palm", self.r_palm),
+            ("--pitch-threshold", self.pitch_threshold),
+            ("--axis-angle-threshold", self.axis_angle_threshold),
+            ("--normal-angle-threshold", self.normal_angle_threshold),
+        ] {
             if !(v > 0.0 && v.is_finite()) {
                 bail!("{name} must be positive, got {v}");
             }
@@ -100,7 +117,10 @@ impl ClassifyOpts {
         c.robust.edge_tolerance_rad = self.edge_tolerance_angle;
         c.robust.max_axis_tilt_rad = self.max_axis_tilt;
         c.robust.noise = match (self.noise_position, self.noise_rotation) {
-            (Some(p), Some(r)) => Some(objmodel::noise::NoiseModel { sigma_position: p, sigma_rotation: r }),
+            (Some(p), Some(r)) => Some(objmodel::noise::NoiseModel {
+                sigma_position: p,
+                sigma_rotation: r,
+            }),
             (None, None) => None,
             _ => bail!("give both --noise-position and --noise-rotation, or neither"),
         };

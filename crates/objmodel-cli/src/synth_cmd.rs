@@ -33,9 +33,17 @@ pub struct SynthArgs {
 pub fn write_demo(dir: &Path, d: &SynthDemo) -> Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let note = "synthetic demonstration (objmodel synth); world_from_object of the tag frame";
-    write_tum(&dir.join(format!("{}.tum", d.demo.name)), &d.demo.object, note)?;
+    write_tum(
+        &dir.join(format!("{}.tum", d.demo.name)),
+        &d.demo.object,
+        note,
+    )?;
     if let Some(p) = &d.demo.palm {
-        write_tum(&dir.join(format!("{}.palm.tum", d.demo.name)), p, "palm (tool plate) trajectory, world_from_palm")?;
+        write_tum(
+            &dir.join(format!("{}.palm.tum", d.demo.name)),
+            p,
+            "palm (tool plate) trajectory, world_from_palm",
+        )?;
     }
     let t = &d.truth;
     let truth = serde_json::json!({
@@ -44,14 +52,26 @@ pub fn write_demo(dir: &Path, d: &SynthDemo) -> Result<()> {
         "face": t.face.map(|(n, o)| serde_json::json!({"normal": [n.x, n.y, n.z], "offset": o})),
         "phi": t.phi,
     });
-    objmodel::format::write_atomic(&dir.join(format!("{}.truth.json", d.demo.name)), serde_json::to_string_pretty(&truth)?.as_bytes())?;
+    objmodel::format::write_atomic(
+        &dir.join(format!("{}.truth.json", d.demo.name)),
+        serde_json::to_string_pretty(&truth)?.as_bytes(),
+    )?;
     Ok(())
 }
 
 /// Generate one synthetic demonstration.
 pub fn make(kind: &str, b: &SynthBox, side: usize, noise: &SynthNoise, seed: u64) -> SynthDemo {
     match kind {
-        "topple" => synth::topple(b, &ToppleParams { side, ..Default::default() }, noise, 30.0, seed),
+        "topple" => synth::topple(
+            b,
+            &ToppleParams {
+                side,
+                ..Default::default()
+            },
+            noise,
+            30.0,
+            seed,
+        ),
         "instrumented" => synth::instrumented_topple(b, side, 0.2, noise, 30.0, seed),
         "slide" => synth::slide(b, noise, 30.0, seed),
         _ => synth::general(b, noise, 30.0, seed),
@@ -60,12 +80,19 @@ pub fn make(kind: &str, b: &SynthBox, side: usize, noise: &SynthNoise, seed: u64
 
 /// Run `objmodel synth`.
 pub fn run(a: &SynthArgs) -> Result<()> {
-    let noise = if a.noise == "clean" { SynthNoise::CLEAN } else { SynthNoise::REAL };
+    let noise = if a.noise == "clean" {
+        SynthNoise::CLEAN
+    } else {
+        SynthNoise::REAL
+    };
     let b = SynthBox::random(&mut StdRng::seed_from_u64(a.seed));
     for k in 0..a.count {
         let d = make(&a.kind, &b, a.side, &noise, a.seed * 1000 + k);
         write_demo(&a.output, &d)?;
-        println!("{}", a.output.join(format!("{}.tum", d.demo.name)).display());
+        println!(
+            "{}",
+            a.output.join(format!("{}.tum", d.demo.name)).display()
+        );
     }
     Ok(())
 }

@@ -67,17 +67,24 @@ fn line_angle_deg(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
     a.cross(b).norm().atan2(a.dot(b).abs()).to_degrees()
 }
 
-fn edge_errors(tree_or_obs: impl Iterator<Item = (Vector3<f64>, Vector3<f64>)>, truth: &Truth) -> Option<(f64, f64)> {
+fn edge_errors(
+    tree_or_obs: impl Iterator<Item = (Vector3<f64>, Vector3<f64>)>,
+    truth: &Truth,
+) -> Option<(f64, f64)> {
     let e = truth.edge?;
     let (tp, td) = (v(e.point), v(e.direction));
-    tree_or_obs.map(|(p, d)| (line_angle_deg(&d, &td), (p - tp).norm() * 1e3)).min_by(|a, b| (a.0 + a.1).total_cmp(&(b.0 + b.1)))
+    tree_or_obs
+        .map(|(p, d)| (line_angle_deg(&d, &td), (p - tp).norm() * 1e3))
+        .min_by(|a, b| (a.0 + a.1).total_cmp(&(b.0 + b.1)))
 }
 
 /// Evaluate the learner on the dataset in `dir` (with `manifest.json`).
 pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
-    let manifest: Manifest = serde_json::from_str(&std::fs::read_to_string(dir.join("manifest.json"))?)?;
+    let manifest: Manifest =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("manifest.json"))?)?;
     let mut demos = Vec::new();
-    let mut groups: BTreeMap<(String, String), Vec<(objmodel::classify::Classification, Truth)>> = BTreeMap::new();
+    let mut groups: BTreeMap<(String, String), Vec<(objmodel::classify::Classification, Truth)>> =
+        BTreeMap::new();
     for m in &manifest.demos {
         let truth: Truth = serde_json::from_str(&std::fs::read_to_string(dir.join(&m.truth))?)?;
         let palm = m.palm.as_ref().map(|p| dir.join(p));
@@ -85,7 +92,11 @@ pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
         let edge = edge_errors(c.edges().map(|e| (e.line.point, e.line.direction)), &truth);
         let face_normal_deg = truth.face.filter(|_| truth.kind == "slide").and_then(|f| {
             let n = v(f.normal);
-            c.segments.iter().filter_map(|s| s.face.as_ref()).map(|o| o.normal.angle(&n).to_degrees()).min_by(|a, b| a.total_cmp(b))
+            c.segments
+                .iter()
+                .filter_map(|s| s.face.as_ref())
+                .map(|o| o.normal.angle(&n).to_degrees())
+                .min_by(|a, b| a.total_cmp(b))
         });
         let correct = match truth.kind.as_str() {
             "compound" => edge.is_some_and(|(d, p)| d < 5.0 && p < 10.0),
@@ -104,7 +115,10 @@ pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
             face_normal_deg,
         });
         if truth.edge.is_some() && c.kind == Kind::Topple {
-            groups.entry((m.r#box.clone(), m.noise.clone())).or_default().push((c, truth));
+            groups
+                .entry((m.r#box.clone(), m.noise.clone()))
+                .or_default()
+                .push((c, truth));
         }
     }
     // Fuse, per box and noise level, all topples; score each true edge against the tree.
@@ -120,9 +134,24 @@ pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
                 continue;
             }
             seen.push(key);
-            let best = tree.edges.iter().map(|x| (x, edge_errors(std::iter::once((x.point, x.direction)), t).unwrap())).min_by(|a, b| (a.1 .0 + a.1 .1).total_cmp(&(b.1 .0 + b.1 .1)));
+            let best = tree
+                .edges
+                .iter()
+                .map(|x| {
+                    (
+                        x,
+                        edge_errors(std::iter::once((x.point, x.direction)), t).unwrap(),
+                    )
+                })
+                .min_by(|a, b| (a.1 .0 + a.1 .1).total_cmp(&(b.1 .0 + b.1 .1)));
             if let Some((x, (d, p))) = best {
-                fused.push(FusedResult { r#box: b.clone(), noise: noise.clone(), support: x.n_support, direction_deg: d, position_mm: p });
+                fused.push(FusedResult {
+                    r#box: b.clone(),
+                    noise: noise.clone(),
+                    support: x.n_support,
+                    direction_deg: d,
+                    position_mm: p,
+                });
             }
         }
     }
@@ -145,7 +174,11 @@ impl Evaluation {
         for scene in ["topple", "instrumented", "slide", "general", "compound"] {
             s += &format!("| {scene} |");
             for n in noises {
-                let d: Vec<&DemoResult> = self.demos.iter().filter(|d| d.scene == scene && d.noise == n).collect();
+                let d: Vec<&DemoResult> = self
+                    .demos
+                    .iter()
+                    .filter(|d| d.scene == scene && d.noise == n)
+                    .collect();
                 let ok = d.iter().filter(|d| d.correct).count();
                 s += &format!(" {ok}/{} |", d.len());
             }
@@ -155,10 +188,21 @@ impl Evaluation {
         s += "### Edge errors per demonstration (median / max)\n\n| scene | noise | demos | direction [deg] | position [mm] |\n|---|---|---|---|---|\n";
         for scene in ["topple", "instrumented", "compound"] {
             for n in noises {
-                let d: Vec<&DemoResult> = self.demos.iter().filter(|d| d.scene == scene && d.noise == n && d.edge_direction_deg.is_some()).collect();
+                let d: Vec<&DemoResult> = self
+                    .demos
+                    .iter()
+                    .filter(|d| d.scene == scene && d.noise == n && d.edge_direction_deg.is_some())
+                    .collect();
                 let dir: Vec<f64> = d.iter().filter_map(|d| d.edge_direction_deg).collect();
                 let pos: Vec<f64> = d.iter().filter_map(|d| d.edge_position_mm).collect();
-                s += &format!("| {scene} | {n} | {} | {:.3} / {:.3} | {:.2} / {:.2} |\n", d.len(), median(dir.clone()), max(&dir), median(pos.clone()), max(&pos));
+                s += &format!(
+                    "| {scene} | {n} | {} | {:.3} / {:.3} | {:.2} / {:.2} |\n",
+                    d.len(),
+                    median(dir.clone()),
+                    max(&dir),
+                    median(pos.clone()),
+                    max(&pos)
+                );
             }
         }
         s += "\n### Edges after fusing all topples of a box (median / max over edges)\n\n| noise | edges | demos per edge | direction [deg] | position [mm] |\n|---|---|---|---|---|\n";
@@ -167,12 +211,30 @@ impl Evaluation {
             let dir: Vec<f64> = f.iter().map(|f| f.direction_deg).collect();
             let pos: Vec<f64> = f.iter().map(|f| f.position_mm).collect();
             let sup: Vec<f64> = f.iter().map(|f| f.support as f64).collect();
-            s += &format!("| {n} | {} | {:.1} | {:.3} / {:.3} | {:.2} / {:.2} |\n", f.len(), median(sup), median(dir.clone()), max(&dir), median(pos.clone()), max(&pos));
+            s += &format!(
+                "| {n} | {} | {:.1} | {:.3} / {:.3} | {:.2} / {:.2} |\n",
+                f.len(),
+                median(sup),
+                median(dir.clone()),
+                max(&dir),
+                median(pos.clone()),
+                max(&pos)
+            );
         }
         s += "\n### Face normal errors of slides (median / max)\n\n| noise | demos | normal [deg] |\n|---|---|---|\n";
         for n in noises {
-            let d: Vec<f64> = self.demos.iter().filter(|d| d.noise == n).filter_map(|d| d.face_normal_deg).collect();
-            s += &format!("| {n} | {} | {:.3} / {:.3} |\n", d.len(), median(d.clone()), max(&d));
+            let d: Vec<f64> = self
+                .demos
+                .iter()
+                .filter(|d| d.noise == n)
+                .filter_map(|d| d.face_normal_deg)
+                .collect();
+            s += &format!(
+                "| {n} | {} | {:.3} / {:.3} |\n",
+                d.len(),
+                median(d.clone()),
+                max(&d)
+            );
         }
         s
     }

@@ -163,7 +163,9 @@ mod tests {
 
     #[test]
     fn rejects_single_flips_keeps_fast_motion_and_fixes_signs() {
-        let mut frames: Vec<RawFrame> = (0..60).map(|i| frame(i, 0.02 * (i as f64).powi(2) / 10.0)).collect();
+        let mut frames: Vec<RawFrame> = (0..60)
+            .map(|i| frame(i, 0.02 * (i as f64).powi(2) / 10.0))
+            .collect();
         // A mirror-like flip at frame 20: 40 degrees about x for one frame.
         frames[20].q = frames[20].q * UnitQuaternion::from_scaled_axis(Vector3::new(0.7, 0.0, 0.0));
         // Sign flips.
@@ -172,7 +174,11 @@ mod tests {
         }
         let out = run(frames);
         assert_eq!(out.len(), 60);
-        let flagged: Vec<usize> = out.iter().filter(|(_, o)| *o).map(|(f, _)| f.index).collect();
+        let flagged: Vec<usize> = out
+            .iter()
+            .filter(|(_, o)| *o)
+            .map(|(f, _)| f.index)
+            .collect();
         assert_eq!(flagged, vec![20]);
         for w in out.windows(2) {
             assert!(w[0].0.q.quaternion().dot(w[1].0.q.quaternion()) > 0.0 || w[0].1 || w[1].1);
@@ -185,7 +191,11 @@ mod tests {
         frames[0].q = frames[0].q * UnitQuaternion::from_scaled_axis(Vector3::new(0.8, 0.0, 0.0));
         frames[9].q = frames[9].q * UnitQuaternion::from_scaled_axis(Vector3::new(-0.8, 0.0, 0.0));
         let out = run(frames);
-        let flagged: Vec<usize> = out.iter().filter(|(_, o)| *o).map(|(f, _)| f.index).collect();
+        let flagged: Vec<usize> = out
+            .iter()
+            .filter(|(_, o)| *o)
+            .map(|(f, _)| f.index)
+            .collect();
         assert_eq!(flagged, vec![0, 9]);
     }
 }

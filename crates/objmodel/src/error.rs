@@ -23,8 +23,9 @@ pub enum Error {
         /// What is wrong with it.
         msg: String,
     },
-    /// An I/O error, with the file it happened on.
-    #[error("{file}: {source}")]
+    /// An I/O error, with the file it happened on (the OS error is its `source()`, which
+    /// `{:#}` of an `anyhow::Error` prints after the file).
+    #[error("{file}")]
     Io {
         /// The file.
         file: PathBuf,

@@ -20,7 +20,10 @@ impl Line {
     /// The line through `p` along `d` (normalised), stored by its point closest to the origin.
     pub fn through(p: Vector3<f64>, d: Vector3<f64>) -> Self {
         let d = d.normalize();
-        Self { point: p - d * d.dot(&p), direction: d }
+        Self {
+            point: p - d * d.dot(&p),
+            direction: d,
+        }
     }
 
     /// Distance [m] from `x` to the line.
@@ -100,7 +103,15 @@ impl LineStats {
 
     /// [`LineStats::add`] for a line from a rotation with chord `2 sin(θ/2)` = 1/`inv_chord`.
     #[inline]
-    pub fn add_with_chord(&mut self, r: &Vector3<f64>, u: &Vector3<f64>, w: f64, a: f64, pitch_chi2: f64, inv_chord: f64) {
+    pub fn add_with_chord(
+        &mut self,
+        r: &Vector3<f64>,
+        u: &Vector3<f64>,
+        w: f64,
+        a: f64,
+        pitch_chi2: f64,
+        inv_chord: f64,
+    ) {
         self.sw_inv_chord += w * inv_chord;
         self.n += 1.0;
         self.sw += w;
@@ -144,7 +155,8 @@ impl LineStats {
         let u = line.direction;
         let p_mat = Matrix3::identity() - u * u.transpose();
         let p = line.point;
-        let point = (p_mat * self.swrr).trace() - 2.0 * p.dot(&(p_mat * self.swr)) + self.sw * p.dot(&(p_mat * p));
+        let point = (p_mat * self.swrr).trace() - 2.0 * p.dot(&(p_mat * self.swr))
+            + self.sw * p.dot(&(p_mat * p));
         let dir = self.sa - u.dot(&(self.sauu * u));
         point.max(0.0) + dir.max(0.0) + self.pitch_chi2
     }
@@ -241,7 +253,13 @@ mod tests {
         for k in 0..10 {
             let w = 1.0 + k as f64;
             // Same line, stored by different points along it (all project to the same point).
-            s.add(&truth.point, &(truth.direction * if k % 2 == 0 { 1.0 } else { -1.0 }), w, w, 0.0);
+            s.add(
+                &truth.point,
+                &(truth.direction * if k % 2 == 0 { 1.0 } else { -1.0 }),
+                w,
+                w,
+                0.0,
+            );
         }
         let m = s.mean().unwrap();
         assert!((m.point - truth.point).norm() < 1e-12);
@@ -259,7 +277,12 @@ mod tests {
         let mut s = PlaneStats::default();
         for k in 1..20 {
             let k = k as f64;
-            s.add(&(n * 0.05 * k), &(a * 0.01 * k + b * 0.003 * k * k), 1e-4, 1e-6);
+            s.add(
+                &(n * 0.05 * k),
+                &(a * 0.01 * k + b * 0.003 * k * k),
+                1e-4,
+                1e-6,
+            );
         }
         let fit = s.normal().unwrap();
         assert!((fit.dot(&n).abs() - 1.0).abs() < 1e-12);

@@ -68,7 +68,13 @@ pub fn estimate(samples: &[PoseSample]) -> Option<NoiseModel> {
     }
     let sp = crate::stats::robust_sigma_zero_mean(&mut pos)?;
     let sr = crate::stats::robust_sigma_zero_mean(&mut rot)?;
-    Some(NoiseModel { sigma_position: sp, sigma_rotation: sr }.floored())
+    Some(
+        NoiseModel {
+            sigma_position: sp,
+            sigma_rotation: sr,
+        }
+        .floored(),
+    )
 }
 
 #[cfg(test)]
@@ -83,11 +89,22 @@ mod tests {
         let mut v = Vec::new();
         for k in 0..600 {
             let t = k as f64 / 30.0;
-            let n = |rng: &mut StdRng, s: f64| Vector3::new(rng.sample::<f64, _>(StandardNormal) * s, rng.sample::<f64, _>(StandardNormal) * s, rng.sample::<f64, _>(StandardNormal) * s);
-            let q = UnitQuaternion::from_scaled_axis(Vector3::new(0.0, 0.3 * t, 0.0)) * UnitQuaternion::from_scaled_axis(n(&mut rng, 0.0087));
+            let n = |rng: &mut StdRng, s: f64| {
+                Vector3::new(
+                    rng.sample::<f64, _>(StandardNormal) * s,
+                    rng.sample::<f64, _>(StandardNormal) * s,
+                    rng.sample::<f64, _>(StandardNormal) * s,
+                )
+            };
+            let q = UnitQuaternion::from_scaled_axis(Vector3::new(0.0, 0.3 * t, 0.0))
+                * UnitQuaternion::from_scaled_axis(n(&mut rng, 0.0087));
             let p = Vector3::new(0.1 * t, 0.0, 0.0) + n(&mut rng, 0.001);
             // Quaternion sign flips must not matter.
-            let q = if k % 7 == 0 { UnitQuaternion::new_unchecked(-q.into_inner()) } else { q };
+            let q = if k % 7 == 0 {
+                UnitQuaternion::new_unchecked(-q.into_inner())
+            } else {
+                q
+            };
             v.push((t, q, p));
         }
         let m = estimate(&v).unwrap();

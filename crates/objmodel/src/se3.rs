@@ -64,8 +64,17 @@ pub fn so3_exp(omega: &Vector3<f64>) -> UnitQuaternion<f64> {
     let theta = omega.norm();
     let h = 0.5 * theta;
     // sin(θ/2)/θ, with its series below 1e-4 rad (error < 1e-18).
-    let k = if theta < 1e-4 { 0.5 - theta * theta / 48.0 } else { h.sin() / theta };
-    UnitQuaternion::new_unchecked(Quaternion::new(h.cos(), k * omega.x, k * omega.y, k * omega.z))
+    let k = if theta < 1e-4 {
+        0.5 - theta * theta / 48.0
+    } else {
+        h.sin() / theta
+    };
+    UnitQuaternion::new_unchecked(Quaternion::new(
+        h.cos(),
+        k * omega.x,
+        k * omega.y,
+        k * omega.z,
+    ))
 }
 
 /// Logarithm of SO(3): the rotation vector ω (axis · angle, angle in [0, π]) of `q`.
@@ -74,7 +83,11 @@ pub fn so3_exp(omega: &Vector3<f64>) -> UnitQuaternion<f64> {
 /// where the axis sign is arbitrary).
 pub fn so3_log(q: &UnitQuaternion<f64>) -> Vector3<f64> {
     let q = q.quaternion();
-    let (w, v) = if q.w < 0.0 { (-q.w, -q.imag()) } else { (q.w, q.imag()) };
+    let (w, v) = if q.w < 0.0 {
+        (-q.w, -q.imag())
+    } else {
+        (q.w, q.imag())
+    };
     let s2 = v.norm_squared();
     // θ/s = 2·atan2(s, w)/s = (2/w)·atan(x)/x with x = s/w. For x < 1e-2 (rotations below
     // 1.15°, the common case between consecutive frames) the series
@@ -107,7 +120,14 @@ impl Twist {
 
     /// The twist as a 6-vector `(v, ω)`.
     pub fn to_vector(&self) -> Vector6<f64> {
-        Vector6::new(self.v.x, self.v.y, self.v.z, self.omega.x, self.omega.y, self.omega.z)
+        Vector6::new(
+            self.v.x,
+            self.v.y,
+            self.v.z,
+            self.omega.x,
+            self.omega.y,
+            self.omega.z,
+        )
     }
 
     /// Logarithm of SE(3): the twist ξ with `exp(ξ) = g`, with rotation angle in [0, π].
@@ -169,13 +189,28 @@ mod tests {
     #[test]
     fn edge_case_angles_round_trip() {
         let axis = Vector3::new(0.3, -0.5, 0.8).normalize();
-        for &theta in &[0.0, 1e-12, 1e-8, 1e-6, 1e-3, 0.0999, 0.1, 0.1001, 1.0, 3.0, std::f64::consts::PI - 1e-7, std::f64::consts::PI] {
-            let g = Isometry3::from_parts(
-                Translation3::new(0.2, -0.1, 0.05),
-                so3_exp(&(axis * theta)),
-            );
+        for &theta in &[
+            0.0,
+            1e-12,
+            1e-8,
+            1e-6,
+            1e-3,
+            0.0999,
+            0.1,
+            0.1001,
+            1.0,
+            3.0,
+            std::f64::consts::PI - 1e-7,
+            std::f64::consts::PI,
+        ] {
+            let g =
+                Isometry3::from_parts(Translation3::new(0.2, -0.1, 0.05), so3_exp(&(axis * theta)));
             let xi = Twist::log(&g);
-            assert!((xi.angle() - theta).abs() < 1e-12, "theta {theta}: got {}", xi.angle());
+            assert!(
+                (xi.angle() - theta).abs() < 1e-12,
+                "theta {theta}: got {}",
+                xi.angle()
+            );
             assert!(close(&xi.exp(), &g, 1e-12), "theta {theta}");
         }
     }
@@ -201,11 +236,19 @@ mod tests {
     }
 
     fn arb_twist() -> impl Strategy<Value = Twist> {
-        (prop::array::uniform3(-1.0f64..1.0), prop::array::uniform3(-1.0f64..1.0), 0.0f64..std::f64::consts::PI)
+        (
+            prop::array::uniform3(-1.0f64..1.0),
+            prop::array::uniform3(-1.0f64..1.0),
+            0.0f64..std::f64::consts::PI,
+        )
             .prop_map(|(v, w, th)| {
                 let w = Vector3::from(w);
                 let n = w.norm();
-                let omega = if n < 1e-9 { Vector3::zeros() } else { w / n * th };
+                let omega = if n < 1e-9 {
+                    Vector3::zeros()
+                } else {
+                    w / n * th
+                };
                 Twist::new(Vector3::from(v), omega)
             })
     }

@@ -44,10 +44,22 @@ pub struct SynthNoise {
 
 impl SynthNoise {
     /// Exact poses.
-    pub const CLEAN: Self = Self { sigma_position: 0.0, sigma_rotation: 0.0, drop: 0.0, sign_flip: 0.0, tag_flip: 0.0 };
+    pub const CLEAN: Self = Self {
+        sigma_position: 0.0,
+        sigma_rotation: 0.0,
+        drop: 0.0,
+        sign_flip: 0.0,
+        tag_flip: 0.0,
+    };
     /// A real AprilTag tracker: 1 mm, 0.5° per axis, 3% dropped frames, 5% sign flips,
     /// 1% tag flips.
-    pub const REAL: Self = Self { sigma_position: 1e-3, sigma_rotation: 0.008_726_646_259_971_648, drop: 0.03, sign_flip: 0.05, tag_flip: 0.01 };
+    pub const REAL: Self = Self {
+        sigma_position: 1e-3,
+        sigma_rotation: 0.008_726_646_259_971_648,
+        drop: 0.03,
+        sign_flip: 0.05,
+        tag_flip: 0.01,
+    };
 }
 
 /// What really happened in a synthetic demonstration, in the tag (object) frame.
@@ -84,19 +96,33 @@ pub struct SynthBox {
 impl SynthBox {
     /// A box with a tag on its top face, `offset` [m] from the face centre, turned by `yaw` [rad].
     pub fn new(half: Vector3<f64>, offset: (f64, f64), yaw: f64) -> Self {
-        let box_from_tag = Isometry3::from_parts(Translation3::new(offset.0, offset.1, half.z), UnitQuaternion::from_scaled_axis(Vector3::z() * yaw));
+        let box_from_tag = Isometry3::from_parts(
+            Translation3::new(offset.0, offset.1, half.z),
+            UnitQuaternion::from_scaled_axis(Vector3::z() * yaw),
+        );
         Self { half, box_from_tag }
     }
 
     /// A random box (edges 6-20 cm) with a randomly placed tag.
     pub fn random(rng: &mut StdRng) -> Self {
-        let half = Vector3::new(rng.random_range(0.03..0.08), rng.random_range(0.03..0.08), rng.random_range(0.04..0.10));
-        Self::new(half, (rng.random_range(-0.01..0.01), rng.random_range(-0.01..0.01)), rng.random_range(-3.0..3.0))
+        let half = Vector3::new(
+            rng.random_range(0.03..0.08),
+            rng.random_range(0.03..0.08),
+            rng.random_range(0.04..0.10),
+        );
+        Self::new(
+            half,
+            (rng.random_range(-0.01..0.01), rng.random_range(-0.01..0.01)),
+            rng.random_range(-3.0..3.0),
+        )
     }
 
     fn to_tag_line(&self, point_box: Vector3<f64>, dir_box: Vector3<f64>) -> Line {
         let tag_from_box = self.box_from_tag.inverse();
-        Line::through((tag_from_box * nalgebra::Point3::from(point_box)).coords, tag_from_box * dir_box)
+        Line::through(
+            (tag_from_box * nalgebra::Point3::from(point_box)).coords,
+            tag_from_box * dir_box,
+        )
     }
 }
 
@@ -112,7 +138,11 @@ fn smoothstep(x: f64) -> f64 {
 }
 
 fn gauss3(rng: &mut StdRng, s: f64) -> Vector3<f64> {
-    Vector3::new(rng.sample::<f64, _>(StandardNormal), rng.sample::<f64, _>(StandardNormal), rng.sample::<f64, _>(StandardNormal)) * s
+    Vector3::new(
+        rng.sample::<f64, _>(StandardNormal),
+        rng.sample::<f64, _>(StandardNormal),
+        rng.sample::<f64, _>(StandardNormal),
+    ) * s
 }
 
 /// Apply tracking noise to exact poses `world_from_tag`.
@@ -134,7 +164,10 @@ pub fn add_noise(poses: &[StampedPose], noise: &SynthNoise, rng: &mut StdRng) ->
         if rng.random::<f64>() < noise.sign_flip {
             q = UnitQuaternion::new_unchecked(-q.into_inner());
         }
-        out.push(StampedPose::new(p.t, Isometry3::from_parts(Translation3::from(t), q)));
+        out.push(StampedPose::new(
+            p.t,
+            Isometry3::from_parts(Translation3::from(t), q),
+        ));
     }
     out
 }
@@ -156,7 +189,13 @@ pub struct ToppleParams {
 
 impl Default for ToppleParams {
     fn default() -> Self {
-        Self { side: 0, push_s: 1.5, fall_s: 0.35, slip_from: 50f64.to_radians(), slip: 0.008 }
+        Self {
+            side: 0,
+            push_s: 1.5,
+            fall_s: 0.35,
+            slip_from: 50f64.to_radians(),
+            slip: 0.008,
+        }
     }
 }
 
@@ -176,20 +215,39 @@ fn side_edge(half: &Vector3<f64>, side: usize) -> (Vector3<f64>, Vector3<f64>, V
 
 /// The pose `box_from_box(t)` of a topple about a bottom edge by angle `alpha`, with the pivot
 /// slipped by `slip` [m] along `-out` (in the table plane).
-fn topple_motion(edge_point: &Vector3<f64>, dir: &Vector3<f64>, out: &Vector3<f64>, alpha: f64, slip: f64) -> Isometry3<f64> {
+fn topple_motion(
+    edge_point: &Vector3<f64>,
+    dir: &Vector3<f64>,
+    out: &Vector3<f64>,
+    alpha: f64,
+    slip: f64,
+) -> Isometry3<f64> {
     let r = so3_exp(&(dir * alpha));
-    Isometry3::from_parts(Translation3::from(edge_point - r * edge_point - out * slip), r)
+    Isometry3::from_parts(
+        Translation3::from(edge_point - r * edge_point - out * slip),
+        r,
+    )
 }
 
 fn world_start(rng: &mut StdRng, half: &Vector3<f64>) -> Isometry3<f64> {
     Isometry3::from_parts(
-        Translation3::new(rng.random_range(-0.2..0.2), rng.random_range(-0.2..0.2), half.z),
+        Translation3::new(
+            rng.random_range(-0.2..0.2),
+            rng.random_range(-0.2..0.2),
+            half.z,
+        ),
         UnitQuaternion::from_scaled_axis(Vector3::z() * rng.random_range(-3.0..3.0)),
     )
 }
 
 /// A direct topple (no palm) of `b` about the bottom edge `p.side`.
-pub fn topple(b: &SynthBox, p: &ToppleParams, noise: &SynthNoise, rate: f64, seed: u64) -> SynthDemo {
+pub fn topple(
+    b: &SynthBox,
+    p: &ToppleParams,
+    noise: &SynthNoise,
+    rate: f64,
+    seed: u64,
+) -> SynthDemo {
     let mut rng = StdRng::seed_from_u64(seed);
     let (edge, dir, out) = side_edge(&b.half, p.side);
     let along = if p.side % 2 == 0 { b.half.x } else { b.half.y };
@@ -208,28 +266,63 @@ pub fn topple(b: &SynthBox, p: &ToppleParams, noise: &SynthNoise, rate: f64, see
                 let x = ((s - p.push_s) / p.fall_s).clamp(0.0, 1.0);
                 phi + (FRAC_PI_2 - phi) * x * x
             };
-            let slip = p.slip * ((alpha - p.slip_from) / (FRAC_PI_2 - p.slip_from)).clamp(0.0, 1.0).powi(2);
-            StampedPose::new(t, world0 * topple_motion(&edge, &dir, &out, alpha, slip) * b.box_from_tag)
+            let slip = p.slip
+                * ((alpha - p.slip_from) / (FRAC_PI_2 - p.slip_from))
+                    .clamp(0.0, 1.0)
+                    .powi(2);
+            StampedPose::new(
+                t,
+                world0 * topple_motion(&edge, &dir, &out, alpha, slip) * b.box_from_tag,
+            )
         })
         .collect();
     let face_n = b.box_from_tag.inverse() * -Vector3::z();
     SynthDemo {
-        demo: Demonstration { name: format!("topple_{seed}"), object: add_noise(&poses, noise, &mut rng), palm: None },
-        truth: SynthTruth { kind: Kind::Topple, edge: Some(b.to_tag_line(edge, dir)), face: Some((face_n, face_n.dot(&(b.box_from_tag.inverse() * nalgebra::Point3::from(edge)).coords))), phi: Some(phi) },
+        demo: Demonstration {
+            name: format!("topple_{seed}"),
+            object: add_noise(&poses, noise, &mut rng),
+            palm: None,
+        },
+        truth: SynthTruth {
+            kind: Kind::Topple,
+            edge: Some(b.to_tag_line(edge, dir)),
+            face: Some((
+                face_n,
+                face_n.dot(&(b.box_from_tag.inverse() * nalgebra::Point3::from(edge)).coords),
+            )),
+            phi: Some(phi),
+        },
     }
 }
 
 /// An instrumented topple: the box rides on a palm that tilts about a horizontal axis at
 /// `tilt_rate` [rad/s]; when the tilt reaches φ the box falls over its downhill edge `side`.
-pub fn instrumented_topple(b: &SynthBox, side: usize, tilt_rate: f64, noise: &SynthNoise, rate: f64, seed: u64) -> SynthDemo {
+pub fn instrumented_topple(
+    b: &SynthBox,
+    side: usize,
+    tilt_rate: f64,
+    noise: &SynthNoise,
+    rate: f64,
+    seed: u64,
+) -> SynthDemo {
     let mut rng = StdRng::seed_from_u64(seed);
     let (edge, dir, out) = side_edge(&b.half, side);
     let along = if side % 2 == 0 { b.half.x } else { b.half.y };
     let phi = along.atan2(b.half.z);
     let (rest, fall_s) = (1.0, 0.3);
     let tilt_s = phi / tilt_rate;
-    let palm0 = Isometry3::from_parts(Translation3::new(0.5, 0.0, 0.3), UnitQuaternion::from_scaled_axis(Vector3::z() * rng.random_range(-3.0..3.0)));
-    let palm_from_box0 = Isometry3::from_parts(Translation3::new(rng.random_range(-0.02..0.02), rng.random_range(-0.02..0.02), b.half.z), UnitQuaternion::from_scaled_axis(Vector3::z() * rng.random_range(-3.0..3.0)));
+    let palm0 = Isometry3::from_parts(
+        Translation3::new(0.5, 0.0, 0.3),
+        UnitQuaternion::from_scaled_axis(Vector3::z() * rng.random_range(-3.0..3.0)),
+    );
+    let palm_from_box0 = Isometry3::from_parts(
+        Translation3::new(
+            rng.random_range(-0.02..0.02),
+            rng.random_range(-0.02..0.02),
+            b.half.z,
+        ),
+        UnitQuaternion::from_scaled_axis(Vector3::z() * rng.random_range(-3.0..3.0)),
+    );
     // The palm tilts about the box's edge direction (expressed in the palm frame), so that the
     // box's `side` goes downhill.
     let tilt_axis = palm_from_box0.rotation * dir;
@@ -240,17 +333,33 @@ pub fn instrumented_topple(b: &SynthBox, side: usize, tilt_rate: f64, noise: &Sy
     for &t in &ts {
         let s = t - t0 - rest;
         let beta = tilt_rate * s.clamp(0.0, tilt_s);
-        let world_from_palm = palm0 * Isometry3::from_parts(Translation3::identity(), so3_exp(&(tilt_axis * beta)));
+        let world_from_palm =
+            palm0 * Isometry3::from_parts(Translation3::identity(), so3_exp(&(tilt_axis * beta)));
         let x = ((s - tilt_s) / fall_s).clamp(0.0, 1.0);
         let alpha = (FRAC_PI_2 - 0.0) * x * x;
         let palm_from_box = palm_from_box0 * topple_motion(&edge, &dir, &out, alpha, 0.0);
-        object.push(StampedPose::new(t, world_from_palm * palm_from_box * b.box_from_tag));
+        object.push(StampedPose::new(
+            t,
+            world_from_palm * palm_from_box * b.box_from_tag,
+        ));
         palm.push(StampedPose::new(t, world_from_palm));
     }
     let face_n = b.box_from_tag.inverse() * -Vector3::z();
     SynthDemo {
-        demo: Demonstration { name: format!("instrumented_{seed}"), object: add_noise(&object, noise, &mut rng), palm: Some(add_noise(&palm, noise, &mut rng)) },
-        truth: SynthTruth { kind: Kind::Topple, edge: Some(b.to_tag_line(edge, dir)), face: Some((face_n, face_n.dot(&(b.box_from_tag.inverse() * nalgebra::Point3::from(edge)).coords))), phi: Some(phi) },
+        demo: Demonstration {
+            name: format!("instrumented_{seed}"),
+            object: add_noise(&object, noise, &mut rng),
+            palm: Some(add_noise(&palm, noise, &mut rng)),
+        },
+        truth: SynthTruth {
+            kind: Kind::Topple,
+            edge: Some(b.to_tag_line(edge, dir)),
+            face: Some((
+                face_n,
+                face_n.dot(&(b.box_from_tag.inverse() * nalgebra::Point3::from(edge)).coords),
+            )),
+            phi: Some(phi),
+        },
     }
 }
 
@@ -259,9 +368,17 @@ pub fn instrumented_topple(b: &SynthBox, side: usize, tilt_rate: f64, noise: &Sy
 pub fn slide(b: &SynthBox, noise: &SynthNoise, rate: f64, seed: u64) -> SynthDemo {
     let mut rng = StdRng::seed_from_u64(seed);
     let world0 = world_start(&mut rng, &b.half);
-    let shift = Vector3::new(rng.random_range(-0.15..0.15), rng.random_range(-0.15..0.15), 0.0);
+    let shift = Vector3::new(
+        rng.random_range(-0.15..0.15),
+        rng.random_range(-0.15..0.15),
+        0.0,
+    );
     let yaw: f64 = rng.random_range(0.3..1.0) * if rng.random::<bool>() { 1.0 } else { -1.0 };
-    let pivot = Vector3::new(rng.random_range(-0.1..0.1), rng.random_range(-0.1..0.1), 0.0);
+    let pivot = Vector3::new(
+        rng.random_range(-0.1..0.1),
+        rng.random_range(-0.1..0.1),
+        0.0,
+    );
     let (rest, duration) = (1.0, rng.random_range(1.5..3.0));
     let ts = times(rate, rest, duration);
     let t0 = ts[0];
@@ -271,17 +388,32 @@ pub fn slide(b: &SynthBox, noise: &SynthNoise, rate: f64, seed: u64) -> SynthDem
             let x = smoothstep((t - t0 - rest) / duration);
             // Translation and rotation progress at different rates: a non-stationary axode.
             let r = so3_exp(&(Vector3::z() * yaw * x));
-            let move_world = Isometry3::from_parts(Translation3::from(pivot - r * pivot + shift * x.powf(1.7)), r);
+            let move_world = Isometry3::from_parts(
+                Translation3::from(pivot - r * pivot + shift * x.powf(1.7)),
+                r,
+            );
             let w0 = world0.translation.vector;
             let to_origin = Isometry3::translation(-w0.x, -w0.y, 0.0);
-            StampedPose::new(t, to_origin.inverse() * move_world * to_origin * world0 * b.box_from_tag)
+            StampedPose::new(
+                t,
+                to_origin.inverse() * move_world * to_origin * world0 * b.box_from_tag,
+            )
         })
         .collect();
     let n = b.box_from_tag.inverse() * -Vector3::z();
     let bottom = b.box_from_tag.inverse() * nalgebra::Point3::new(0.0, 0.0, -b.half.z);
     SynthDemo {
-        demo: Demonstration { name: format!("slide_{seed}"), object: add_noise(&poses, noise, &mut rng), palm: None },
-        truth: SynthTruth { kind: Kind::Slide, edge: None, face: Some((n, n.dot(&bottom.coords))), phi: None },
+        demo: Demonstration {
+            name: format!("slide_{seed}"),
+            object: add_noise(&poses, noise, &mut rng),
+            palm: None,
+        },
+        truth: SynthTruth {
+            kind: Kind::Slide,
+            edge: None,
+            face: Some((n, n.dot(&bottom.coords))),
+            phi: None,
+        },
     }
 }
 
@@ -291,7 +423,11 @@ pub fn general(b: &SynthBox, noise: &SynthNoise, rate: f64, seed: u64) -> SynthD
     let world0 = world_start(&mut rng, &b.half);
     let a1 = gauss3(&mut rng, 1.0).normalize() * rng.random_range(0.6..1.2);
     let a2 = gauss3(&mut rng, 1.0).normalize() * rng.random_range(0.6..1.2);
-    let lift = Vector3::new(rng.random_range(-0.1..0.1), rng.random_range(-0.1..0.1), rng.random_range(0.1..0.2));
+    let lift = Vector3::new(
+        rng.random_range(-0.1..0.1),
+        rng.random_range(-0.1..0.1),
+        rng.random_range(0.1..0.2),
+    );
     let (rest, duration) = (1.0, 2.5);
     let ts = times(rate, rest, duration);
     let t0 = ts[0];
@@ -300,13 +436,32 @@ pub fn general(b: &SynthBox, noise: &SynthNoise, rate: f64, seed: u64) -> SynthD
         .map(|&t| {
             let x = ((t - t0 - rest) / duration).clamp(0.0, 1.0);
             let up = (std::f64::consts::PI * x).sin();
-            let r = so3_exp(&(a1 * smoothstep(2.0 * x))) * so3_exp(&(a2 * smoothstep(2.0 * x - 1.0)));
-            let m = Isometry3::from_parts(Translation3::from(lift * up + Vector3::new(0.05, 0.0, 0.0) * x), r);
-            StampedPose::new(t, Isometry3::from_parts(world0.translation, UnitQuaternion::identity()) * m * Isometry3::from_parts(Translation3::identity(), world0.rotation) * b.box_from_tag)
+            let r =
+                so3_exp(&(a1 * smoothstep(2.0 * x))) * so3_exp(&(a2 * smoothstep(2.0 * x - 1.0)));
+            let m = Isometry3::from_parts(
+                Translation3::from(lift * up + Vector3::new(0.05, 0.0, 0.0) * x),
+                r,
+            );
+            StampedPose::new(
+                t,
+                Isometry3::from_parts(world0.translation, UnitQuaternion::identity())
+                    * m
+                    * Isometry3::from_parts(Translation3::identity(), world0.rotation)
+                    * b.box_from_tag,
+            )
         })
         .collect();
     SynthDemo {
-        demo: Demonstration { name: format!("general_{seed}"), object: add_noise(&poses, noise, &mut rng), palm: None },
-        truth: SynthTruth { kind: Kind::General, edge: None, face: None, phi: None },
+        demo: Demonstration {
+            name: format!("general_{seed}"),
+            object: add_noise(&poses, noise, &mut rng),
+            palm: None,
+        },
+        truth: SynthTruth {
+            kind: Kind::General,
+            edge: None,
+            face: None,
+            phi: None,
+        },
     }
 }

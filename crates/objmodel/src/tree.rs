@@ -167,7 +167,11 @@ impl Default for Tree {
 }
 
 fn rows(m: &Matrix3<f64>) -> [[f64; 3]; 3] {
-    [[m[(0, 0)], m[(0, 1)], m[(0, 2)]], [m[(1, 0)], m[(1, 1)], m[(1, 2)]], [m[(2, 0)], m[(2, 1)], m[(2, 2)]]]
+    [
+        [m[(0, 0)], m[(0, 1)], m[(0, 2)]],
+        [m[(1, 0)], m[(1, 1)], m[(1, 2)]],
+        [m[(2, 0)], m[(2, 1)], m[(2, 2)]],
+    ]
 }
 
 fn angle(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
@@ -196,7 +200,10 @@ impl Edge {
 
     /// The edge as a line.
     pub fn line(&self) -> Line {
-        Line { point: self.point, direction: self.direction }
+        Line {
+            point: self.point,
+            direction: self.direction,
+        }
     }
 
     /// Recompute the estimate from the observations.
@@ -208,7 +215,10 @@ impl Edge {
             let a = 1.0 / (o.sigma_direction().powi(2) + 1e-12);
             s.add(&o.line.point, &o.line.direction, w, a, 0.0);
         }
-        let line = s.mean().expect("an edge has at least one observation").aligned_with(&first);
+        let line = s
+            .mean()
+            .expect("an edge has at least one observation")
+            .aligned_with(&first);
         let (cp, cd) = s.covariances(&line);
         self.point = line.point;
         self.direction = line.direction;
@@ -226,10 +236,13 @@ impl Edge {
         let u = self.direction;
         let p = Matrix3::identity() - u * u.transpose();
         let d = p * (o.line.point - self.point);
-        let var_p = self.sigma_point_m.powi(2) + o.sigma_point().powi(2) + SYSTEMATIC_POINT_M.powi(2);
+        let var_p =
+            self.sigma_point_m.powi(2) + o.sigma_point().powi(2) + SYSTEMATIC_POINT_M.powi(2);
         let ang = angle(&u, &o.line.direction);
         let ang = ang.min(std::f64::consts::PI - ang);
-        let var_d = self.sigma_direction_rad.powi(2) + o.sigma_direction().powi(2) + SYSTEMATIC_DIRECTION_RAD.powi(2);
+        let var_d = self.sigma_direction_rad.powi(2)
+            + o.sigma_direction().powi(2)
+            + SYSTEMATIC_DIRECTION_RAD.powi(2);
         d.norm_squared() / var_p + ang * ang / var_d
     }
 }
@@ -255,18 +268,31 @@ impl Face {
     /// Recompute the estimate from the observations.
     fn refit(&mut self) {
         // Reference sign: the first observation whose sign is known, else the first.
-        let reference = self.observations.iter().find(|o| o.sign_known).unwrap_or(&self.observations[0]).normal;
+        let reference = self
+            .observations
+            .iter()
+            .find(|o| o.sign_known)
+            .unwrap_or(&self.observations[0])
+            .normal;
         let (mut sum, mut wsum, mut wsum2) = (Vector3::zeros(), 0.0, 0.0);
         let (mut off, mut off_w) = (0.0, 0.0);
         let mut evidence = Evidence::default();
         for o in &self.observations {
             let w = 1.0 / (o.sigma_normal().powi(2) + 1e-12);
-            let n = if o.normal.dot(&reference) < 0.0 { -o.normal } else { o.normal };
+            let n = if o.normal.dot(&reference) < 0.0 {
+                -o.normal
+            } else {
+                o.normal
+            };
             sum += n * w;
             wsum += w;
             wsum2 += w * w;
             if let (Some(d), Some(v)) = (o.offset, o.offset_var) {
-                let d = if o.normal.dot(&reference) < 0.0 { -d } else { d };
+                let d = if o.normal.dot(&reference) < 0.0 {
+                    -d
+                } else {
+                    d
+                };
                 let wo = 1.0 / (v + 1e-12);
                 off += d * wo;
                 off_w += wo;
@@ -279,11 +305,16 @@ impl Face {
         let n = sum.normalize();
         // Scatter of the normals about their mean, per axis, over the effective count.
         let n_eff = (wsum * wsum / wsum2).max(1.0);
-        let scatter: f64 = self.observations.iter().map(|o| {
-            let w = 1.0 / (o.sigma_normal().powi(2) + 1e-12);
-            let a = angle(&n, &o.normal);
-            w * a.min(std::f64::consts::PI - a).powi(2)
-        }).sum::<f64>() / wsum;
+        let scatter: f64 = self
+            .observations
+            .iter()
+            .map(|o| {
+                let w = 1.0 / (o.sigma_normal().powi(2) + 1e-12);
+                let a = angle(&n, &o.normal);
+                w * a.min(std::f64::consts::PI - a).powi(2)
+            })
+            .sum::<f64>()
+            / wsum;
         self.normal = n;
         self.sigma_normal_rad = ((scatter / 2.0) / n_eff + 1.0 / wsum).sqrt();
         self.sign_known = self.observations.iter().any(|o| o.sign_known);
@@ -300,11 +331,21 @@ impl Face {
     fn match_chi2(&self, o: &FaceObservation) -> f64 {
         let a = angle(&self.normal, &o.normal);
         // Signs: when both are known, opposite normals are different faces.
-        let a = if self.sign_known && o.sign_known { a } else { a.min(std::f64::consts::PI - a) };
-        let var = self.sigma_normal_rad.powi(2) + o.sigma_normal().powi(2) + SYSTEMATIC_DIRECTION_RAD.powi(2);
+        let a = if self.sign_known && o.sign_known {
+            a
+        } else {
+            a.min(std::f64::consts::PI - a)
+        };
+        let var = self.sigma_normal_rad.powi(2)
+            + o.sigma_normal().powi(2)
+            + SYSTEMATIC_DIRECTION_RAD.powi(2);
         let mut chi2 = a * a / var;
         if let (Some(d0), Some(d1), Some(v1)) = (self.offset, o.offset, o.offset_var) {
-            let d1 = if self.normal.dot(&o.normal) < 0.0 { -d1 } else { d1 };
+            let d1 = if self.normal.dot(&o.normal) < 0.0 {
+                -d1
+            } else {
+                d1
+            };
             let v = self.offset_sigma_m.unwrap_or(0.0).powi(2) + v1 + SYSTEMATIC_POINT_M.powi(2);
             chi2 += (d0 - d1).powi(2) / v;
         }
@@ -317,7 +358,14 @@ impl Tree {
     /// name) is replaced, so adding it twice changes nothing.
     pub fn add(&mut self, c: &Classification) {
         self.remove_demo(&c.name);
-        self.demos.push(DemoRecord { name: c.name.clone(), kind: c.kind, frames: c.frames, outliers: c.outliers, instrumented: c.instrumented, noise: c.noise });
+        self.demos.push(DemoRecord {
+            name: c.name.clone(),
+            kind: c.kind,
+            frames: c.frames,
+            outliers: c.outliers,
+            instrumented: c.instrumented,
+            noise: c.noise,
+        });
         for s in c.segments.iter().filter(|s| s.kind == Kind::Slide) {
             if let Some(f) = &s.face {
                 self.add_face(f.clone());
@@ -325,9 +373,16 @@ impl Tree {
         }
         for t in &c.topples {
             let eid = self.add_edge(t.edge.clone());
-            for n in [t.resting_normal_before, t.resting_normal_after].into_iter().flatten() {
+            for n in [t.resting_normal_before, t.resting_normal_after]
+                .into_iter()
+                .flatten()
+            {
                 let fid = self.add_face(FaceObservation::from_rest(&n, &t.edge));
-                let edge = self.edges.iter_mut().find(|x| x.id == eid).expect("the edge was just added");
+                let edge = self
+                    .edges
+                    .iter_mut()
+                    .find(|x| x.id == eid)
+                    .expect("the edge was just added");
                 if !edge.faces.contains(&fid) {
                     edge.faces.push(fid);
                 }
@@ -336,13 +391,23 @@ impl Tree {
     }
 
     fn next_id(prefix: &str, used: impl Iterator<Item = String>) -> String {
-        let max = used.filter_map(|id| id.strip_prefix(prefix).and_then(|n| n.parse::<usize>().ok())).max();
+        let max = used
+            .filter_map(|id| {
+                id.strip_prefix(prefix)
+                    .and_then(|n| n.parse::<usize>().ok())
+            })
+            .max();
         format!("{prefix}{}", max.map_or(0, |m| m + 1))
     }
 
     fn add_edge(&mut self, o: EdgeObservation) -> String {
         let threshold = crate::stats::chi2_threshold(4.0, MATCH_ALPHA);
-        let best = self.edges.iter_mut().map(|e| (e.match_chi2(&o), e)).filter(|(c, _)| *c < threshold).min_by(|a, b| a.0.total_cmp(&b.0));
+        let best = self
+            .edges
+            .iter_mut()
+            .map(|e| (e.match_chi2(&o), e))
+            .filter(|(c, _)| *c < threshold)
+            .min_by(|a, b| a.0.total_cmp(&b.0));
         match best {
             Some((_, e)) => {
                 e.observations.push(o);
@@ -360,7 +425,12 @@ impl Tree {
     fn add_face(&mut self, o: FaceObservation) -> String {
         let dof = if o.offset.is_some() { 3.0 } else { 2.0 };
         let threshold = crate::stats::chi2_threshold(dof, MATCH_ALPHA);
-        let best = self.faces.iter_mut().map(|f| (f.match_chi2(&o), f)).filter(|(c, _)| *c < threshold).min_by(|a, b| a.0.total_cmp(&b.0));
+        let best = self
+            .faces
+            .iter_mut()
+            .map(|f| (f.match_chi2(&o), f))
+            .filter(|(c, _)| *c < threshold)
+            .min_by(|a, b| a.0.total_cmp(&b.0));
         match best {
             Some((_, f)) => {
                 f.observations.push(o);
@@ -380,7 +450,9 @@ impl Tree {
         self.demos.retain(|d| d.name != name);
         self.edges.retain_mut(|e| {
             e.observations.retain(|o| o.demo != name);
-            e.pendulums.iter_mut().for_each(|p| p.support.retain(|s| s != name));
+            e.pendulums
+                .iter_mut()
+                .for_each(|p| p.support.retain(|s| s != name));
             e.pendulums.retain(|p| !p.support.is_empty());
             !e.observations.is_empty()
         });
@@ -391,7 +463,9 @@ impl Tree {
         });
         self.faces.iter_mut().for_each(Face::refit);
         let ids: Vec<String> = self.faces.iter().map(|f| f.id.clone()).collect();
-        self.edges.iter_mut().for_each(|e| e.faces.retain(|f| ids.contains(f)));
+        self.edges
+            .iter_mut()
+            .for_each(|e| e.faces.retain(|f| ids.contains(f)));
     }
 
     /// The tree as pretty JSON.
@@ -401,17 +475,34 @@ impl Tree {
 
     /// Read a tree file, checking its schema and version.
     pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io { file: path.to_path_buf(), source })?;
-        let value: serde_json::Value = serde_json::from_str(&text).map_err(|e| Error::Parse { file: path.to_path_buf(), line: e.line(), msg: format!("not valid JSON: {e}") })?;
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+            file: path.to_path_buf(),
+            source,
+        })?;
+        let value: serde_json::Value = serde_json::from_str(&text).map_err(|e| Error::Parse {
+            file: path.to_path_buf(),
+            line: e.line(),
+            msg: format!("not valid JSON: {e}"),
+        })?;
         match value.get("schema").and_then(|s| s.as_str()) {
             Some(SCHEMA) => {}
-            other => return Err(Error::File { file: path.to_path_buf(), msg: format!("not an objmodel tree (schema is {other:?}, expected \"{SCHEMA}\")") }),
+            other => {
+                return Err(Error::File {
+                    file: path.to_path_buf(),
+                    msg: format!(
+                        "not an objmodel tree (schema is {other:?}, expected \"{SCHEMA}\")"
+                    ),
+                })
+            }
         }
         let version = value.get("version").and_then(|v| v.as_u64()).unwrap_or(0);
         if version != VERSION as u64 {
             return Err(Error::File { file: path.to_path_buf(), msg: format!("tree schema version {version} is not supported (this objmodel reads version {VERSION})") });
         }
-        serde_json::from_value(value).map_err(|e| Error::File { file: path.to_path_buf(), msg: format!("invalid tree: {e}") })
+        serde_json::from_value(value).map_err(|e| Error::File {
+            file: path.to_path_buf(),
+            msg: format!("invalid tree: {e}"),
+        })
     }
 
     /// Write the tree to `path` atomically (temporary file, sync, rename).

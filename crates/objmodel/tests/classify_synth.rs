@@ -18,8 +18,25 @@ fn demos(kind: usize, n: usize, noise: &SynthNoise) -> Vec<SynthDemo> {
             let b = SynthBox::random(&mut rng);
             let side = rng.random_range(0..4);
             match kind {
-                0 => synth::topple(&b, &ToppleParams { side, push_s: rng.random_range(0.8..2.5), ..Default::default() }, noise, 30.0, seed),
-                1 => synth::instrumented_topple(&b, side, rng.random_range(0.1..0.3), noise, 30.0, seed),
+                0 => synth::topple(
+                    &b,
+                    &ToppleParams {
+                        side,
+                        push_s: rng.random_range(0.8..2.5),
+                        ..Default::default()
+                    },
+                    noise,
+                    30.0,
+                    seed,
+                ),
+                1 => synth::instrumented_topple(
+                    &b,
+                    side,
+                    rng.random_range(0.1..0.3),
+                    noise,
+                    30.0,
+                    seed,
+                ),
                 2 => synth::slide(&b, noise, 30.0, seed),
                 _ => synth::general(&b, noise, 30.0, seed),
             }
@@ -28,11 +45,17 @@ fn demos(kind: usize, n: usize, noise: &SynthNoise) -> Vec<SynthDemo> {
 }
 
 fn accuracy(method: Method, noise: &SynthNoise, per_kind: usize) -> Vec<(Kind, usize, usize)> {
-    let config = Config { method, ..Config::default() };
+    let config = Config {
+        method,
+        ..Config::default()
+    };
     (0..4)
         .map(|k| {
             let ds = demos(k, per_kind, noise);
-            let ok = ds.iter().filter(|d| classify(&d.demo, &config).unwrap().kind == d.truth.kind).count();
+            let ok = ds
+                .iter()
+                .filter(|d| classify(&d.demo, &config).unwrap().kind == d.truth.kind)
+                .count();
             (ds[0].truth.kind, ok, ds.len())
         })
         .collect()
@@ -80,20 +103,48 @@ fn fused_edge_from_ten_topples_meets_targets() {
         let mut truth = None;
         for seed in 0..10 {
             let d = if instrumented {
-                synth::instrumented_topple(&b, 1, 0.15 + 0.02 * seed as f64, &SynthNoise::REAL, 30.0, 100 + seed)
+                synth::instrumented_topple(
+                    &b,
+                    1,
+                    0.15 + 0.02 * seed as f64,
+                    &SynthNoise::REAL,
+                    30.0,
+                    100 + seed,
+                )
             } else {
-                synth::topple(&b, &ToppleParams { side: 1, push_s: 1.0 + 0.1 * seed as f64, ..Default::default() }, &SynthNoise::REAL, 30.0, 100 + seed)
+                synth::topple(
+                    &b,
+                    &ToppleParams {
+                        side: 1,
+                        push_s: 1.0 + 0.1 * seed as f64,
+                        ..Default::default()
+                    },
+                    &SynthNoise::REAL,
+                    30.0,
+                    100 + seed,
+                )
             };
             let c = classify(&d.demo, &Config::default()).unwrap();
             assert_eq!(c.kind, Kind::Topple);
             let t = d.truth.edge.unwrap();
             let e = c.edges().next().unwrap();
-            per_demo.push((line_angle_deg(&e.line.direction, &t.direction), (e.line.point - t.point).norm() * 1e3));
+            per_demo.push((
+                line_angle_deg(&e.line.direction, &t.direction),
+                (e.line.point - t.point).norm() * 1e3,
+            ));
             truth = Some(t);
             tree.add(&c);
         }
         let t = truth.unwrap();
-        assert_eq!(tree.edges.len(), 1, "ten demos of one edge must fuse into one edge: {:#?}", tree.edges.iter().map(|e| (e.point, e.direction)).collect::<Vec<_>>());
+        assert_eq!(
+            tree.edges.len(),
+            1,
+            "ten demos of one edge must fuse into one edge: {:#?}",
+            tree.edges
+                .iter()
+                .map(|e| (e.point, e.direction))
+                .collect::<Vec<_>>()
+        );
         let e = &tree.edges[0];
         let dir_err = line_angle_deg(&e.direction, &t.direction);
         let pos_err = (e.point - t.point).norm() * 1e3;
@@ -120,20 +171,43 @@ fn slide_gives_the_face_normal_and_topples_give_its_offset() {
     let (n, offset) = truth.unwrap();
     assert_eq!(tree.faces.len(), 1);
     let f = &tree.faces[0];
-    let err = f.normal.cross(&n).norm().atan2(f.normal.dot(&n)).to_degrees();
-    eprintln!("slide face normal error {err:.3} deg (sign included), offset {:?}", f.offset);
+    let err = f
+        .normal
+        .cross(&n)
+        .norm()
+        .atan2(f.normal.dot(&n))
+        .to_degrees();
+    eprintln!(
+        "slide face normal error {err:.3} deg (sign included), offset {:?}",
+        f.offset
+    );
     assert!(err < 1.0);
     assert!(f.offset.is_none(), "a slide alone cannot give the offset");
     // Topples from the same resting face give the offset: every edge toppled about lies in it.
     for side in 0..4 {
-        let d = synth::topple(&b, &ToppleParams { side, ..Default::default() }, &SynthNoise::REAL, 30.0, 5 + side as u64);
+        let d = synth::topple(
+            &b,
+            &ToppleParams {
+                side,
+                ..Default::default()
+            },
+            &SynthNoise::REAL,
+            30.0,
+            5 + side as u64,
+        );
         tree.add(&classify(&d.demo, &Config::default()).unwrap());
     }
     let f = tree.faces.iter().find(|f| f.evidence.slide > 0).unwrap();
     let got = f.offset.expect("offset from the edges in the face");
     let sigma = f.offset_sigma_m.unwrap();
-    eprintln!("offset {got:.4} vs {offset:.4} (sigma {sigma:.4}), evidence {:?}", f.evidence);
-    assert_eq!(f.evidence.rest, 4, "the four topples rested on the slide's face first");
+    eprintln!(
+        "offset {got:.4} vs {offset:.4} (sigma {sigma:.4}), evidence {:?}",
+        f.evidence
+    );
+    assert_eq!(
+        f.evidence.rest, 4,
+        "the four topples rested on the slide's face first"
+    );
     // The generator's pivot slips by up to 8 mm at the end of each topple; the frames of that
     // slip that pass the change-point test bias the edge by 1-3 mm along the face normal.
     assert!((got - offset).abs() < 3.5e-3);

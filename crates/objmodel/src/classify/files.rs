@@ -9,8 +9,15 @@ use std::path::Path;
 /// Classify the demonstration in `object` (TUM or CSV), with `palm` as its palm trajectory
 /// when instrumented. Both files are streamed in time order: memory does not grow with their
 /// length. The demonstration's name is the object file's name.
-pub fn classify_files(object: &Path, palm: Option<&Path>, config: &Config) -> Result<Classification> {
-    let name = object.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| object.display().to_string());
+pub fn classify_files(
+    object: &Path,
+    palm: Option<&Path>,
+    config: &Config,
+) -> Result<Classification> {
+    let name = object
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| object.display().to_string());
     let mut a = Analyzer::new(&name, config, palm.is_some());
     let mut objects = ThreadedPoses::spawn(format::open(object)?);
     match palm {
@@ -42,21 +49,26 @@ pub fn classify_files(object: &Path, palm: Option<&Path>, config: &Config) -> Re
         }
     }
     a.finish().map_err(|e| match e {
-        crate::Error::Data(msg) => crate::Error::File { file: object.to_path_buf(), msg },
+        crate::Error::Data(msg) => crate::Error::File {
+            file: object.to_path_buf(),
+            msg,
+        },
         e => e,
     })
 }
 
 /// Poses parsed on a background thread, handed over in chunks through a bounded channel:
 /// parsing (the largest single cost) overlaps the analysis, and memory stays bounded
-/// (at most `CHANNEL_CHUNKS` chunks of `CHUNK_POSES` poses in flight).
+/// (at most `CHANNEL_CHUNKS` chunks of `CHUNK_POSES` poses in flight). A chunk carries the
+/// poses before the first error, then that error.
 struct ThreadedPoses {
-    rx: std::sync::mpsc::Receiver<Vec<Result<StampedPose>>>,
-    chunk: std::vec::IntoIter<Result<StampedPose>>,
+    rx: std::sync::mpsc::Receiver<(Vec<StampedPose>, Option<crate::Error>)>,
+    chunk: std::vec::IntoIter<StampedPose>,
+    error: Option<crate::Error>,
 }
 
 /// Poses per chunk handed from the parsing thread.
-const CHUNK_POSES: usize = 4096;
+const CHUNK_POSES: usize = 8192;
 /// Chunks in flight between the threads.
 const CHANNEL_CHUNKS: usize = 4;
 
@@ -66,14 +78,32 @@ impl ThreadedPoses {
         std::thread::spawn(move || {
             let mut poses = poses;
             loop {
-                let chunk: Vec<Result<StampedPose>> = poses.by_ref().take(CHUNK_POSES).collect();
-                let done = chunk.len() < CHUNK_POSES || chunk.last().is_some_and(|r| r.is_err());
-                if chunk.is_empty() || tx.send(chunk).is_err() || done {
+                let mut chunk = Vec::with_capacity(CHUNK_POSES);
+                let mut error = None;
+                for p in poses.by_ref() {
+                    match p {
+                        Ok(p) => chunk.push(p),
+                        Err(e) => {
+                            error = Some(e);
+                            break;
+                        }
+                    }
+                    if chunk.len() == CHUNK_POSES {
+                        break;
+                    }
+                }
+                let done = chunk.len() < CHUNK_POSES || error.is_some();
+                if (chunk.is_empty() && error.is_none()) || tx.send((chunk, error)).is_err() || done
+                {
                     break;
                 }
             }
         });
-        Self { rx, chunk: Vec::new().into_iter() }
+        Self {
+            rx,
+            chunk: Vec::new().into_iter(),
+            error: None,
+        }
     }
 }
 
@@ -83,9 +113,14 @@ impl Iterator for ThreadedPoses {
     fn next(&mut self) -> Option<Self::Item> {
         loop {
             if let Some(p) = self.chunk.next() {
-                return Some(p);
+                return Some(Ok(p));
             }
-            self.chunk = self.rx.recv().ok()?.into_iter();
+            if let Some(e) = self.error.take() {
+                return Some(Err(e));
+            }
+            let (chunk, error) = self.rx.recv().ok()?;
+            self.chunk = chunk.into_iter();
+            self.error = error;
         }
     }
 }

@@ -29,7 +29,10 @@ impl Thresholds {
     fn get(&mut self, dof: f64) -> f64 {
         let k = dof.round().max(1.0) as u64;
         let alpha = self.alpha;
-        *self.cache.entry(k).or_insert_with(|| crate::stats::chi2_threshold(k as f64, alpha))
+        *self
+            .cache
+            .entry(k)
+            .or_insert_with(|| crate::stats::chi2_threshold(k as f64, alpha))
     }
 }
 
@@ -59,17 +62,29 @@ fn plane_inlier(s: &PlaneStats, n: &Vector3<f64>, th: &mut Thresholds) -> bool {
 
 /// The indices of the `k` blocks with the largest `key`.
 fn top_k(idx: &[usize], k: usize, key: impl Fn(usize) -> f64) -> Vec<usize> {
-    let mut v: Vec<(f64, usize)> = idx.iter().map(|&i| (key(i), i)).filter(|(w, _)| *w > 0.0).collect();
+    let mut v: Vec<(f64, usize)> = idx
+        .iter()
+        .map(|&i| (key(i), i))
+        .filter(|(w, _)| *w > 0.0)
+        .collect();
     v.sort_by(|a, b| b.0.total_cmp(&a.0));
     v.truncate(k);
     v.into_iter().map(|(_, i)| i).collect()
 }
 
 /// MSAC over candidate lines, then refinement on the inliers.
-fn fit_line(blocks: &[Block], idx: &[usize], valid: impl Fn(&Line) -> bool, th: &mut Thresholds) -> Option<Line> {
+fn fit_line(
+    blocks: &[Block],
+    idx: &[usize],
+    valid: impl Fn(&Line) -> bool,
+    th: &mut Thresholds,
+) -> Option<Line> {
     let mut all = LineStats::default();
     idx.iter().for_each(|&i| all.merge(&blocks[i].line));
-    let mut candidates: Vec<Line> = top_k(idx, MSAC_CANDIDATES, |i| blocks[i].line.sw).iter().filter_map(|&i| blocks[i].line.mean()).collect();
+    let mut candidates: Vec<Line> = top_k(idx, MSAC_CANDIDATES, |i| blocks[i].line.sw)
+        .iter()
+        .filter_map(|&i| blocks[i].line.mean())
+        .collect();
     candidates.extend(all.mean());
     let mut best = candidates
         .into_iter()
@@ -79,7 +94,11 @@ fn fit_line(blocks: &[Block], idx: &[usize], valid: impl Fn(&Line) -> bool, th: 
         .1;
     let mut previous: Vec<usize> = Vec::new();
     for _ in 0..REFINE_ITERATIONS {
-        let inliers: Vec<usize> = idx.iter().copied().filter(|&i| line_inlier(&blocks[i].line, &best, th)).collect();
+        let inliers: Vec<usize> = idx
+            .iter()
+            .copied()
+            .filter(|&i| line_inlier(&blocks[i].line, &best, th))
+            .collect();
         if inliers.is_empty() || inliers == previous {
             break;
         }
@@ -95,11 +114,19 @@ fn fit_line(blocks: &[Block], idx: &[usize], valid: impl Fn(&Line) -> bool, th: 
 }
 
 /// MSAC over candidate plane normals, then refinement on the inliers.
-fn fit_plane(blocks: &[Block], idx: &[usize], valid: impl Fn(&Vector3<f64>) -> bool, th: &mut Thresholds) -> Option<Vector3<f64>> {
+fn fit_plane(
+    blocks: &[Block],
+    idx: &[usize],
+    valid: impl Fn(&Vector3<f64>) -> bool,
+    th: &mut Thresholds,
+) -> Option<Vector3<f64>> {
     let mut all = PlaneStats::default();
     idx.iter().for_each(|&i| all.merge(&blocks[i].plane));
     let info = |i: usize| blocks[i].plane.sww.trace() + blocks[i].plane.stt.trace();
-    let mut candidates: Vec<Vector3<f64>> = top_k(idx, MSAC_CANDIDATES, info).iter().filter_map(|&i| blocks[i].plane.normal().map(|n| n.into_inner())).collect();
+    let mut candidates: Vec<Vector3<f64>> = top_k(idx, MSAC_CANDIDATES, info)
+        .iter()
+        .filter_map(|&i| blocks[i].plane.normal().map(|n| n.into_inner()))
+        .collect();
     candidates.extend(all.normal().map(|n| n.into_inner()));
     let mut best = candidates
         .into_iter()
@@ -109,7 +136,11 @@ fn fit_plane(blocks: &[Block], idx: &[usize], valid: impl Fn(&Vector3<f64>) -> b
         .1;
     let mut previous: Vec<usize> = Vec::new();
     for _ in 0..REFINE_ITERATIONS {
-        let inliers: Vec<usize> = idx.iter().copied().filter(|&i| plane_inlier(&blocks[i].plane, &best, th)).collect();
+        let inliers: Vec<usize> = idx
+            .iter()
+            .copied()
+            .filter(|&i| plane_inlier(&blocks[i].plane, &best, th))
+            .collect();
         if inliers.is_empty() || inliers == previous {
             break;
         }
@@ -138,7 +169,13 @@ fn fit_plane(blocks: &[Block], idx: &[usize], valid: impl Fn(&Vector3<f64>) -> b
 /// frame's axis by about `σ_ref / (2 sin(θ/2))`, more for small rotations; its effect on the
 /// difference, `σ_ref² (mean 1/c before - mean 1/c after)²`, is added to the variance, with
 /// `σ_ref` [m] the reference's point-equivalent standard deviation. Returns the kept blocks.
-fn trim_change_points(blocks: &[Block], order: &[usize], line: Line, alpha: f64, sigma_ref: f64) -> Vec<usize> {
+fn trim_change_points(
+    blocks: &[Block],
+    order: &[usize],
+    line: Line,
+    alpha: f64,
+    sigma_ref: f64,
+) -> Vec<usize> {
     let mut kept: Vec<usize> = order.to_vec();
     let u = line.direction;
     let p_mat = nalgebra::Matrix3::identity() - u * u.transpose();
@@ -152,7 +189,11 @@ fn trim_change_points(blocks: &[Block], order: &[usize], line: Line, alpha: f64,
         for (k, &i) in kept.iter().enumerate().take(cuts) {
             before.merge(&blocks[i].line);
             let (wb, wa) = (before.sw, total.sw - before.sw);
-            if wb <= 0.0 || wa <= 0.0 || k + 1 < MIN_KEPT_BLOCKS || before.n < MIN_KEPT_FRACTION * total.n {
+            if wb <= 0.0
+                || wa <= 0.0
+                || k + 1 < MIN_KEPT_BLOCKS
+                || before.n < MIN_KEPT_FRACTION * total.n
+            {
                 continue;
             }
             let d = p_mat * (before.swr / wb - (total.swr - before.swr) / wa);
@@ -170,7 +211,11 @@ fn trim_change_points(blocks: &[Block], order: &[usize], line: Line, alpha: f64,
 
 /// The edge observation from pooled per-frame line statistics and the frame of largest
 /// rotation `(angle, line, ω)` (the paper's estimate; its ω also fixes the direction's sign).
-pub(super) fn edge_observation(s: &LineStats, best: (f64, Line, Vector3<f64>), demo: &str) -> Option<EdgeObservation> {
+pub(super) fn edge_observation(
+    s: &LineStats,
+    best: (f64, Line, Vector3<f64>),
+    demo: &str,
+) -> Option<EdgeObservation> {
     let (max_angle, best_line, omega) = best;
     let mean = s.mean()?.aligned_with(&omega);
     let (point_cov, direction_cov) = s.covariances(&mean);
@@ -197,7 +242,9 @@ pub(super) fn group_topples(segments: &[Segment], alpha: f64, demo: &str) -> Vec
     let own = |s: &LineStats| s.mean().map_or(0.0, |l| s.chi2(&l));
     let mut groups: Vec<(Vec<usize>, LineStats, (f64, Line, Vector3<f64>))> = Vec::new();
     for (i, seg) in segments.iter().enumerate() {
-        let (Kind::Topple, Some(best)) = (seg.kind, seg.topple_best) else { continue };
+        let (Kind::Topple, Some(best)) = (seg.kind, seg.topple_best) else {
+            continue;
+        };
         let s = &seg.topple_stats;
         let joinable = groups
             .iter_mut()
@@ -234,21 +281,49 @@ pub(super) fn group_topples(segments: &[Segment], alpha: f64, demo: &str) -> Vec
 }
 
 /// Fit, label and summarise one motion segment.
-pub(super) fn analyse_segment(index: usize, seg: &SegState, blocks: &mut [Block], config: &Config, alpha: f64, demo: &str) -> Segment {
-    let idx: Vec<usize> = (0..blocks.len()).filter(|&i| blocks[i].segment == Some(index) && blocks[i].phase == Phase::Moving).collect();
+pub(super) fn analyse_segment(
+    index: usize,
+    seg: &SegState,
+    blocks: &mut [Block],
+    config: &Config,
+    alpha: f64,
+    demo: &str,
+) -> Segment {
+    let idx: Vec<usize> = (0..blocks.len())
+        .filter(|&i| blocks[i].segment == Some(index) && blocks[i].phase == Phase::Moving)
+        .collect();
     let up = seg.down_ref.map(|d| -d);
-    let (r_palm, sin_tilt, cos_tilt) = (config.paper.r_palm, config.robust.max_axis_tilt_rad.sin(), config.robust.max_axis_tilt_rad.cos());
-    let valid_line = |l: &Line| l.point.norm() <= r_palm && up.is_none_or(|u| l.direction.dot(&u).abs() <= sin_tilt);
+    let (r_palm, sin_tilt, cos_tilt) = (
+        config.paper.r_palm,
+        config.robust.max_axis_tilt_rad.sin(),
+        config.robust.max_axis_tilt_rad.cos(),
+    );
+    let valid_line = |l: &Line| {
+        l.point.norm() <= r_palm && up.is_none_or(|u| l.direction.dot(&u).abs() <= sin_tilt)
+    };
     let valid_plane = |n: &Vector3<f64>| up.is_none_or(|u| n.dot(&u).abs() >= cos_tilt);
-    let mut th = Thresholds { alpha, cache: HashMap::new() };
+    let mut th = Thresholds {
+        alpha,
+        cache: HashMap::new(),
+    };
     let mut line = fit_line(blocks, &idx, valid_line, &mut th);
     let plane = fit_plane(blocks, &idx, valid_plane, &mut th);
     // Blocks cut off as "after (or before) the pure rotation": labelled general.
     let mut cut: std::collections::HashSet<usize> = std::collections::HashSet::new();
     if let Some(l) = line {
-        let order: Vec<usize> = idx.iter().copied().filter(|&i| line_inlier(&blocks[i].line, &l, &mut th)).collect();
-        let noise = config.robust.noise.unwrap_or(crate::noise::NoiseModel { sigma_position: 0.0, sigma_rotation: 0.0 });
-        let sigma_ref = ((noise.sigma_position.powi(2) + (noise.sigma_rotation * l.point.norm()).powi(2)) / seg.n_ref).sqrt();
+        let order: Vec<usize> = idx
+            .iter()
+            .copied()
+            .filter(|&i| line_inlier(&blocks[i].line, &l, &mut th))
+            .collect();
+        let noise = config.robust.noise.unwrap_or(crate::noise::NoiseModel {
+            sigma_position: 0.0,
+            sigma_rotation: 0.0,
+        });
+        let sigma_ref = ((noise.sigma_position.powi(2)
+            + (noise.sigma_rotation * l.point.norm()).powi(2))
+            / seg.n_ref)
+            .sqrt();
         let kept = trim_change_points(blocks, &order, l, alpha, sigma_ref);
         let mut s = LineStats::default();
         kept.iter().for_each(|&i| s.merge(&blocks[i].line));
@@ -290,14 +365,21 @@ pub(super) fn analyse_segment(index: usize, seg: &SegState, blocks: &mut [Block]
     let kind = votes.winner().unwrap_or(Kind::General);
     let max_angle = idx.iter().map(|&i| blocks[i].max_angle).fold(0.0, f64::max);
     let blocks: &[Block] = blocks;
-    let with_label = |l: Label| -> Vec<usize> { idx.iter().copied().filter(|&i| blocks[i].label == l).collect() };
+    let with_label = |l: Label| -> Vec<usize> {
+        idx.iter()
+            .copied()
+            .filter(|&i| blocks[i].label == l)
+            .collect()
+    };
     let topple_blocks = with_label(Label::Topple);
     let slide_blocks = with_label(Label::Slide);
 
     let mut topple_stats = LineStats::default();
     let mut topple_best: Option<(f64, Line, Vector3<f64>)> = None;
     if kind == Kind::Topple {
-        topple_blocks.iter().for_each(|&i| topple_stats.merge(&blocks[i].line));
+        topple_blocks
+            .iter()
+            .for_each(|&i| topple_stats.merge(&blocks[i].line));
         topple_best = topple_blocks
             .iter()
             .filter_map(|&i| blocks[i].max_line.map(|(l, w)| (blocks[i].max_angle, l, w)))

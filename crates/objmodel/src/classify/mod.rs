@@ -347,9 +347,17 @@ impl Classification {
 
     /// Face observations: slides' planes and, for topples, the faces rested on before and after.
     pub fn faces(&self) -> Vec<FaceObservation> {
-        let mut out: Vec<FaceObservation> = self.segments.iter().filter(|s| s.kind == Kind::Slide).filter_map(|s| s.face.clone()).collect();
+        let mut out: Vec<FaceObservation> = self
+            .segments
+            .iter()
+            .filter(|s| s.kind == Kind::Slide)
+            .filter_map(|s| s.face.clone())
+            .collect();
         for t in &self.topples {
-            for n in [t.resting_normal_before, t.resting_normal_after].into_iter().flatten() {
+            for n in [t.resting_normal_before, t.resting_normal_after]
+                .into_iter()
+                .flatten()
+            {
                 out.push(FaceObservation::from_rest(&n, &t.edge));
             }
         }
@@ -365,7 +373,8 @@ pub fn classify(demo: &crate::Demonstration, config: &Config) -> crate::Result<C
         Some(palm) => {
             let (mut i, mut j) = (0, 0);
             while i < demo.object.len() || j < palm.len() {
-                let take_palm = j < palm.len() && (i >= demo.object.len() || palm[j].t <= demo.object[i].t);
+                let take_palm =
+                    j < palm.len() && (i >= demo.object.len() || palm[j].t <= demo.object[i].t);
                 if take_palm {
                     a.push_palm(&palm[j]);
                     j += 1;

@@ -31,7 +31,17 @@ pub(super) struct PaperCore {
 
 impl PaperCore {
     pub(super) fn new(config: &Config) -> Self {
-        Self { config: *config, reference: None, previous: None, runs: Vec::new(), votes: Votes::default(), best: None, normal_sum: Vector3::zeros(), slide_frames: 0, t_range: None }
+        Self {
+            config: *config,
+            reference: None,
+            previous: None,
+            runs: Vec::new(),
+            votes: Votes::default(),
+            best: None,
+            normal_sum: Vector3::zeros(),
+            slide_frames: 0,
+            t_range: None,
+        }
     }
 
     fn label(&mut self, index: usize, t: f64, label: Label) {
@@ -43,24 +53,37 @@ impl PaperCore {
                 return;
             }
         }
-        self.runs.push(LabelRun { first: index, last: index, t_start: t, t_end: t, frames: 1, label, segment: Some(0) });
+        self.runs.push(LabelRun {
+            first: index,
+            last: index,
+            t_start: t,
+            t_end: t,
+            frames: 1,
+            label,
+            segment: Some(0),
+        });
     }
 
     pub(super) fn push(&mut self, item: Item) {
         let Item::Frame(f) = item else { return };
         let th = self.config.paper;
-        let (q0, p0, down0) = *self.reference.get_or_insert((f.q, f.p, f.down.map(|d| f.q.inverse() * d)));
+        let (q0, p0, down0) =
+            *self
+                .reference
+                .get_or_insert((f.q, f.p, f.down.map(|d| f.q.inverse() * d)));
         self.t_range = Some(self.t_range.map_or((f.t, f.t), |(a, _)| (a, f.t)));
         let omega = so3_log(&(q0.inverse() * f.q));
         let xi = Twist::log_with_omega(omega, &(q0.inverse() * (f.p - p0)));
         let screw = Screw::from_twist(&xi);
-        let normal = plane_normal(&xi, self.previous.as_ref().map(|p| &p.0)).map(|n| n.into_inner());
+        let normal =
+            plane_normal(&xi, self.previous.as_ref().map(|p| &p.0)).map(|n| n.into_inner());
         let theta = omega.norm();
         let moving = theta > th.motion_rotation || xi.v.norm() > th.motion_translation;
         let label = match (&self.previous, &screw) {
             (Some((_, prev_screw, prev_normal)), Some(s)) => {
                 if s.pitch.abs() < th.pitch {
-                    let same_axis = prev_screw.is_some_and(|p| line_angle(&p.direction, &s.direction) < th.axis_angle);
+                    let same_axis = prev_screw
+                        .is_some_and(|p| line_angle(&p.direction, &s.direction) < th.axis_angle);
                     let same_normal = matches!((prev_normal, &normal), (Some(a), Some(b)) if line_angle(a, b) < th.normal_angle);
                     if same_axis && s.point.norm() < th.r_palm {
                         Label::Topple
@@ -88,7 +111,11 @@ impl PaperCore {
         }
         if let Some(s) = screw.filter(|s| s.is_rotation()) {
             if self.best.is_none_or(|b| theta > b.0) {
-                self.best = Some((theta, Line::through(s.point, s.direction.into_inner()), omega));
+                self.best = Some((
+                    theta,
+                    Line::through(s.point, s.direction.into_inner()),
+                    omega,
+                ));
             }
         }
         let _ = down0;
@@ -96,25 +123,42 @@ impl PaperCore {
         self.previous = Some((xi, screw, normal));
     }
 
-    pub(super) fn finish(self, name: &str, instrumented: bool, frames: u64) -> crate::Result<Classification> {
+    pub(super) fn finish(
+        self,
+        name: &str,
+        instrumented: bool,
+        frames: u64,
+    ) -> crate::Result<Classification> {
         let kind = self.votes.winner().unwrap_or(Kind::General);
         let down = self.reference.and_then(|r| r.2);
-        let edge = (kind == Kind::Topple).then_some(self.best).flatten().map(|(theta, line, _)| EdgeObservation {
-            demo: name.to_string(),
-            line,
-            point_cov: Matrix3::zeros(),
-            direction_cov: Matrix3::zeros(),
-            paper_line: Some(line),
-            frames: self.votes.topple,
-            max_angle: theta,
-            chi2_per_dof: f64::NAN,
-        });
+        let edge = (kind == Kind::Topple)
+            .then_some(self.best)
+            .flatten()
+            .map(|(theta, line, _)| EdgeObservation {
+                demo: name.to_string(),
+                line,
+                point_cov: Matrix3::zeros(),
+                direction_cov: Matrix3::zeros(),
+                paper_line: Some(line),
+                frames: self.votes.topple,
+                max_angle: theta,
+                chi2_per_dof: f64::NAN,
+            });
         let face = (kind == Kind::Slide && self.slide_frames > 0).then(|| {
             let mut n = self.normal_sum.normalize();
             if down.is_some_and(|d| n.dot(&d) < 0.0) {
                 n = -n;
             }
-            FaceObservation { demo: name.to_string(), normal: n, normal_cov: Matrix3::zeros(), offset: None, offset_var: None, sign_known: down.is_some(), source: FaceSource::Slide, frames: self.slide_frames }
+            FaceObservation {
+                demo: name.to_string(),
+                normal: n,
+                normal_cov: Matrix3::zeros(),
+                offset: None,
+                offset_var: None,
+                sign_known: down.is_some(),
+                source: FaceSource::Slide,
+                frames: self.slide_frames,
+            }
         });
         let (t0, t1) = self.t_range.unwrap_or((0.0, 0.0));
         let paper_edge = edge.as_ref().map(|e| e.line);
@@ -127,8 +171,29 @@ impl PaperCore {
             outliers: 0,
             votes: self.votes,
             noise: None,
-            topples: edge.clone().map(|e| super::Topple { segments: vec![0], edge: e, resting_normal_before: down, resting_normal_after: None }).into_iter().collect(),
-            segments: vec![Segment { topple_stats: Default::default(), topple_best: None, t_start: t0, t_end: t1, kind, votes: self.votes, max_angle: self.best.map_or(0.0, |b| b.0), edge, face, resting_normal_before: down, resting_normal_after: None }],
+            topples: edge
+                .clone()
+                .map(|e| super::Topple {
+                    segments: vec![0],
+                    edge: e,
+                    resting_normal_before: down,
+                    resting_normal_after: None,
+                })
+                .into_iter()
+                .collect(),
+            segments: vec![Segment {
+                topple_stats: Default::default(),
+                topple_best: None,
+                t_start: t0,
+                t_end: t1,
+                kind,
+                votes: self.votes,
+                max_angle: self.best.map_or(0.0, |b| b.0),
+                edge,
+                face,
+                resting_normal_before: down,
+                resting_normal_after: None,
+            }],
             labels: self.runs,
             paper_edge,
         })

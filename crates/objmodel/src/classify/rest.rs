@@ -152,12 +152,24 @@ impl RestDetector {
                     self.cum_rot += so3_log(&(q0.inverse() * f.q));
                 }
                 self.last_q = Some(f.q);
-                x = [self.cum_rot.x, self.cum_rot.y, self.cum_rot.z, f.p.x, f.p.y, f.p.z];
+                x = [
+                    self.cum_rot.x,
+                    self.cum_rot.y,
+                    self.cum_rot.z,
+                    f.p.x,
+                    f.p.y,
+                    f.p.z,
+                ];
                 (f.t, true)
             }
             Item::Outlier(_, t) => (*t, false),
         };
-        self.buf.push_back(Entry { item, t, is_frame, x });
+        self.buf.push_back(Entry {
+            item,
+            t,
+            is_frame,
+            x,
+        });
         self.drain(false, out);
     }
 
@@ -193,7 +205,9 @@ impl RestDetector {
             }
             self.since_rebase += 1;
             let e = self.buf[self.center];
-            let moving = e.is_frame && self.left.statistic(&self.inv_var) > self.threshold && self.right.statistic(&self.inv_var) > self.threshold;
+            let moving = e.is_frame
+                && self.left.statistic(&self.inv_var) > self.threshold
+                && self.right.statistic(&self.inv_var) > self.threshold;
             out(e.item, moving);
             // The centre leaves the right window (it stays in the left one).
             self.right.add(&e, &self.origin, -1.0);
@@ -215,7 +229,13 @@ mod tests {
         for k in 0..120 {
             let t = k as f64 / 30.0;
             let angle = 0.1 * (t - 1.0).clamp(0.0, 2.0);
-            let f = RawFrame { index: k, t, q: UnitQuaternion::from_scaled_axis(Vector3::new(angle, 0.0, 0.0)), p: Vector3::zeros(), down: None };
+            let f = RawFrame {
+                index: k,
+                t,
+                q: UnitQuaternion::from_scaled_axis(Vector3::new(angle, 0.0, 0.0)),
+                p: Vector3::zeros(),
+                down: None,
+            };
             d.push(Item::Frame(f), &mut |i, m| verdicts.push((i, m)));
         }
         d.finish(&mut |i, m| verdicts.push((i, m)));

@@ -138,7 +138,11 @@ impl RestAcc {
         (0..6)
             .map(|j| {
                 let beta = (self.n * self.stx[j] - self.st * self.sx[j]) / den;
-                let (var, tol2) = if j < 3 { (m.var_r, m.tol_r2) } else { (m.var_p, m.tol_p2) };
+                let (var, tol2) = if j < 3 {
+                    (m.var_r, m.tol_r2)
+                } else {
+                    (m.var_p, m.tol_p2)
+                };
                 beta * beta / (var / stt_c + tol2 / (duration * duration))
             })
             .sum()
@@ -175,7 +179,12 @@ impl RestAcc {
     }
 
     fn mean(&self) -> Option<(UnitQuaternion<f64>, Vector3<f64>)> {
-        (self.n > 0.0).then(|| (UnitQuaternion::from_quaternion(Quaternion::from(self.q)), self.p / self.n))
+        (self.n > 0.0).then(|| {
+            (
+                UnitQuaternion::from_quaternion(Quaternion::from(self.q)),
+                self.p / self.n,
+            )
+        })
     }
 
     fn down(&self) -> Option<Vector3<f64>> {
@@ -264,7 +273,12 @@ impl Core {
             displaced: crate::stats::chi2_threshold(6.0, r.alpha),
             rotated: crate::stats::chi2_threshold(3.0, r.alpha),
         });
-        self.rest = Some(RestDetector::new(r.rest_window_s, n.sigma_position, n.sigma_rotation, r.alpha));
+        self.rest = Some(RestDetector::new(
+            r.rest_window_s,
+            n.sigma_position,
+            n.sigma_rotation,
+            r.alpha,
+        ));
         for item in std::mem::take(&mut self.warm) {
             self.feed_rest(item);
         }
@@ -291,7 +305,13 @@ impl Core {
         match item {
             Item::Outlier(index, t) => {
                 self.outliers += 1;
-                self.append(index, t, Phase::Outlier, self.segments.len().checked_sub(1), |_| {});
+                self.append(
+                    index,
+                    t,
+                    Phase::Outlier,
+                    self.segments.len().checked_sub(1),
+                    |_| {},
+                );
             }
             Item::Frame(f) if !moving => {
                 if self.in_motion {
@@ -300,7 +320,13 @@ impl Core {
                 }
                 self.rest_acc.add(&f);
                 // Rests belong to the segment they follow (None before the first motion).
-                self.append(f.index, f.t, Phase::Rest, self.segments.len().checked_sub(1), |_| {});
+                self.append(
+                    f.index,
+                    f.t,
+                    Phase::Rest,
+                    self.segments.len().checked_sub(1),
+                    |_| {},
+                );
             }
             Item::Frame(f) => self.moving(f),
         }
@@ -320,7 +346,10 @@ impl Core {
                     prev.rest_after = self.rest_acc.down();
                 }
                 let (ref_q, ref_p) = self.rest_acc.mean().unwrap_or((f.q, f.p));
-                let down_ref = self.rest_acc.down().or_else(|| f.down.map(|d| (f.q.inverse() * d).normalize()));
+                let down_ref = self
+                    .rest_acc
+                    .down()
+                    .or_else(|| f.down.map(|d| (f.q.inverse() * d).normalize()));
                 self.segments.push(SegState {
                     ref_q,
                     ref_p,
@@ -348,7 +377,8 @@ impl Core {
                 return;
             }
             b.significant += 1;
-            b.plane.add(&omega, &t_rel, m.var_r + m.tol_r2, m.var_p + m.tol_p2);
+            b.plane
+                .add(&omega, &t_rel, m.var_r + m.tol_r2, m.var_p + m.tol_p2);
             // An axis only from a rotation well above the noise: the axis point's bias is of
             // order (σ_r/θ)² relative, kept below 1% by θ >= 10 σ_r (MIN_AXIS_SNR).
             if theta2 / m.var_r <= m.rotated.max(MIN_AXIS_SNR * MIN_AXIS_SNR) {
@@ -363,7 +393,14 @@ impl Core {
             let var_point = (m.var_p + m.var_r * dist * dist) / chord2 + m.tol_p2;
             let var_dir = m.var_r / theta2 + m.tol_r2;
             let h = u.dot(&t_rel);
-            b.line.add_with_chord(&r, &u, 1.0 / var_point, 1.0 / var_dir, h * h / (m.var_p + m.tol_p2), 1.0 / chord2.sqrt());
+            b.line.add_with_chord(
+                &r,
+                &u,
+                1.0 / var_point,
+                1.0 / var_dir,
+                h * h / (m.var_p + m.tol_p2),
+                1.0 / chord2.sqrt(),
+            );
             if theta > b.max_angle {
                 b.max_angle = theta;
                 b.max_line = Some((Line::through(r, u), omega));
@@ -373,7 +410,14 @@ impl Core {
     }
 
     /// Add one frame to the current block (or a new one) and update it with `update`.
-    fn append(&mut self, index: usize, t: f64, phase: Phase, segment: Option<usize>, update: impl FnOnce(&mut Block)) {
+    fn append(
+        &mut self,
+        index: usize,
+        t: f64,
+        phase: Phase,
+        segment: Option<usize>,
+        update: impl FnOnce(&mut Block),
+    ) {
         let fits = self
             .blocks
             .last()
@@ -415,7 +459,12 @@ impl Core {
         }
     }
 
-    fn finish(mut self, name: &str, instrumented: bool, frames: u64) -> crate::Result<Classification> {
+    fn finish(
+        mut self,
+        name: &str,
+        instrumented: bool,
+        frames: u64,
+    ) -> crate::Result<Classification> {
         if self.rest.is_none() {
             self.start();
         }
@@ -435,13 +484,20 @@ impl Core {
         for (i, seg) in self.segments.iter().enumerate() {
             let s = fit::analyse_segment(i, seg, &mut self.blocks, &config, alpha, name);
             votes.add(s.kind, 0);
-            for (k, n) in [(super::Kind::Topple, s.votes.topple), (super::Kind::Slide, s.votes.slide), (super::Kind::General, s.votes.general)] {
+            for (k, n) in [
+                (super::Kind::Topple, s.votes.topple),
+                (super::Kind::Slide, s.votes.slide),
+                (super::Kind::General, s.votes.general),
+            ] {
                 votes.add(k, n);
             }
             segments.push(s);
         }
         let topples = fit::group_topples(&segments, alpha, name);
-        let paper_edge = topples.iter().max_by_key(|t| t.edge.frames).and_then(|t| t.edge.paper_line);
+        let paper_edge = topples
+            .iter()
+            .max_by_key(|t| t.edge.frames)
+            .and_then(|t| t.edge.paper_line);
         Ok(Classification {
             name: name.to_string(),
             kind: votes.winner().unwrap_or(super::Kind::General),
@@ -471,7 +527,15 @@ pub(super) fn runs(blocks: &[Block]) -> Vec<LabelRun> {
                 continue;
             }
         }
-        out.push(LabelRun { first: b.first, last: b.last, t_start: b.t0, t_end: b.t1, frames: b.frames, label: b.label, segment: b.segment });
+        out.push(LabelRun {
+            first: b.first,
+            last: b.last,
+            t_start: b.t0,
+            t_end: b.t1,
+            frames: b.frames,
+            label: b.label,
+            segment: b.segment,
+        });
     }
     out
 }
@@ -487,12 +551,24 @@ struct StreamCleaner {
 
 impl StreamCleaner {
     fn new(config: &Config) -> Self {
-        Self { warm: Vec::new(), warmup: config.robust.warmup_frames.max(3), alpha: config.robust.outlier_alpha, noise: config.robust.noise, cleaner: None }
+        Self {
+            warm: Vec::new(),
+            warmup: config.robust.warmup_frames.max(3),
+            alpha: config.robust.outlier_alpha,
+            noise: config.robust.noise,
+            cleaner: None,
+        }
     }
 
     fn start(&mut self, out: &mut impl FnMut(RawFrame, bool)) {
         let samples: Vec<noise::PoseSample> = self.warm.iter().map(|f| (f.t, f.q, f.p)).collect();
-        let n = self.noise.or_else(|| noise::estimate(&samples)).unwrap_or(NoiseModel { sigma_position: 1e-3, sigma_rotation: 1e-2 });
+        let n = self
+            .noise
+            .or_else(|| noise::estimate(&samples))
+            .unwrap_or(NoiseModel {
+                sigma_position: 1e-3,
+                sigma_rotation: 1e-2,
+            });
         let mut c = Cleaner::new(n.floored().sigma_rotation, self.alpha);
         for f in std::mem::take(&mut self.warm) {
             c.push(f, out);
@@ -585,7 +661,13 @@ impl PalmMerger {
                 None => out(Item::Outlier(o.index, o.t)),
                 Some((pq, pp)) => {
                     let inv = pq.inverse();
-                    out(Item::Frame(RawFrame { index: o.index, t: o.t, q: inv * o.q, p: inv * (o.p - pp), down: self.support_down.flatten() }))
+                    out(Item::Frame(RawFrame {
+                        index: o.index,
+                        t: o.t,
+                        q: inv * o.q,
+                        p: inv * (o.p - pp),
+                        down: self.support_down.flatten(),
+                    }))
                 }
             }
         }
@@ -649,7 +731,13 @@ impl Analyzer {
     }
 
     fn raw(&self, index: usize, p: &StampedPose) -> RawFrame {
-        RawFrame { index, t: p.t, q: p.pose.rotation, p: p.pose.translation.vector, down: self.down_world }
+        RawFrame {
+            index,
+            t: p.t,
+            q: p.pose.rotation,
+            p: p.pose.translation.vector,
+            down: self.down_world,
+        }
     }
 
     /// Push the next object pose (`world_from_object`).
@@ -657,7 +745,14 @@ impl Analyzer {
         let f = self.raw(self.frames as usize, p);
         self.frames += 1;
         self.last_t = Some(p.t);
-        let Self { object, merger, back, instrumented, robust, .. } = self;
+        let Self {
+            object,
+            merger,
+            back,
+            instrumented,
+            robust,
+            ..
+        } = self;
         let mut to_back = |f: RawFrame, outlier: bool| {
             if *instrumented {
                 merger.push_object(f, outlier, &mut |i| back.push(i));
@@ -678,7 +773,13 @@ impl Analyzer {
     pub fn push_palm(&mut self, p: &StampedPose) {
         let f = self.raw(self.palm_frames as usize, p);
         self.palm_frames += 1;
-        let Self { palm, merger, back, robust, .. } = self;
+        let Self {
+            palm,
+            merger,
+            back,
+            robust,
+            ..
+        } = self;
         let mut to_merger = |f: RawFrame, outlier: bool| {
             if !outlier {
                 merger.push_palm(f, &mut |i| back.push(i));
@@ -692,9 +793,21 @@ impl Analyzer {
 
     /// Finish the stream and classify.
     pub fn finish(self) -> crate::Result<Classification> {
-        let Self { name, instrumented, object, palm, mut merger, mut back, frames, robust, .. } = self;
+        let Self {
+            name,
+            instrumented,
+            object,
+            palm,
+            mut merger,
+            mut back,
+            frames,
+            robust,
+            ..
+        } = self;
         if frames == 0 {
-            return Err(crate::Error::Data(format!("{name}: no object poses")));
+            return Err(crate::Error::Data(
+                "no poses: the file is empty or has only comments".to_string(),
+            ));
         }
         if robust {
             if let Some(p) = palm {
