@@ -42,6 +42,8 @@ enum Command {
     Dataset(sim_cmds::DatasetArgs),
     /// Measure the learner on a simulated dataset against its ground truth.
     Evaluate(learn::EvaluateArgs),
+    /// Plot a topple's tilt angles over time with the onset and φ (the paper's Fig. 8).
+    Plot(learn::PlotArgs),
 }
 
 fn main() -> ExitCode {
@@ -54,6 +56,7 @@ fn main() -> ExitCode {
         Command::Simulate(a) => sim_cmds::run_simulate(a),
         Command::Dataset(a) => sim_cmds::run_dataset(a),
         Command::Evaluate(a) => learn::run_evaluate(a),
+        Command::Plot(a) => learn::run_plot(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

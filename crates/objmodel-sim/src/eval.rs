@@ -33,6 +33,18 @@ pub struct DemoResult {
     pub edge_position_mm: Option<f64>,
     /// Face normal error [deg] (sign included), for slides.
     pub face_normal_deg: Option<f64>,
+    /// φ error [deg] of the palm-at-onset estimate (instrumented).
+    pub phi_onset_deg: Option<f64>,
+    /// φ error [deg] of the pendulum-on-palm fit (instrumented).
+    pub phi_support_deg: Option<f64>,
+    /// φ error [deg] of the pendulum fit to the fall.
+    pub phi_fall_deg: Option<f64>,
+    /// φ error [deg] of the combined estimate that goes into the tree.
+    pub phi_deg: Option<f64>,
+    /// Onset time error [s] against the simulator's topple start (instrumented).
+    pub onset_s: Option<f64>,
+    /// Inertia ratio `I_e/(m l_p)` [m] fitted to the fall, and its truth for the box.
+    pub inertia_ratio_m: Option<(f64, f64)>,
 }
 
 /// Errors of one fused edge.
@@ -57,6 +69,21 @@ pub struct Evaluation {
     pub demos: Vec<DemoResult>,
     /// Per fused edge.
     pub fused: Vec<FusedResult>,
+    /// Centre-of-mass errors per box and noise level.
+    pub coms: Vec<ComResult>,
+}
+
+/// The CoM learnt from all topples of a box.
+#[derive(Clone, Debug, Serialize)]
+pub struct ComResult {
+    /// Box name.
+    pub r#box: String,
+    /// Noise preset.
+    pub noise: String,
+    /// Pendulums used.
+    pub pendulums: usize,
+    /// Distance from the true CoM [mm].
+    pub error_mm: f64,
 }
 
 fn v(a: [f64; 3]) -> Vector3<f64> {
@@ -83,8 +110,8 @@ pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
     let manifest: Manifest =
         serde_json::from_str(&std::fs::read_to_string(dir.join("manifest.json"))?)?;
     let mut demos = Vec::new();
-    let mut groups: BTreeMap<(String, String), Vec<(objmodel::classify::Classification, Truth)>> =
-        BTreeMap::new();
+    type Group = Vec<(objmodel::classify::Classification, Truth, Vec<objmodel::dynamics::ToppleDynamics>)>;
+    let mut groups: BTreeMap<(String, String), Group> = BTreeMap::new();
     for m in &manifest.demos {
         let truth: Truth = serde_json::from_str(&std::fs::read_to_string(dir.join(&m.truth))?)?;
         let palm = m.palm.as_ref().map(|p| dir.join(p));
@@ -98,6 +125,21 @@ pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
                 .map(|o| o.normal.angle(&n).to_degrees())
                 .min_by(|a, b| a.total_cmp(b))
         });
+        let (mut phi_onset_deg, mut phi_support_deg, mut phi_fall_deg, mut phi_deg, mut onset_s, mut inertia_ratio_m) = (None, None, None, None, None, None);
+        let mut all_dynamics = Vec::new();
+        if let (Some(phi_true), Kind::Topple) = (truth.phi, c.kind) {
+            let demo = objmodel::format::read_demonstration(&dir.join(&m.tum), palm.as_deref())?;
+            let dynamics = objmodel::dynamics::analyse(&demo, &c, &Vector3::new(0.0, 0.0, -1.0));
+            all_dynamics = dynamics.clone();
+            if let Some(d) = dynamics.first() {
+                phi_onset_deg = d.phi_onset.map(|p| (p - phi_true).to_degrees());
+                phi_support_deg = d.on_support.map(|f| (f.phi - phi_true).to_degrees());
+                phi_fall_deg = d.fall.map(|f| (f.phi - phi_true).to_degrees());
+                phi_deg = d.phi.map(|p| (p - phi_true).to_degrees());
+                onset_s = d.onset.zip(truth.topple_start).map(|(o, ts)| o.t - ts);
+                inertia_ratio_m = d.fall.map(|f| (f.inertia_ratio_m, true_inertia_ratio(&truth)));
+            }
+        }
         let correct = match truth.kind.as_str() {
             "compound" => edge.is_some_and(|(d, p)| d < 5.0 && p < 10.0),
             k => c.kind.as_str() == k,
@@ -113,21 +155,34 @@ pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
             edge_direction_deg: edge.map(|e| e.0),
             edge_position_mm: edge.map(|e| e.1),
             face_normal_deg,
+            phi_onset_deg,
+            phi_support_deg,
+            phi_fall_deg,
+            phi_deg,
+            onset_s,
+            inertia_ratio_m,
         });
         if truth.edge.is_some() && c.kind == Kind::Topple {
             groups
                 .entry((m.r#box.clone(), m.noise.clone()))
                 .or_default()
-                .push((c, truth));
+                .push((c, truth, all_dynamics));
         }
     }
     // Fuse, per box and noise level, all topples; score each true edge against the tree.
     let mut fused = Vec::new();
+    let mut coms = Vec::new();
     for ((b, noise), items) in groups {
         let mut tree = Tree::default();
-        items.iter().for_each(|(c, _)| tree.add(c));
+        for (c, _, d) in &items {
+            tree.add(c);
+            tree.add_dynamics(c, d);
+        }
+        if let (Some(com), Some((_, t, _))) = (&tree.com, items.first()) {
+            coms.push(ComResult { r#box: b.clone(), noise: noise.clone(), pendulums: com.pendulums, error_mm: (com.point - v(t.com)).norm() * 1e3 });
+        }
         let mut seen: Vec<Vector3<f64>> = Vec::new();
-        for (_, t) in &items {
+        for (_, t, _) in &items {
             let e = t.edge.unwrap();
             let key = v(e.point);
             if seen.iter().any(|s| (s - key).norm() < 1e-6) {
@@ -155,7 +210,28 @@ pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
             }
         }
     }
-    Ok(Evaluation { demos, fused })
+    Ok(Evaluation { demos, fused, coms })
+}
+
+/// `I_e/(m l_p)` [m] of the true box about its true edge: homogeneous box inertia about the
+/// CoM, parallel-axis to the edge (the sim's boxes are homogeneous apart from the CoM offset).
+fn true_inertia_ratio(t: &Truth) -> f64 {
+    let (Some(e), d) = (t.edge, t.box_dims) else { return f64::NAN };
+    let u = v(e.direction);
+    let com = v(t.com);
+    let r = (com - v(e.point)) - u * u.dot(&(com - v(e.point)));
+    let l_p = r.norm();
+    // Inertia of the box about an axis through the CoM along u, in the box frame: the edge is
+    // parallel to one box axis, so use the two other dimensions.
+    let btt = v(d);
+    let q = &t.box_from_tag;
+    let rot = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q.quaternion[3], q.quaternion[0], q.quaternion[1], q.quaternion[2]));
+    let u_box = rot * u;
+    let i_c = (0..3).map(|k| {
+        let (a, b) = (btt[(k + 1) % 3], btt[(k + 2) % 3]);
+        u_box[k].powi(2) * (a * a + b * b) / 12.0
+    }).sum::<f64>();
+    (i_c + l_p * l_p) / l_p
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -220,6 +296,23 @@ impl Evaluation {
                 median(pos.clone()),
                 max(&pos)
             );
+        }
+        s += "\n### φ (CoM angle over the edge) errors, degrees (median |error| / max |error|)\n\n| scene | noise | demos | φ: palm tilt at onset | φ: pendulum on the palm | φ: the fall alone | φ: combined (in the tree) | onset time error [s] |\n|---|---|---|---|---|---|---|---|\n";
+        for scene in ["instrumented", "topple"] {
+            for n in noises {
+                let d: Vec<&DemoResult> = self.demos.iter().filter(|d| d.scene == scene && d.noise == n).collect();
+                let a: Vec<f64> = d.iter().filter_map(|d| d.phi_onset_deg.map(f64::abs)).collect();
+                let b: Vec<f64> = d.iter().filter_map(|d| d.phi_fall_deg.map(f64::abs)).collect();
+                let sp: Vec<f64> = d.iter().filter_map(|d| d.phi_support_deg.map(f64::abs)).collect();
+                let cb: Vec<f64> = d.iter().filter_map(|d| d.phi_deg.map(f64::abs)).collect();
+                let o: Vec<f64> = d.iter().filter_map(|d| d.onset_s.map(f64::abs)).collect();
+                let cell = |v: &[f64], p: usize| if v.is_empty() { "-".to_string() } else { format!("{:.prec$} / {:.prec$} ({})", median(v.to_vec()), max(v), v.len(), prec = p) };
+                s += &format!("| {scene} | {n} | {} | {} | {} | {} | {} | {} |\n", d.len(), cell(&a, 2), cell(&sp, 2), cell(&b, 2), cell(&cb, 2), cell(&o, 3));
+            }
+        }
+        s += "\n### Centre of mass from the pendulums of all topples of a box\n\n| box | noise | pendulums | CoM error [mm] |\n|---|---|---|---|\n";
+        for c in &self.coms {
+            s += &format!("| {} | {} | {} | {:.1} |\n", c.r#box, c.noise, c.pendulums, c.error_mm);
         }
         s += "\n### Face normal errors of slides (median / max)\n\n| noise | demos | normal [deg] |\n|---|---|---|\n";
         for n in noises {

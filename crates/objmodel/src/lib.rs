@@ -29,12 +29,14 @@
 
 pub mod classify;
 pub mod clean;
+pub mod dynamics;
 pub mod edge;
 pub mod error;
 pub mod face;
 pub mod format;
 pub mod geometry;
 pub mod noise;
+pub mod pendulum;
 pub mod screw;
 pub mod se3;
 pub mod stats;

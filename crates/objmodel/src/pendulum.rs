@@ -1,0 +1,425 @@
+//! The planar pendulum on an edge's contact sub-manifold (paper Sec. II-B, Fig. 4, Fig. 5):
+//! while an object turns about an edge, it is a pendulum with CoM angle φ from the vertical,
+//! CoM distance `l_p` from the edge and mass m:
+//!
+//! ```text
+//! I_e ψ̈ = m g l_p sin(ψ - φ),      ψ: the object's tilt about the edge from its resting pose
+//! ```
+//!
+//! (ψ = 0 resting on the face, ψ = φ balanced over the edge). The motion determines φ and
+//! `k = m g l_p / I_e` [1/s²], i.e. the ratio `I_e/(m l_p) = g/k` [m]; `l_p` itself needs an
+//! inertia model: for a solid homogeneous box `I_e = (4/3) m l_p²`, so `l_p = (3/4) g/k`.
+//!
+//! Two estimators:
+//! * [`onset`]: the instant a body at rest starts to turn, by two-phase regression (a
+//!   change-point model): constant before τ, the linearised toppling motion
+//!   `A (sinh(ω (t-τ))/ω - (t-τ))` after; τ and ω by least squares over a fine grid, with the
+//!   standard deviation of τ from the profile likelihood.
+//!   For an instrumented demonstration φ is the palm's tilt at τ (the paper's method).
+//! * [`fit_fall`]: nonlinear least squares (Gauss-Newton on an RK4 integration) of the equation
+//!   of motion to ψ(t) over the frames where the object still turns about its edge.
+
+use serde::{Deserialize, Serialize};
+
+/// Standard gravity [m/s²].
+pub const G: f64 = 9.806_65;
+
+/// A detected topple onset.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Onset {
+    /// Onset time [s].
+    pub t: f64,
+    /// Standard deviation of the onset time [s].
+    pub sigma_t: f64,
+    /// χ² per degree of freedom of the two-phase fit.
+    pub chi2_per_dof: f64,
+}
+
+/// Solve the small normal equations `A x = b` (A symmetric positive definite, n <= 4).
+fn solve(a: &[[f64; 4]; 4], b: &[f64; 4], n: usize) -> Option<[f64; 4]> {
+    let m = nalgebra::DMatrix::from_fn(n, n, |i, j| a[i][j]);
+    let v = nalgebra::DVector::from_fn(n, |i, _| b[i]);
+    let x = m.lu().solve(&v)?;
+    let mut out = [0.0; 4];
+    for i in 0..n {
+        out[i] = x[i];
+    }
+    Some(out)
+}
+
+/// Shape of the rotation after the onset, `s = t - τ` [s]: linearising the equation of motion
+/// about the balance point, with the support still tilting at a constant rate, gives
+/// `θ̈ = ω² (θ + β̇ s)`, whose solution from rest is `θ = β̇ (sinh(ω s)/ω - s)`: cubic at
+/// first (`β̇ ω² s³/6`), then exponential. `ω = sqrt(k)` [rad/s].
+fn onset_shape(s: f64, omega: f64) -> f64 {
+    if s <= 0.0 {
+        0.0
+    } else {
+        let x = omega * s;
+        if x < 1e-3 {
+            omega * omega * s * s * s / 6.0
+        } else {
+            x.sinh() / omega - s
+        }
+    }
+}
+
+/// Residual sum of squares of the two-phase model with the change at `tau`:
+/// `θ = θ₀` for t < τ, `θ = θ₀ + A·shape(t - τ, ω)` after; θ₀ and A by linear least squares.
+fn two_phase_sse(t: &[f64], theta: &[f64], tau: f64, omega: f64) -> Option<f64> {
+    let mut a = [[0.0; 4]; 4];
+    let mut b = [0.0; 4];
+    for (&ti, &yi) in t.iter().zip(theta) {
+        let x = [1.0, onset_shape(ti - tau, omega), 0.0, 0.0];
+        for i in 0..2 {
+            b[i] += x[i] * yi;
+            for j in 0..2 {
+                a[i][j] += x[i] * x[j];
+            }
+        }
+    }
+    let c = solve(&a, &b, 2)?;
+    Some(t.iter().zip(theta).map(|(&ti, &yi)| {
+        let r = yi - (c[0] + c[1] * onset_shape(ti - tau, omega));
+        r * r
+    }).sum())
+}
+
+/// Rates ω [rad/s] tried by the onset model: boxes of a few cm to half a metre.
+const ONSET_OMEGAS: [f64; 10] = [2.0, 3.0, 4.5, 6.0, 8.0, 10.0, 13.0, 17.0, 22.0, 30.0];
+
+/// The onset of rotation in `theta(t)` [rad], a series that is constant (at rest) and then
+/// grows, with per-sample noise `sigma` [rad]. The series should run from some rest before the
+/// onset to a moderate angle after it (the caller cuts it, e.g. at 15°). `None` if too short.
+pub fn onset(t: &[f64], theta: &[f64], sigma: f64) -> Option<Onset> {
+    let n = t.len();
+    if n < 6 || theta.len() != n {
+        return None;
+    }
+    // Grid over [t_1, t_{n-3}] at a tenth of the median frame interval.
+    let dt = {
+        let mut d: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
+        crate::stats::median(&mut d)?
+    };
+    let (lo, hi) = (t[1], t[n - 3]);
+    let step = dt / 10.0;
+    let mut best = (f64::INFINITY, lo);
+    let mut profile = Vec::new();
+    let mut tau = lo;
+    while tau <= hi {
+        // Profile over ω: the best shape for this τ.
+        let s = ONSET_OMEGAS.iter().filter_map(|&w| two_phase_sse(t, theta, tau, w)).fold(f64::INFINITY, f64::min);
+        if s.is_finite() {
+            profile.push((tau, s));
+            if s < best.0 {
+                best = (s, tau);
+            }
+        }
+        tau += step;
+    }
+    let (sse, tau) = best;
+    if !sse.is_finite() {
+        return None;
+    }
+    // Profile likelihood: the τ interval where SSE rises by σ² (Δχ² = 1).
+    let var = sigma * sigma;
+    let within: Vec<f64> = profile.iter().filter(|(_, s)| (s - sse) / var <= 1.0).map(|(t, _)| *t).collect();
+    let (a, b) = (within.iter().copied().fold(f64::INFINITY, f64::min), within.iter().copied().fold(f64::NEG_INFINITY, f64::max));
+    Some(Onset { t: tau, sigma_t: (0.5 * (b - a)).max(step / 12f64.sqrt()), chi2_per_dof: sse / var / (n as f64 - 4.0) })
+}
+
+/// A fitted pendulum.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FallFit {
+    /// CoM angle from the vertical through the edge, resting on the face [rad].
+    pub phi: f64,
+    /// Standard deviation of phi [rad].
+    pub phi_sigma: f64,
+    /// `k = m g l_p / I_e` [1/s²].
+    pub k: f64,
+    /// Standard deviation of k.
+    pub k_sigma: f64,
+    /// `I_e / (m l_p) = g / k` [m].
+    pub inertia_ratio_m: f64,
+    /// `l_p` [m] under the homogeneous-box inertia model, `(3/4) g / k`.
+    pub l_p_homogeneous: f64,
+    /// χ² per degree of freedom of the fit.
+    pub chi2_per_dof: f64,
+    /// Frames used.
+    pub frames: usize,
+    /// Time span fitted [s].
+    pub t_start: f64,
+    /// End of the fitted span [s].
+    pub t_end: f64,
+}
+
+/// Integrate `ψ̈ = k sin(ψ - φ)` from `(t0, ψ0, ψ̇0)` and return ψ at the times `t` (sorted,
+/// >= t0), with RK4 steps of at most 2 ms.
+pub fn simulate(phi: f64, k: f64, t0: f64, psi0: f64, dpsi0: f64, t: &[f64]) -> Vec<f64> {
+    let f = |psi: f64| k * (psi - phi).sin();
+    let (mut tc, mut x, mut v) = (t0, psi0, dpsi0);
+    let mut out = Vec::with_capacity(t.len());
+    for &target in t {
+        while tc < target - 1e-12 {
+            let h = (target - tc).min(0.002);
+            let (k1x, k1v) = (v, f(x));
+            let (k2x, k2v) = (v + 0.5 * h * k1v, f(x + 0.5 * h * k1x));
+            let (k3x, k3v) = (v + 0.5 * h * k2v, f(x + 0.5 * h * k2x));
+            let (k4x, k4v) = (v + h * k3v, f(x + h * k3x));
+            x += h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
+            v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+            tc += h;
+        }
+        out.push(x);
+    }
+    out
+}
+
+/// Fit the pendulum to ψ(t) [rad] with noise `sigma` [rad], starting from the guess `phi0`.
+/// Parameters: φ, k, and the state (ψ, ψ̇) at the first sample. Gauss-Newton with a numerical
+/// Jacobian and step halving; covariance from the inverse normal matrix scaled by the noise.
+pub fn fit_fall(t: &[f64], psi: &[f64], sigma: f64, phi0: f64) -> Option<FallFit> {
+    let n = t.len();
+    if n < 6 {
+        return None;
+    }
+    let t0 = t[0];
+    let dpsi = (psi[2] - psi[0]) / (t[2] - t[0]);
+    let mut p = [phi0, 40.0, psi[0], dpsi];
+    let resid = |p: &[f64; 4]| -> Vec<f64> {
+        let m = simulate(p[0], p[1], t0, p[2], p[3], t);
+        m.iter().zip(psi).map(|(a, b)| b - a).collect()
+    };
+    let sse = |r: &[f64]| r.iter().map(|x| x * x).sum::<f64>();
+    // Initial (φ, k): a coarse grid, as the problem is far from linear.
+    let mut best = (f64::INFINITY, p[0], p[1]);
+    for i in -12..=12 {
+        let ph = phi0 + 0.025 * i as f64;
+        for kk in [5.0, 8.0, 12.0, 18.0, 27.0, 40.0, 60.0, 90.0, 135.0, 200.0, 300.0, 450.0] {
+            let s = sse(&resid(&[ph, kk, p[2], p[3]]));
+            if s < best.0 {
+                best = (s, ph, kk);
+            }
+        }
+    }
+    p[0] = best.1;
+    p[1] = best.2;
+    // Levenberg-Marquardt.
+    let mut r = resid(&p);
+    let mut cur = sse(&r);
+    let mut jtj = [[0.0; 4]; 4];
+    let mut lambda = 1e-3;
+    for _ in 0..100 {
+        let steps = [1e-6, 1e-4 * p[1].max(1.0), 1e-6, 1e-5];
+        let cols: Vec<Vec<f64>> = (0..4)
+            .map(|j| {
+                let mut q = p;
+                q[j] += steps[j];
+                let rq = resid(&q);
+                r.iter().zip(&rq).map(|(a, b)| (a - b) / steps[j]).collect()
+            })
+            .collect();
+        let mut jtr = [0.0; 4];
+        jtj = [[0.0; 4]; 4];
+        for i in 0..n {
+            for a in 0..4 {
+                jtr[a] += cols[a][i] * r[i];
+                for b in 0..4 {
+                    jtj[a][b] += cols[a][i] * cols[b][i];
+                }
+            }
+        }
+        let mut accepted = false;
+        for _ in 0..12 {
+            let mut damped = jtj;
+            for (a, row) in damped.iter_mut().enumerate() {
+                row[a] += lambda * jtj[a][a].max(1e-12);
+            }
+            let Some(delta) = solve(&damped, &jtr, 4) else { break };
+            let q = [p[0] + delta[0], (p[1] + delta[1]).max(1e-3), p[2] + delta[2], p[3] + delta[3]];
+            let rq = resid(&q);
+            let s = sse(&rq);
+            if s < cur {
+                let rel = (cur - s) / cur.max(1e-300);
+                p = q;
+                r = rq;
+                cur = s;
+                lambda = (lambda / 3.0).max(1e-12);
+                accepted = rel > 1e-12;
+                break;
+            }
+            lambda *= 4.0;
+        }
+        if !accepted {
+            break;
+        }
+    }
+    // A pendulum about an edge of a resting object: 0 < φ < π/2 and k > 0.
+    if !(p[0] > 0.0 && p[0] < std::f64::consts::FRAC_PI_2 && p[1] > 0.0) {
+        return None;
+    }
+    let dof = (n as f64 - 4.0).max(1.0);
+    let var = sigma * sigma;
+    // Covariance (J^T J)^-1 σ², inflated by the reduced χ² when the fit is worse than the noise.
+    let chi2 = cur / var / dof;
+    let m = nalgebra::DMatrix::from_fn(4, 4, |i, j| jtj[i][j]);
+    let cov = m.try_inverse()? * var * chi2.max(1.0);
+    Some(FallFit {
+        phi: p[0],
+        phi_sigma: cov[(0, 0)].max(0.0).sqrt(),
+        k: p[1],
+        k_sigma: cov[(1, 1)].max(0.0).sqrt(),
+        inertia_ratio_m: G / p[1],
+        l_p_homogeneous: 0.75 * G / p[1],
+        chi2_per_dof: chi2,
+        frames: n,
+        t_start: t0,
+        t_end: t[n - 1],
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn onset_of_a_toppling_start_is_found_to_a_fraction_of_a_frame() {
+        let tau = 1.2345;
+        let t: Vec<f64> = (0..90).map(|k| k as f64 / 30.0).collect();
+        let theta: Vec<f64> = t.iter().map(|&x| 0.1 * onset_shape(x - tau, 8.0)).collect();
+        let o = onset(&t, &theta, 1e-4).unwrap();
+        assert!((o.t - tau).abs() < 0.01, "{o:?}");
+    }
+
+    #[test]
+    fn fall_fit_recovers_phi_and_k() {
+        let (phi, k) = (0.45, 55.0);
+        let t: Vec<f64> = (0..20).map(|i| i as f64 / 30.0).collect();
+        let psi = simulate(phi, k, 0.0, phi + 0.05, 0.3, &t);
+        let f = fit_fall(&t, &psi, 1e-4, phi + 0.2).unwrap();
+        assert!((f.phi - phi).abs() < 1e-4, "{f:?}");
+        assert!((f.k - k).abs() < 0.05, "{f:?}");
+    }
+}
+
+/// The rotation relative to a tilting support predicted by the pendulum: zero while the
+/// support's tilt `beta` (smoothed, at the sample times) is below φ; from the first crossing
+/// on, `θ̈ = k sin(θ + β(t) - φ)` from rest, with β interpolated linearly between samples.
+pub fn simulate_on_support(phi: f64, k: f64, t: &[f64], beta: &[f64]) -> Vec<f64> {
+    let mut out = vec![0.0; t.len()];
+    let Some(c) = (1..t.len()).find(|&i| beta[i] >= phi) else { return out };
+    // Crossing time by linear interpolation.
+    let s = ((phi - beta[c - 1]) / (beta[c] - beta[c - 1])).clamp(0.0, 1.0);
+    let mut tc = t[c - 1] + s * (t[c] - t[c - 1]);
+    let (mut x, mut v) = (0.0, 0.0);
+    let beta_at = |tt: f64, i: usize| {
+        let i = i.clamp(1, t.len() - 1);
+        let w = ((tt - t[i - 1]) / (t[i] - t[i - 1])).clamp(0.0, 1.0);
+        beta[i - 1] + w * (beta[i] - beta[i - 1])
+    };
+    for i in c..t.len() {
+        while tc < t[i] - 1e-12 {
+            let h = (t[i] - tc).min(0.002);
+            let f = |tt: f64, xx: f64| k * (xx + beta_at(tt, i) - phi).sin();
+            let (k1x, k1v) = (v, f(tc, x));
+            let (k2x, k2v) = (v + 0.5 * h * k1v, f(tc + 0.5 * h, x + 0.5 * h * k1x));
+            let (k3x, k3v) = (v + 0.5 * h * k2v, f(tc + 0.5 * h, x + 0.5 * h * k2x));
+            let (k4x, k4v) = (v + h * k3v, f(tc + h, x + h * k3x));
+            x += h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
+            v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+            tc += h;
+        }
+        out[i] = x;
+    }
+    out
+}
+
+/// φ and k from an instrumented topple: the object's rotation relative to the palm, `theta`
+/// [rad] (zero at rest), against the palm's tilt `beta` [rad] (smoothed), both at times `t`,
+/// with noise `sigma` [rad] on theta. The object starts to turn exactly when the tilt reaches
+/// φ, so φ is fixed by the whole onset and the early fall jointly, not by a threshold. Grid
+/// search around `phi0`, then Levenberg-Marquardt on (φ, k).
+pub fn fit_on_support(t: &[f64], theta: &[f64], beta: &[f64], sigma: f64, phi0: f64) -> Option<FallFit> {
+    let n = t.len();
+    if n < 8 {
+        return None;
+    }
+    let resid = |p: [f64; 2]| -> Vec<f64> { simulate_on_support(p[0], p[1], t, beta).iter().zip(theta).map(|(m, y)| y - m).collect() };
+    let sse = |r: &[f64]| r.iter().map(|x| x * x).sum::<f64>();
+    let mut best = (f64::INFINITY, [phi0, 40.0]);
+    for i in -40..=40 {
+        let ph = phi0 + 0.002 * i as f64;
+        for kk in [5.0, 8.0, 12.0, 18.0, 27.0, 40.0, 60.0, 90.0, 135.0, 200.0, 300.0] {
+            let s = sse(&resid([ph, kk]));
+            if s < best.0 {
+                best = (s, [ph, kk]);
+            }
+        }
+    }
+    let (mut cur, mut p) = best;
+    let mut r = resid(p);
+    let mut lambda = 1e-3;
+    let mut jtj = [[0.0; 4]; 4];
+    for _ in 0..60 {
+        let steps = [1e-5, 1e-4 * p[1]];
+        let cols: Vec<Vec<f64>> = (0..2)
+            .map(|j| {
+                let mut q = p;
+                q[j] += steps[j];
+                r.iter().zip(resid(q)).map(|(a, b)| (a - b) / steps[j]).collect()
+            })
+            .collect();
+        let mut jtr = [0.0; 4];
+        jtj = [[0.0; 4]; 4];
+        for i in 0..n {
+            for a in 0..2 {
+                jtr[a] += cols[a][i] * r[i];
+                for b in 0..2 {
+                    jtj[a][b] += cols[a][i] * cols[b][i];
+                }
+            }
+        }
+        let mut accepted = false;
+        for _ in 0..12 {
+            let mut damped = jtj;
+            damped[0][0] *= 1.0 + lambda;
+            damped[1][1] *= 1.0 + lambda;
+            let Some(d) = solve(&damped, &jtr, 2) else { break };
+            let q = [p[0] + d[0], (p[1] + d[1]).max(1e-3)];
+            let rq = resid(q);
+            let s = sse(&rq);
+            if s < cur {
+                accepted = (cur - s) / cur.max(1e-300) > 1e-12;
+                p = q;
+                r = rq;
+                cur = s;
+                lambda = (lambda / 3.0).max(1e-12);
+                break;
+            }
+            lambda *= 4.0;
+        }
+        if !accepted {
+            break;
+        }
+    }
+    if !(p[0] > 0.0 && p[0] < std::f64::consts::FRAC_PI_2) {
+        return None;
+    }
+    let var = sigma * sigma;
+    let dof = (n as f64 - 2.0).max(1.0);
+    let chi2 = cur / var / dof;
+    let m = nalgebra::Matrix2::new(jtj[0][0], jtj[0][1], jtj[1][0], jtj[1][1]);
+    let cov = m.try_inverse()? * var * chi2.max(1.0);
+    Some(FallFit {
+        phi: p[0],
+        phi_sigma: cov[(0, 0)].max(0.0).sqrt(),
+        k: p[1],
+        k_sigma: cov[(1, 1)].max(0.0).sqrt(),
+        inertia_ratio_m: G / p[1],
+        l_p_homogeneous: 0.75 * G / p[1],
+        chi2_per_dof: chi2,
+        frames: n,
+        t_start: t[0],
+        t_end: t[n - 1],
+    })
+}
