@@ -6,6 +6,7 @@
 mod demo;
 mod learn;
 mod opts;
+mod plan;
 mod sim_cmds;
 mod synth_cmd;
 
@@ -44,6 +45,8 @@ enum Command {
     Evaluate(learn::EvaluateArgs),
     /// Plot a topple's tilt angles over time with the onset and φ (the paper's Fig. 8).
     Plot(learn::PlotArgs),
+    /// Plan a topple on the palm from a learnt tree: the tilt axis and angle.
+    Plan(plan::PlanArgs),
 }
 
 fn main() -> ExitCode {
@@ -57,6 +60,7 @@ fn main() -> ExitCode {
         Command::Dataset(a) => sim_cmds::run_dataset(a),
         Command::Evaluate(a) => learn::run_evaluate(a),
         Command::Plot(a) => learn::run_plot(a),
+        Command::Plan(a) => plan::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -39,6 +39,7 @@ pub mod noise;
 pub mod pendulum;
 pub mod screw;
 pub mod se3;
+pub mod skill;
 pub mod stats;
 pub mod synth;
 pub mod trajectory;

@@ -1,0 +1,170 @@
+//! The toppling skill, parameterised by the object description tree (paper Sec. IV): from the
+//! learnt edges, their pendulums and the object's tracked pose on the palm, choose the line
+//! about which to tilt the palm, and by how much.
+//!
+//! Frames: everything in the **palm frame** (origin on the palm's surface, z its normal);
+//! the object's pose is `palm_from_object` of its tracked frame; gravity is given in the palm
+//! frame (default -z, a level palm).
+//!
+//! The object rests on the face whose outward normal points along gravity. Each edge with a
+//! pendulum for that face is a candidate: the object topples over it once the support face is
+//! tilted about the edge by the pendulum's φ (measured from the vertical). Rotating the palm by
+//! `tilt = φ - ψ₀ + margin` about the edge line (right-hand rule about the toppling axis), with
+//! ψ₀ the tilt it already has, topples the object onto the adjacent face.
+
+use crate::tree::{Tree, SAME_FACE_RAD};
+use crate::{Error, Result};
+use nalgebra::{Isometry3, Point3, Vector3};
+use serde::{Deserialize, Serialize};
+
+/// Smallest margin [rad] past φ (2°): real palms are not perfectly flat and φ is uncertain.
+pub const MIN_MARGIN_RAD: f64 = 0.034_906_585_039_886_59;
+/// Margin in standard deviations of φ added to [`MIN_MARGIN_RAD`].
+pub const MARGIN_SIGMAS: f64 = 3.0;
+
+/// A plan request.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlanRequest {
+    /// `palm_from_object`: the tracked object frame in the palm frame.
+    pub palm_from_object: Isometry3<f64>,
+    /// Preferred toppling direction in the palm frame (the edge whose toppling direction is
+    /// closest to it is chosen); `None` chooses the edge easiest to topple (smallest tilt).
+    pub towards: Option<Vector3<f64>>,
+    /// Gravity in the palm frame (any length).
+    pub gravity_in_palm: Vector3<f64>,
+    /// Margin past φ [rad]; `None` uses `MIN_MARGIN_RAD + MARGIN_SIGMAS σ_φ`.
+    pub margin: Option<f64>,
+}
+
+/// A toppling plan, in the palm frame.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Plan {
+    /// Id of the edge toppled about.
+    pub edge: String,
+    /// Point of the tilt axis (the edge line) closest to the palm origin [m].
+    pub axis_point: Vector3<f64>,
+    /// Direction of the tilt axis; tilt by the right-hand rule about it.
+    pub axis_direction: Vector3<f64>,
+    /// How far to tilt the palm about the axis [rad].
+    pub tilt: f64,
+    /// The pendulum's φ [rad].
+    pub phi: f64,
+    /// Standard deviation of φ [rad], if known.
+    pub phi_sigma: Option<f64>,
+    /// The tilt the support face already has about the axis [rad].
+    pub current_tilt: f64,
+    /// Margin past φ [rad].
+    pub margin: f64,
+    /// Horizontal direction (palm frame) in which the object falls.
+    pub topple_direction: Vector3<f64>,
+    /// Outward normal of the face the object rests on, in the palm frame.
+    pub resting_face_normal: Vector3<f64>,
+    /// Outward normal of the face it will land on, in the palm frame, if learnt.
+    pub landing_face_normal: Option<Vector3<f64>>,
+}
+
+fn angle_about(axis: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+    let pa = a - axis * axis.dot(a);
+    let pb = b - axis * axis.dot(b);
+    axis.dot(&pa.cross(&pb)).atan2(pa.dot(&pb))
+}
+
+/// Choose the edge and the tilt. Errors (which trigger a request for a demonstration) when the
+/// tree has no edge with a pendulum for the face the object rests on.
+pub fn plan(tree: &Tree, req: &PlanRequest) -> Result<Plan> {
+    let g = req.gravity_in_palm.try_normalize(1e-12).ok_or_else(|| Error::Data("gravity in the palm frame must not be zero".into()))?;
+    let rot = req.palm_from_object.rotation;
+    let down_obj = rot.inverse() * g;
+    let mut candidates = Vec::new();
+    for e in &tree.edges {
+        for p in &e.pendulums {
+            let Some(phi) = p.phi else { continue };
+            if p.resting_face_normal.angle(&down_obj) > SAME_FACE_RAD {
+                continue;
+            }
+            let u = rot * p.toppling_axis;
+            let n = rot * p.resting_face_normal;
+            let current = angle_about(&u, &-g, &-n);
+            let margin = req.margin.unwrap_or(MIN_MARGIN_RAD + MARGIN_SIGMAS * p.phi_sigma.unwrap_or(0.0));
+            let point = (req.palm_from_object * Point3::from(e.point)).coords;
+            let axis_point = point - u * u.dot(&point);
+            // The object falls away from the face's interior: -(u × n), made horizontal.
+            let fall = -(u.cross(&n));
+            let fall = (fall - g * g.dot(&fall)).try_normalize(1e-12).unwrap_or(fall);
+            let landing = e.faces.iter().filter_map(|id| tree.faces.iter().find(|f| &f.id == id)).map(|f| rot * f.normal).find(|m| m.angle(&n) > SAME_FACE_RAD);
+            candidates.push(Plan {
+                edge: e.id.clone(),
+                axis_point,
+                axis_direction: u,
+                tilt: phi - current + margin,
+                phi,
+                phi_sigma: p.phi_sigma,
+                current_tilt: current,
+                margin,
+                topple_direction: fall,
+                resting_face_normal: n,
+                landing_face_normal: landing,
+            });
+        }
+    }
+    let key = |p: &Plan| match req.towards {
+        Some(t) => -p.topple_direction.dot(&t.normalize()),
+        None => p.tilt,
+    };
+    candidates.into_iter().min_by(|a, b| key(a).total_cmp(&key(b))).ok_or_else(|| {
+        Error::Data(format!(
+            "no learnt edge with a toppling model for the face the object rests on (outward normal [{:.3}, {:.3}, {:.3}] in the object frame): a demonstration of toppling it from this face is needed",
+            down_obj.x, down_obj.y, down_obj.z
+        ))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tree::{Edge, Pendulum};
+    use nalgebra::{Translation3, UnitQuaternion};
+
+    /// A 0.1 x 0.1 x 0.2 box (object frame at its centre) with one learnt bottom edge along y
+    /// at x = +0.05, z = -0.1, toppling positively about +y... over the +x side.
+    fn tree_with_edge(phi: f64) -> Tree {
+        let mut t = Tree::default();
+        let e: Edge = serde_json::from_value(serde_json::json!({
+            "id": "e0", "point": [0.05, 0.0, -0.1], "direction": [0.0, 1.0, 0.0],
+            "point_cov": [[0.0,0.0,0.0],[0.0,0.0,0.0],[0.0,0.0,0.0]], "direction_cov": [[0.0,0.0,0.0],[0.0,0.0,0.0],[0.0,0.0,0.0]], "sigma_point_m": 0.0, "sigma_direction_rad": 0.0,
+            "support": [], "n_support": 1, "faces": [], "pendulums": [], "observations": []
+        })).unwrap();
+        t.edges.push(e);
+        t.edges[0].pendulums.push(Pendulum { resting_face_normal: -Vector3::z(), toppling_axis: Vector3::y(), phi: Some(phi), l_p: None, phi_sigma: Some(0.0), inertia_ratio_m: None, support: vec![], observations: vec![] });
+        t
+    }
+
+    #[test]
+    fn plan_for_a_box_on_a_level_palm_is_its_edge_and_phi() {
+        let phi = 0.1f64.atan2(0.2).max(0.05f64.atan2(0.1));
+        let t = tree_with_edge(phi);
+        // Box resting on the palm, centre 0.1 m above it, turned 90° about z.
+        let pose = Isometry3::from_parts(Translation3::new(0.02, 0.0, 0.1), UnitQuaternion::from_scaled_axis(Vector3::z() * std::f64::consts::FRAC_PI_2));
+        let p = plan(&t, &PlanRequest { palm_from_object: pose, towards: None, gravity_in_palm: -Vector3::z(), margin: Some(0.05) }).unwrap();
+        // The edge (x = 0.05, z = -0.1 along y) maps to x = 0.02, y = 0.05, z = 0 along -x.
+        assert!((p.axis_direction - Vector3::new(-1.0, 0.0, 0.0)).norm() < 1e-12);
+        assert!((p.axis_point - Vector3::new(0.0, 0.05, 0.0)).norm() < 1e-12, "{:?}", p.axis_point);
+        assert!((p.tilt - (phi + 0.05)).abs() < 1e-12 && p.current_tilt.abs() < 1e-12);
+        // It falls towards +y (the side of the edge).
+        assert!((p.topple_direction - Vector3::y()).norm() < 1e-12, "{:?}", p.topple_direction);
+        // Rotating the palm (in the world, gravity -z) by phi about that line puts the CoM (the
+        // object origin) vertically above the edge.
+        let r = UnitQuaternion::from_scaled_axis(p.axis_direction * phi);
+        let com_after = r * (Vector3::new(0.02, 0.0, 0.1) - p.axis_point);
+        let h = com_after - p.axis_direction * p.axis_direction.dot(&com_after);
+        assert!(h.cross(&Vector3::z()).norm() < 1e-12, "{h:?}");
+    }
+
+    #[test]
+    fn no_plan_for_an_unknown_resting_face() {
+        let t = tree_with_edge(0.4);
+        let upside_down = Isometry3::from_parts(Translation3::new(0.0, 0.0, 0.1), UnitQuaternion::from_scaled_axis(Vector3::x() * std::f64::consts::PI));
+        let e = plan(&t, &PlanRequest { palm_from_object: upside_down, towards: None, gravity_in_palm: -Vector3::z(), margin: None }).unwrap_err();
+        assert!(e.to_string().contains("no learnt edge"), "{e}");
+    }
+}
