@@ -191,9 +191,18 @@ pub const MAX_DYNAMICS_BYTES: u64 = 64 << 20;
 
 /// The dynamics (pendulums) of a classified demonstration's topples, when gravity is known and
 /// the file is small enough to hold in memory.
-pub fn dynamics_of(demo: &Path, palm: Option<&Path>, c: &Classification, config: &Config) -> Result<Option<Vec<objmodel::dynamics::ToppleDynamics>>> {
-    let Some(g) = config.gravity else { return Ok(None) };
-    if c.topples.is_empty() || std::fs::metadata(demo).map_or(true, |m| m.len() > MAX_DYNAMICS_BYTES) {
+pub fn dynamics_of(
+    demo: &Path,
+    palm: Option<&Path>,
+    c: &Classification,
+    config: &Config,
+) -> Result<Option<Vec<objmodel::dynamics::ToppleDynamics>>> {
+    let Some(g) = config.gravity else {
+        return Ok(None);
+    };
+    if c.topples.is_empty()
+        || std::fs::metadata(demo).map_or(true, |m| m.len() > MAX_DYNAMICS_BYTES)
+    {
         return Ok(None);
     }
     let d = objmodel::format::read_demonstration(demo, palm)?;
@@ -225,15 +234,22 @@ pub fn tree_summary(tree: &Tree) -> String {
                 "  {} pendulum, resting on {}: phi {} ±{:.2} deg, I/(m l_p) {}, {} demos\n",
                 e.id,
                 v3(&p.resting_face_normal),
-                p.phi.map_or("?".into(), |x| format!("{:.2}", x.to_degrees())),
+                p.phi
+                    .map_or("?".into(), |x| format!("{:.2}", x.to_degrees())),
                 p.phi_sigma.unwrap_or(f64::NAN).to_degrees(),
-                p.inertia_ratio_m.map_or("?".into(), |x| format!("{:.3} m", x)),
+                p.inertia_ratio_m
+                    .map_or("?".into(), |x| format!("{:.3} m", x)),
                 p.observations.len()
             );
         }
     }
     if let Some(com) = &tree.com {
-        s += &format!("  centre of mass: {} m (from {} pendulums, rms {:.1} mm)\n", v3(&com.point), com.pendulums, com.rms_residual_m * 1e3);
+        s += &format!(
+            "  centre of mass: {} m (from {} pendulums, rms {:.1} mm)\n",
+            v3(&com.point),
+            com.pendulums,
+            com.rms_residual_m * 1e3
+        );
     }
     for f in &tree.faces {
         let off = f.offset.map_or("offset unknown".to_string(), |o| {
@@ -343,16 +359,31 @@ pub fn run_plot(a: &PlotArgs) -> Result<()> {
     let palm = palm_for(&a.demo, a.palm.as_deref(), false);
     let c = classify_files(&a.demo, palm.as_deref(), &config)?;
     let Some(dynamics) = dynamics_of(&a.demo, palm.as_deref(), &c, &config)? else {
-        bail!("{}: no topple to plot (kind: {}), or gravity unknown", a.demo.display(), c.kind.as_str());
+        bail!(
+            "{}: no topple to plot (kind: {}), or gravity unknown",
+            a.demo.display(),
+            c.kind.as_str()
+        );
     };
     for (i, d) in dynamics.iter().enumerate() {
         let stem = c.name.trim_end_matches(".tum").trim_end_matches(".csv");
-        let path = a.output.join(if dynamics.len() > 1 { format!("{stem}.topple{i}.angles") } else { format!("{stem}.angles") });
-        let (svg, png) = objmodel_plot::plot_angles(&fig8(&c.name, d), &path).map_err(|e| anyhow::anyhow!("{e}"))?;
+        let path = a.output.join(if dynamics.len() > 1 {
+            format!("{stem}.topple{i}.angles")
+        } else {
+            format!("{stem}.angles")
+        });
+        let (svg, png) = objmodel_plot::plot_angles(&fig8(&c.name, d), &path)
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
         crate::out(&format!("{}\n{}\n", svg.display(), png.display()))?;
         if let Some(phi) = d.phi {
-            let onset = d.onset.map_or(String::new(), |o| format!(", onset at {:.3} s", o.t - d.series.t[0]));
-            crate::out(&format!("  phi {:.2} deg ±{:.2}{onset}\n", phi.to_degrees(), d.phi_sigma.unwrap_or(f64::NAN).to_degrees()))?;
+            let onset = d.onset.map_or(String::new(), |o| {
+                format!(", onset at {:.3} s", o.t - d.series.t[0])
+            });
+            crate::out(&format!(
+                "  phi {:.2} deg ±{:.2}{onset}\n",
+                phi.to_degrees(),
+                d.phi_sigma.unwrap_or(f64::NAN).to_degrees()
+            ))?;
         }
     }
     Ok(())
@@ -362,15 +393,39 @@ pub fn run_plot(a: &PlotArgs) -> Result<()> {
 pub fn fig8(name: &str, d: &objmodel::dynamics::ToppleDynamics) -> objmodel_plot::Fig8 {
     let t0 = d.series.t.first().copied().unwrap_or(0.0);
     let t: Vec<f64> = d.series.t.iter().map(|x| x - t0).collect();
-    let mut series = vec![objmodel_plot::AngleSeries { label: "object tilt ψ about the edge".into(), t: t.clone(), angle_rad: d.series.object.clone() }];
+    let mut series = vec![objmodel_plot::AngleSeries {
+        label: "object tilt ψ about the edge".into(),
+        t: t.clone(),
+        angle_rad: d.series.object.clone(),
+    }];
     let mut marks = Vec::new();
     if !d.series.palm.is_empty() {
-        series.push(objmodel_plot::AngleSeries { label: "palm tilt".into(), t: t.clone(), angle_rad: d.series.palm.clone() });
-        let rel: Vec<f64> = d.series.object.iter().zip(&d.series.palm).map(|(a, b)| a - b).collect();
-        series.push(objmodel_plot::AngleSeries { label: "object relative to palm".into(), t, angle_rad: rel });
+        series.push(objmodel_plot::AngleSeries {
+            label: "palm tilt".into(),
+            t: t.clone(),
+            angle_rad: d.series.palm.clone(),
+        });
+        let rel: Vec<f64> = d
+            .series
+            .object
+            .iter()
+            .zip(&d.series.palm)
+            .map(|(a, b)| a - b)
+            .collect();
+        series.push(objmodel_plot::AngleSeries {
+            label: "object relative to palm".into(),
+            t,
+            angle_rad: rel,
+        });
         if let (Some(o), Some(p)) = (d.onset, d.phi_onset) {
             marks.push(("palm at onset".to_string(), o.t - t0, p));
         }
     }
-    objmodel_plot::Fig8 { title: format!("{name}: tilt about the learnt edge"), series, onset_t: d.onset.map(|o| o.t - t0), phi_rad: d.phi, marks }
+    objmodel_plot::Fig8 {
+        title: format!("{name}: tilt about the learnt edge"),
+        series,
+        onset_t: d.onset.map(|o| o.t - t0),
+        phi_rad: d.phi,
+        marks,
+    }
 }

@@ -34,16 +34,30 @@ pub struct PlanArgs {
 }
 
 fn parse_pose(s: &str) -> Result<Isometry3<f64>> {
-    let v: Vec<f64> = s.split(|c: char| c.is_whitespace() || c == ',').filter(|x| !x.is_empty()).map(str::parse::<f64>).collect::<Result<_, _>>().with_context(|| format!("--object-in-palm '{s}' is not 7 numbers"))?;
+    let v: Vec<f64> = s
+        .split(|c: char| c.is_whitespace() || c == ',')
+        .filter(|x| !x.is_empty())
+        .map(str::parse::<f64>)
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("--object-in-palm '{s}' is not 7 numbers"))?;
     if v.len() != 7 || v.iter().any(|x| !x.is_finite()) {
-        bail!("--object-in-palm needs 7 finite numbers \"tx ty tz qx qy qz qw\", got {}", v.len());
+        bail!(
+            "--object-in-palm needs 7 finite numbers \"tx ty tz qx qy qz qw\", got {}",
+            v.len()
+        );
     }
     let q = Quaternion::new(v[6], v[3], v[4], v[5]);
     let norm = q.norm();
     if (norm - 1.0).abs() > objmodel::format::QUAT_NORM_TOLERANCE {
-        bail!("--object-in-palm quaternion has norm {norm}, more than {} from 1", objmodel::format::QUAT_NORM_TOLERANCE);
+        bail!(
+            "--object-in-palm quaternion has norm {norm}, more than {} from 1",
+            objmodel::format::QUAT_NORM_TOLERANCE
+        );
     }
-    Ok(Isometry3::from_parts(Translation3::new(v[0], v[1], v[2]), UnitQuaternion::from_quaternion(q)))
+    Ok(Isometry3::from_parts(
+        Translation3::new(v[0], v[1], v[2]),
+        UnitQuaternion::from_quaternion(q),
+    ))
 }
 
 /// Run `objmodel plan`.
@@ -51,7 +65,12 @@ pub fn run(a: &PlanArgs) -> Result<()> {
     let tree = Tree::load(&a.model)?;
     let req = PlanRequest {
         palm_from_object: parse_pose(&a.object_in_palm)?,
-        towards: a.towards.as_deref().map(parse_vec3).transpose().context("--towards")?,
+        towards: a
+            .towards
+            .as_deref()
+            .map(parse_vec3)
+            .transpose()
+            .context("--towards")?,
         gravity_in_palm: parse_vec3(&a.gravity_in_palm).context("--gravity-in-palm")?,
         margin: a.margin,
     };

@@ -110,7 +110,11 @@ pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
     let manifest: Manifest =
         serde_json::from_str(&std::fs::read_to_string(dir.join("manifest.json"))?)?;
     let mut demos = Vec::new();
-    type Group = Vec<(objmodel::classify::Classification, Truth, Vec<objmodel::dynamics::ToppleDynamics>)>;
+    type Group = Vec<(
+        objmodel::classify::Classification,
+        Truth,
+        Vec<objmodel::dynamics::ToppleDynamics>,
+    )>;
     let mut groups: BTreeMap<(String, String), Group> = BTreeMap::new();
     for m in &manifest.demos {
         let truth: Truth = serde_json::from_str(&std::fs::read_to_string(dir.join(&m.truth))?)?;
@@ -125,7 +129,14 @@ pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
                 .map(|o| o.normal.angle(&n).to_degrees())
                 .min_by(|a, b| a.total_cmp(b))
         });
-        let (mut phi_onset_deg, mut phi_support_deg, mut phi_fall_deg, mut phi_deg, mut onset_s, mut inertia_ratio_m) = (None, None, None, None, None, None);
+        let (
+            mut phi_onset_deg,
+            mut phi_support_deg,
+            mut phi_fall_deg,
+            mut phi_deg,
+            mut onset_s,
+            mut inertia_ratio_m,
+        ) = (None, None, None, None, None, None);
         let mut all_dynamics = Vec::new();
         if let (Some(phi_true), Kind::Topple) = (truth.phi, c.kind) {
             let demo = objmodel::format::read_demonstration(&dir.join(&m.tum), palm.as_deref())?;
@@ -137,7 +148,9 @@ pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
                 phi_fall_deg = d.fall.map(|f| (f.phi - phi_true).to_degrees());
                 phi_deg = d.phi.map(|p| (p - phi_true).to_degrees());
                 onset_s = d.onset.zip(truth.topple_start).map(|(o, ts)| o.t - ts);
-                inertia_ratio_m = d.fall.map(|f| (f.inertia_ratio_m, true_inertia_ratio(&truth)));
+                inertia_ratio_m = d
+                    .fall
+                    .map(|f| (f.inertia_ratio_m, true_inertia_ratio(&truth)));
             }
         }
         let correct = match truth.kind.as_str() {
@@ -179,7 +192,12 @@ pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
             tree.add_dynamics(c, d);
         }
         if let (Some(com), Some((_, t, _))) = (&tree.com, items.first()) {
-            coms.push(ComResult { r#box: b.clone(), noise: noise.clone(), pendulums: com.pendulums, error_mm: (com.point - v(t.com)).norm() * 1e3 });
+            coms.push(ComResult {
+                r#box: b.clone(),
+                noise: noise.clone(),
+                pendulums: com.pendulums,
+                error_mm: (com.point - v(t.com)).norm() * 1e3,
+            });
         }
         let mut seen: Vec<Vector3<f64>> = Vec::new();
         for (_, t, _) in &items {
@@ -216,7 +234,9 @@ pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
 /// `I_e/(m l_p)` [m] of the true box about its true edge: homogeneous box inertia about the
 /// CoM, parallel-axis to the edge (the sim's boxes are homogeneous apart from the CoM offset).
 fn true_inertia_ratio(t: &Truth) -> f64 {
-    let (Some(e), d) = (t.edge, t.box_dims) else { return f64::NAN };
+    let (Some(e), d) = (t.edge, t.box_dims) else {
+        return f64::NAN;
+    };
     let u = v(e.direction);
     let com = v(t.com);
     let r = (com - v(e.point)) - u * u.dot(&(com - v(e.point)));
@@ -225,12 +245,19 @@ fn true_inertia_ratio(t: &Truth) -> f64 {
     // parallel to one box axis, so use the two other dimensions.
     let btt = v(d);
     let q = &t.box_from_tag;
-    let rot = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q.quaternion[3], q.quaternion[0], q.quaternion[1], q.quaternion[2]));
+    let rot = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+        q.quaternion[3],
+        q.quaternion[0],
+        q.quaternion[1],
+        q.quaternion[2],
+    ));
     let u_box = rot * u;
-    let i_c = (0..3).map(|k| {
-        let (a, b) = (btt[(k + 1) % 3], btt[(k + 2) % 3]);
-        u_box[k].powi(2) * (a * a + b * b) / 12.0
-    }).sum::<f64>();
+    let i_c = (0..3)
+        .map(|k| {
+            let (a, b) = (btt[(k + 1) % 3], btt[(k + 2) % 3]);
+            u_box[k].powi(2) * (a * a + b * b) / 12.0
+        })
+        .sum::<f64>();
     (i_c + l_p * l_p) / l_p
 }
 
@@ -300,19 +327,55 @@ impl Evaluation {
         s += "\n### φ (CoM angle over the edge) errors, degrees (median |error| / max |error|)\n\n| scene | noise | demos | φ: palm tilt at onset | φ: pendulum on the palm | φ: the fall alone | φ: combined (in the tree) | onset time error [s] |\n|---|---|---|---|---|---|---|---|\n";
         for scene in ["instrumented", "topple"] {
             for n in noises {
-                let d: Vec<&DemoResult> = self.demos.iter().filter(|d| d.scene == scene && d.noise == n).collect();
-                let a: Vec<f64> = d.iter().filter_map(|d| d.phi_onset_deg.map(f64::abs)).collect();
-                let b: Vec<f64> = d.iter().filter_map(|d| d.phi_fall_deg.map(f64::abs)).collect();
-                let sp: Vec<f64> = d.iter().filter_map(|d| d.phi_support_deg.map(f64::abs)).collect();
+                let d: Vec<&DemoResult> = self
+                    .demos
+                    .iter()
+                    .filter(|d| d.scene == scene && d.noise == n)
+                    .collect();
+                let a: Vec<f64> = d
+                    .iter()
+                    .filter_map(|d| d.phi_onset_deg.map(f64::abs))
+                    .collect();
+                let b: Vec<f64> = d
+                    .iter()
+                    .filter_map(|d| d.phi_fall_deg.map(f64::abs))
+                    .collect();
+                let sp: Vec<f64> = d
+                    .iter()
+                    .filter_map(|d| d.phi_support_deg.map(f64::abs))
+                    .collect();
                 let cb: Vec<f64> = d.iter().filter_map(|d| d.phi_deg.map(f64::abs)).collect();
                 let o: Vec<f64> = d.iter().filter_map(|d| d.onset_s.map(f64::abs)).collect();
-                let cell = |v: &[f64], p: usize| if v.is_empty() { "-".to_string() } else { format!("{:.prec$} / {:.prec$} ({})", median(v.to_vec()), max(v), v.len(), prec = p) };
-                s += &format!("| {scene} | {n} | {} | {} | {} | {} | {} | {} |\n", d.len(), cell(&a, 2), cell(&sp, 2), cell(&b, 2), cell(&cb, 2), cell(&o, 3));
+                let cell = |v: &[f64], p: usize| {
+                    if v.is_empty() {
+                        "-".to_string()
+                    } else {
+                        format!(
+                            "{:.prec$} / {:.prec$} ({})",
+                            median(v.to_vec()),
+                            max(v),
+                            v.len(),
+                            prec = p
+                        )
+                    }
+                };
+                s += &format!(
+                    "| {scene} | {n} | {} | {} | {} | {} | {} | {} |\n",
+                    d.len(),
+                    cell(&a, 2),
+                    cell(&sp, 2),
+                    cell(&b, 2),
+                    cell(&cb, 2),
+                    cell(&o, 3)
+                );
             }
         }
         s += "\n### Centre of mass from the pendulums of all topples of a box\n\n| box | noise | pendulums | CoM error [mm] |\n|---|---|---|---|\n";
         for c in &self.coms {
-            s += &format!("| {} | {} | {} | {:.1} |\n", c.r#box, c.noise, c.pendulums, c.error_mm);
+            s += &format!(
+                "| {} | {} | {} | {:.1} |\n",
+                c.r#box, c.noise, c.pendulums, c.error_mm
+            );
         }
         s += "\n### Face normal errors of slides (median / max)\n\n| noise | demos | normal [deg] |\n|---|---|---|\n";
         for n in noises {

@@ -22,6 +22,13 @@ pub const ONSET_REST_S: f64 = 2.0;
 /// Relative rotation [rad] (8.6°) up to which the pendulum-on-palm model is fitted (the palm
 /// may move fast after that, and the object may leave its edge).
 pub const SUPPORT_FIT_RAD: f64 = 0.15;
+/// Model tolerance [rad] of the pendulum (0.1°), added in quadrature to the tracking noise when
+/// fitting a fall: contacts are compliant and edges not perfectly sharp, so a real fall
+/// departs from the ideal pendulum by about this much.
+pub const PENDULUM_TOLERANCE_RAD: f64 = 0.001_745_329_251_994_329_5;
+/// Frames within this angle [rad] (2°) of where the object comes to rest are the landing, not
+/// the fall.
+pub const LANDING_RAD: f64 = 0.034_906_585_039_886_59;
 /// Half-width [s] of the local linear smoothing of the palm tilt.
 pub const SMOOTH_S: f64 = 0.25;
 
@@ -98,7 +105,11 @@ fn palm_at(palm: &[StampedPose], t: f64) -> Option<UnitQuaternion<f64>> {
         return None;
     }
     let (a, b) = (&palm[i - 1], &palm[i]);
-    Some(a.pose.rotation.slerp(&b.pose.rotation, (t - a.t) / (b.t - a.t)))
+    Some(
+        a.pose
+            .rotation
+            .slerp(&b.pose.rotation, (t - a.t) / (b.t - a.t)),
+    )
 }
 
 /// Least-squares line through (t, y) evaluated at `at`, with its standard error for per-sample
@@ -114,13 +125,24 @@ fn linear_at(t: &[f64], y: &[f64], at: f64, sigma: f64) -> Option<(f64, f64, f64
     let sty: f64 = t.iter().zip(y).map(|(a, b)| (a - tm) * (b - ym)).sum();
     let slope = if stt > 0.0 { sty / stt } else { 0.0 };
     let value = ym + slope * (at - tm);
-    let se = sigma * (1.0 / n + if stt > 0.0 { (at - tm).powi(2) / stt } else { 0.0 }).sqrt();
+    let se = sigma
+        * (1.0 / n
+            + if stt > 0.0 {
+                (at - tm).powi(2) / stt
+            } else {
+                0.0
+            })
+        .sqrt();
     Some((value, se, slope))
 }
 
 /// Analyse the dynamics of every topple of `c` (the classification of `demo`), with gravity
 /// `gravity` in the tracking frame.
-pub fn analyse(demo: &Demonstration, c: &Classification, gravity: &Vector3<f64>) -> Vec<ToppleDynamics> {
+pub fn analyse(
+    demo: &Demonstration,
+    c: &Classification,
+    gravity: &Vector3<f64>,
+) -> Vec<ToppleDynamics> {
     let up = -gravity.normalize();
     let sigma = c.noise.map_or(0.01, |n| n.sigma_rotation);
     // Frames the classifier rejected as outliers, and the topple-labelled frames, by index.
@@ -137,11 +159,18 @@ pub fn analyse(demo: &Demonstration, c: &Classification, gravity: &Vector3<f64>)
     }
     let mut out = Vec::new();
     for (ti, top) in c.topples.iter().enumerate() {
-        let Some(n) = top.resting_normal_before else { continue };
+        let Some(n) = top.resting_normal_before else {
+            continue;
+        };
         let u = top.edge.line.direction;
         // The face normal and edge in the palm frame at the start (instrumented).
         let palm_ref = demo.palm.as_ref().and_then(|palm| {
-            let first = demo.object.iter().enumerate().find(|(i, _)| !outlier[*i])?.1;
+            let first = demo
+                .object
+                .iter()
+                .enumerate()
+                .find(|(i, _)| !outlier[*i])?
+                .1;
             let qp = palm_at(palm, first.t)?;
             let palm_from_object = qp.inverse() * first.pose.rotation;
             Some((palm, palm_from_object * n, palm_from_object * u))
@@ -169,19 +198,39 @@ pub fn analyse(demo: &Demonstration, c: &Classification, gravity: &Vector3<f64>)
         unwrap(&mut series.object);
         unwrap(&mut series.palm);
         let in_topple = |i: usize| topple_label[i].is_some_and(|s| top.segments.contains(&s));
-        let Some(last_pivot) = (0..idx.len()).rev().find(|&k| in_topple(idx[k])) else { continue };
+        let Some(last_labelled) = (0..idx.len()).rev().find(|&k| in_topple(idx[k])) else {
+            continue;
+        };
+        // The fall ends where the object lands: drop the frames within LANDING_RAD of the final
+        // angle (the impact stops the pendulum; the windowed labels may still include it).
+        let final_angle = series.object[last_labelled];
+        let last_pivot = (0..=last_labelled)
+            .rev()
+            .find(|&k| (series.object[k] - final_angle).abs() > LANDING_RAD)
+            .unwrap_or(last_labelled);
         let first_moving = c.segments[top.segments[0]].t_start;
 
         // Onset and φ from the palm (instrumented).
         let (mut onset_r, mut phi_onset, mut phi_onset_sigma) = (None, None, None);
         if !series.palm.is_empty() {
-            let rel: Vec<f64> = series.object.iter().zip(&series.palm).map(|(a, b)| a - b).collect();
-            let start = series.t.partition_point(|&t| t < first_moving - ONSET_REST_S);
-            let end = (start..idx.len()).find(|&k| series.t[k] > first_moving && rel[k].abs() > ONSET_WINDOW_RAD).unwrap_or(idx.len());
+            let rel: Vec<f64> = series
+                .object
+                .iter()
+                .zip(&series.palm)
+                .map(|(a, b)| a - b)
+                .collect();
+            let start = series
+                .t
+                .partition_point(|&t| t < first_moving - ONSET_REST_S);
+            let end = (start..idx.len())
+                .find(|&k| series.t[k] > first_moving && rel[k].abs() > ONSET_WINDOW_RAD)
+                .unwrap_or(idx.len());
             let base = rel[start];
             let w: Vec<f64> = rel[start..end].iter().map(|x| (x - base).abs()).collect();
             if let Some(o) = pendulum::onset(&series.t[start..end], &w, sigma) {
-                let near: Vec<usize> = (0..idx.len()).filter(|&k| (series.t[k] - o.t).abs() <= 0.3).collect();
+                let near: Vec<usize> = (0..idx.len())
+                    .filter(|&k| (series.t[k] - o.t).abs() <= 0.3)
+                    .collect();
                 let tt: Vec<f64> = near.iter().map(|&k| series.t[k]).collect();
                 let yy: Vec<f64> = near.iter().map(|&k| series.palm[k]).collect();
                 let palm_sigma = sigma / std::f64::consts::SQRT_2;
@@ -195,19 +244,37 @@ pub fn analyse(demo: &Demonstration, c: &Classification, gravity: &Vector3<f64>)
 
         // The fall: from the onset (instrumented) or the earliest start consistent with a free
         // pendulum (direct: before it, the pusher drives the object), to the last pivot frame.
-        let fit_from = |k0: usize, phi0: f64| pendulum::fit_fall(&series.t[k0..=last_pivot], &series.object[k0..=last_pivot], sigma, phi0);
+        let sigma_fit = (sigma * sigma + PENDULUM_TOLERANCE_RAD * PENDULUM_TOLERANCE_RAD).sqrt();
+        let fit_from = |k0: usize, phi0: f64| {
+            pendulum::fit_fall(
+                &series.t[k0..=last_pivot],
+                &series.object[k0..=last_pivot],
+                sigma_fit,
+                phi0,
+            )
+        };
         let fall = match onset_r {
             Some(o) => {
                 let k0 = series.t.partition_point(|&t| t < o.t);
-                (k0 + 6 <= last_pivot).then(|| fit_from(k0, phi_onset.unwrap_or(series.object[k0]))).flatten()
+                (k0 + 6 <= last_pivot)
+                    .then(|| fit_from(k0, phi_onset.unwrap_or(series.object[k0])))
+                    .flatten()
             }
             None => {
-                let first_pivot = (0..idx.len()).find(|&k| in_topple(idx[k])).unwrap_or(last_pivot);
+                let first_pivot = (0..idx.len())
+                    .find(|&k| in_topple(idx[k]))
+                    .unwrap_or(last_pivot);
                 let mut best = None;
                 let mut k0 = last_pivot.saturating_sub(6);
                 while k0 >= first_pivot && k0 + 6 <= last_pivot {
                     match fit_from(k0, series.object[k0]) {
-                        Some(f) if f.chi2_per_dof <= crate::stats::chi2_threshold(f.frames as f64 - 4.0, 0.01) / (f.frames as f64 - 4.0) => best = Some(f),
+                        Some(f)
+                            if f.chi2_per_dof
+                                <= crate::stats::chi2_threshold(f.frames as f64 - 4.0, 0.01)
+                                    / (f.frames as f64 - 4.0) =>
+                        {
+                            best = Some(f)
+                        }
                         _ if best.is_some() => break,
                         _ => {}
                     }
@@ -221,26 +288,64 @@ pub fn analyse(demo: &Demonstration, c: &Classification, gravity: &Vector3<f64>)
         };
         // Instrumented: the pendulum on the tilting palm, fitted to the rotation relative to
         // the palm from the rest before to the end of the pivot, against the smoothed tilt.
-        let on_support = (!series.palm.is_empty()).then(|| {
-            let start = series.t.partition_point(|&t| t < first_moving - ONSET_REST_S);
-            let rel: Vec<f64> = series.object.iter().zip(&series.palm).map(|(a, b)| a - b).collect();
-            let base = rel[start];
-            let end = (start..=last_pivot).find(|&k| series.t[k] > first_moving && (rel[k] - base).abs() > SUPPORT_FIT_RAD).unwrap_or(last_pivot);
-            let tt = &series.t[start..=end];
-            let theta: Vec<f64> = rel[start..=end].iter().map(|x| x - base).collect();
-            let beta = smooth(&series.t, &series.palm, SMOOTH_S);
-            pendulum::fit_on_support(tt, &theta, &beta[start..=end], sigma, phi_onset.unwrap_or(beta[start]))
-        }).flatten();
+        let on_support = (!series.palm.is_empty())
+            .then(|| {
+                let start = series
+                    .t
+                    .partition_point(|&t| t < first_moving - ONSET_REST_S);
+                let rel: Vec<f64> = series
+                    .object
+                    .iter()
+                    .zip(&series.palm)
+                    .map(|(a, b)| a - b)
+                    .collect();
+                let base = rel[start];
+                let end = (start..=last_pivot)
+                    .find(|&k| {
+                        series.t[k] > first_moving && (rel[k] - base).abs() > SUPPORT_FIT_RAD
+                    })
+                    .unwrap_or(last_pivot);
+                let tt = &series.t[start..=end];
+                let theta: Vec<f64> = rel[start..=end].iter().map(|x| x - base).collect();
+                let beta = smooth(&series.t, &series.palm, SMOOTH_S);
+                pendulum::fit_on_support(
+                    tt,
+                    &theta,
+                    &beta[start..=end],
+                    sigma,
+                    phi_onset.unwrap_or(beta[start]),
+                )
+            })
+            .flatten();
         // The best φ: the inverse-variance weighted mean of the model fits that exist (the
         // pendulum on the palm and the free fall), else the palm tilt at the onset.
-        let fits: Vec<(f64, f64)> = [on_support, fall].iter().flatten().filter(|f| f.phi_sigma > 0.0).map(|f| (f.phi, f.phi_sigma)).collect();
+        let fits: Vec<(f64, f64)> = [on_support, fall]
+            .iter()
+            .flatten()
+            .filter(|f| f.phi_sigma > 0.0)
+            .map(|f| (f.phi, f.phi_sigma))
+            .collect();
         let (phi, phi_sigma) = if !fits.is_empty() {
             let w: f64 = fits.iter().map(|(_, s)| 1.0 / (s * s)).sum();
-            (Some(fits.iter().map(|(p, s)| p / (s * s)).sum::<f64>() / w), Some(w.sqrt().recip()))
+            (
+                Some(fits.iter().map(|(p, s)| p / (s * s)).sum::<f64>() / w),
+                Some(w.sqrt().recip()),
+            )
         } else {
             (phi_onset, phi_onset_sigma)
         };
-        out.push(ToppleDynamics { topple: ti, resting_face_normal: n, onset: onset_r, phi_onset, phi_onset_sigma, on_support, fall, phi, phi_sigma, series });
+        out.push(ToppleDynamics {
+            topple: ti,
+            resting_face_normal: n,
+            onset: onset_r,
+            phi_onset,
+            phi_onset_sigma,
+            on_support,
+            fall,
+            phi,
+            phi_sigma,
+            series,
+        });
     }
     out
 }

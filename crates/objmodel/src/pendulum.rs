@@ -79,10 +79,15 @@ fn two_phase_sse(t: &[f64], theta: &[f64], tau: f64, omega: f64) -> Option<f64> 
         }
     }
     let c = solve(&a, &b, 2)?;
-    Some(t.iter().zip(theta).map(|(&ti, &yi)| {
-        let r = yi - (c[0] + c[1] * onset_shape(ti - tau, omega));
-        r * r
-    }).sum())
+    Some(
+        t.iter()
+            .zip(theta)
+            .map(|(&ti, &yi)| {
+                let r = yi - (c[0] + c[1] * onset_shape(ti - tau, omega));
+                r * r
+            })
+            .sum(),
+    )
 }
 
 /// Rates ω [rad/s] tried by the onset model: boxes of a few cm to half a metre.
@@ -108,7 +113,10 @@ pub fn onset(t: &[f64], theta: &[f64], sigma: f64) -> Option<Onset> {
     let mut tau = lo;
     while tau <= hi {
         // Profile over ω: the best shape for this τ.
-        let s = ONSET_OMEGAS.iter().filter_map(|&w| two_phase_sse(t, theta, tau, w)).fold(f64::INFINITY, f64::min);
+        let s = ONSET_OMEGAS
+            .iter()
+            .filter_map(|&w| two_phase_sse(t, theta, tau, w))
+            .fold(f64::INFINITY, f64::min);
         if s.is_finite() {
             profile.push((tau, s));
             if s < best.0 {
@@ -123,9 +131,20 @@ pub fn onset(t: &[f64], theta: &[f64], sigma: f64) -> Option<Onset> {
     }
     // Profile likelihood: the τ interval where SSE rises by σ² (Δχ² = 1).
     let var = sigma * sigma;
-    let within: Vec<f64> = profile.iter().filter(|(_, s)| (s - sse) / var <= 1.0).map(|(t, _)| *t).collect();
-    let (a, b) = (within.iter().copied().fold(f64::INFINITY, f64::min), within.iter().copied().fold(f64::NEG_INFINITY, f64::max));
-    Some(Onset { t: tau, sigma_t: (0.5 * (b - a)).max(step / 12f64.sqrt()), chi2_per_dof: sse / var / (n as f64 - 4.0) })
+    let within: Vec<f64> = profile
+        .iter()
+        .filter(|(_, s)| (s - sse) / var <= 1.0)
+        .map(|(t, _)| *t)
+        .collect();
+    let (a, b) = (
+        within.iter().copied().fold(f64::INFINITY, f64::min),
+        within.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+    );
+    Some(Onset {
+        t: tau,
+        sigma_t: (0.5 * (b - a)).max(step / 12f64.sqrt()),
+        chi2_per_dof: sse / var / (n as f64 - 4.0),
+    })
 }
 
 /// A fitted pendulum.
@@ -195,7 +214,9 @@ pub fn fit_fall(t: &[f64], psi: &[f64], sigma: f64, phi0: f64) -> Option<FallFit
     let mut best = (f64::INFINITY, p[0], p[1]);
     for i in -12..=12 {
         let ph = phi0 + 0.025 * i as f64;
-        for kk in [5.0, 8.0, 12.0, 18.0, 27.0, 40.0, 60.0, 90.0, 135.0, 200.0, 300.0, 450.0] {
+        for kk in [
+            5.0, 8.0, 12.0, 18.0, 27.0, 40.0, 60.0, 90.0, 135.0, 200.0, 300.0, 450.0,
+        ] {
             let s = sse(&resid(&[ph, kk, p[2], p[3]]));
             if s < best.0 {
                 best = (s, ph, kk);
@@ -235,8 +256,15 @@ pub fn fit_fall(t: &[f64], psi: &[f64], sigma: f64, phi0: f64) -> Option<FallFit
             for (a, row) in damped.iter_mut().enumerate() {
                 row[a] += lambda * jtj[a][a].max(1e-12);
             }
-            let Some(delta) = solve(&damped, &jtr, 4) else { break };
-            let q = [p[0] + delta[0], (p[1] + delta[1]).max(1e-3), p[2] + delta[2], p[3] + delta[3]];
+            let Some(delta) = solve(&damped, &jtr, 4) else {
+                break;
+            };
+            let q = [
+                p[0] + delta[0],
+                (p[1] + delta[1]).max(1e-3),
+                p[2] + delta[2],
+                p[3] + delta[3],
+            ];
             let rq = resid(&q);
             let s = sse(&rq);
             if s < cur {
@@ -307,7 +335,9 @@ mod tests {
 /// on, `θ̈ = k sin(θ + β(t) - φ)` from rest, with β interpolated linearly between samples.
 pub fn simulate_on_support(phi: f64, k: f64, t: &[f64], beta: &[f64]) -> Vec<f64> {
     let mut out = vec![0.0; t.len()];
-    let Some(c) = (1..t.len()).find(|&i| beta[i] >= phi) else { return out };
+    let Some(c) = (1..t.len()).find(|&i| beta[i] >= phi) else {
+        return out;
+    };
     // Crossing time by linear interpolation.
     let s = ((phi - beta[c - 1]) / (beta[c] - beta[c - 1])).clamp(0.0, 1.0);
     let mut tc = t[c - 1] + s * (t[c] - t[c - 1]);
@@ -339,17 +369,31 @@ pub fn simulate_on_support(phi: f64, k: f64, t: &[f64], beta: &[f64]) -> Vec<f64
 /// with noise `sigma` [rad] on theta. The object starts to turn exactly when the tilt reaches
 /// φ, so φ is fixed by the whole onset and the early fall jointly, not by a threshold. Grid
 /// search around `phi0`, then Levenberg-Marquardt on (φ, k).
-pub fn fit_on_support(t: &[f64], theta: &[f64], beta: &[f64], sigma: f64, phi0: f64) -> Option<FallFit> {
+pub fn fit_on_support(
+    t: &[f64],
+    theta: &[f64],
+    beta: &[f64],
+    sigma: f64,
+    phi0: f64,
+) -> Option<FallFit> {
     let n = t.len();
     if n < 8 {
         return None;
     }
-    let resid = |p: [f64; 2]| -> Vec<f64> { simulate_on_support(p[0], p[1], t, beta).iter().zip(theta).map(|(m, y)| y - m).collect() };
+    let resid = |p: [f64; 2]| -> Vec<f64> {
+        simulate_on_support(p[0], p[1], t, beta)
+            .iter()
+            .zip(theta)
+            .map(|(m, y)| y - m)
+            .collect()
+    };
     let sse = |r: &[f64]| r.iter().map(|x| x * x).sum::<f64>();
     let mut best = (f64::INFINITY, [phi0, 40.0]);
     for i in -40..=40 {
         let ph = phi0 + 0.002 * i as f64;
-        for kk in [5.0, 8.0, 12.0, 18.0, 27.0, 40.0, 60.0, 90.0, 135.0, 200.0, 300.0] {
+        for kk in [
+            5.0, 8.0, 12.0, 18.0, 27.0, 40.0, 60.0, 90.0, 135.0, 200.0, 300.0,
+        ] {
             let s = sse(&resid([ph, kk]));
             if s < best.0 {
                 best = (s, [ph, kk]);
@@ -366,7 +410,10 @@ pub fn fit_on_support(t: &[f64], theta: &[f64], beta: &[f64], sigma: f64, phi0: 
             .map(|j| {
                 let mut q = p;
                 q[j] += steps[j];
-                r.iter().zip(resid(q)).map(|(a, b)| (a - b) / steps[j]).collect()
+                r.iter()
+                    .zip(resid(q))
+                    .map(|(a, b)| (a - b) / steps[j])
+                    .collect()
             })
             .collect();
         let mut jtr = [0.0; 4];
@@ -384,7 +431,9 @@ pub fn fit_on_support(t: &[f64], theta: &[f64], beta: &[f64], sigma: f64, phi0: 
             let mut damped = jtj;
             damped[0][0] *= 1.0 + lambda;
             damped[1][1] *= 1.0 + lambda;
-            let Some(d) = solve(&damped, &jtr, 2) else { break };
+            let Some(d) = solve(&damped, &jtr, 2) else {
+                break;
+            };
             let q = [p[0] + d[0], (p[1] + d[1]).max(1e-3)];
             let rq = resid(q);
             let s = sse(&rq);

@@ -72,7 +72,10 @@ fn angle_about(axis: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
 /// Choose the edge and the tilt. Errors (which trigger a request for a demonstration) when the
 /// tree has no edge with a pendulum for the face the object rests on.
 pub fn plan(tree: &Tree, req: &PlanRequest) -> Result<Plan> {
-    let g = req.gravity_in_palm.try_normalize(1e-12).ok_or_else(|| Error::Data("gravity in the palm frame must not be zero".into()))?;
+    let g = req
+        .gravity_in_palm
+        .try_normalize(1e-12)
+        .ok_or_else(|| Error::Data("gravity in the palm frame must not be zero".into()))?;
     let rot = req.palm_from_object.rotation;
     let down_obj = rot.inverse() * g;
     let mut candidates = Vec::new();
@@ -85,13 +88,22 @@ pub fn plan(tree: &Tree, req: &PlanRequest) -> Result<Plan> {
             let u = rot * p.toppling_axis;
             let n = rot * p.resting_face_normal;
             let current = angle_about(&u, &-g, &-n);
-            let margin = req.margin.unwrap_or(MIN_MARGIN_RAD + MARGIN_SIGMAS * p.phi_sigma.unwrap_or(0.0));
+            let margin = req
+                .margin
+                .unwrap_or(MIN_MARGIN_RAD + MARGIN_SIGMAS * p.phi_sigma.unwrap_or(0.0));
             let point = (req.palm_from_object * Point3::from(e.point)).coords;
             let axis_point = point - u * u.dot(&point);
             // The object falls away from the face's interior: -(u × n), made horizontal.
             let fall = -(u.cross(&n));
-            let fall = (fall - g * g.dot(&fall)).try_normalize(1e-12).unwrap_or(fall);
-            let landing = e.faces.iter().filter_map(|id| tree.faces.iter().find(|f| &f.id == id)).map(|f| rot * f.normal).find(|m| m.angle(&n) > SAME_FACE_RAD);
+            let fall = (fall - g * g.dot(&fall))
+                .try_normalize(1e-12)
+                .unwrap_or(fall);
+            let landing = e
+                .faces
+                .iter()
+                .filter_map(|id| tree.faces.iter().find(|f| &f.id == id))
+                .map(|f| rot * f.normal)
+                .find(|m| m.angle(&n) > SAME_FACE_RAD);
             candidates.push(Plan {
                 edge: e.id.clone(),
                 axis_point,
@@ -135,7 +147,16 @@ mod tests {
             "support": [], "n_support": 1, "faces": [], "pendulums": [], "observations": []
         })).unwrap();
         t.edges.push(e);
-        t.edges[0].pendulums.push(Pendulum { resting_face_normal: -Vector3::z(), toppling_axis: Vector3::y(), phi: Some(phi), l_p: None, phi_sigma: Some(0.0), inertia_ratio_m: None, support: vec![], observations: vec![] });
+        t.edges[0].pendulums.push(Pendulum {
+            resting_face_normal: -Vector3::z(),
+            toppling_axis: Vector3::y(),
+            phi: Some(phi),
+            l_p: None,
+            phi_sigma: Some(0.0),
+            inertia_ratio_m: None,
+            support: vec![],
+            observations: vec![],
+        });
         t
     }
 
@@ -144,14 +165,34 @@ mod tests {
         let phi = 0.1f64.atan2(0.2).max(0.05f64.atan2(0.1));
         let t = tree_with_edge(phi);
         // Box resting on the palm, centre 0.1 m above it, turned 90° about z.
-        let pose = Isometry3::from_parts(Translation3::new(0.02, 0.0, 0.1), UnitQuaternion::from_scaled_axis(Vector3::z() * std::f64::consts::FRAC_PI_2));
-        let p = plan(&t, &PlanRequest { palm_from_object: pose, towards: None, gravity_in_palm: -Vector3::z(), margin: Some(0.05) }).unwrap();
+        let pose = Isometry3::from_parts(
+            Translation3::new(0.02, 0.0, 0.1),
+            UnitQuaternion::from_scaled_axis(Vector3::z() * std::f64::consts::FRAC_PI_2),
+        );
+        let p = plan(
+            &t,
+            &PlanRequest {
+                palm_from_object: pose,
+                towards: None,
+                gravity_in_palm: -Vector3::z(),
+                margin: Some(0.05),
+            },
+        )
+        .unwrap();
         // The edge (x = 0.05, z = -0.1 along y) maps to x = 0.02, y = 0.05, z = 0 along -x.
         assert!((p.axis_direction - Vector3::new(-1.0, 0.0, 0.0)).norm() < 1e-12);
-        assert!((p.axis_point - Vector3::new(0.0, 0.05, 0.0)).norm() < 1e-12, "{:?}", p.axis_point);
+        assert!(
+            (p.axis_point - Vector3::new(0.0, 0.05, 0.0)).norm() < 1e-12,
+            "{:?}",
+            p.axis_point
+        );
         assert!((p.tilt - (phi + 0.05)).abs() < 1e-12 && p.current_tilt.abs() < 1e-12);
         // It falls towards +y (the side of the edge).
-        assert!((p.topple_direction - Vector3::y()).norm() < 1e-12, "{:?}", p.topple_direction);
+        assert!(
+            (p.topple_direction - Vector3::y()).norm() < 1e-12,
+            "{:?}",
+            p.topple_direction
+        );
         // Rotating the palm (in the world, gravity -z) by phi about that line puts the CoM (the
         // object origin) vertically above the edge.
         let r = UnitQuaternion::from_scaled_axis(p.axis_direction * phi);
@@ -163,8 +204,20 @@ mod tests {
     #[test]
     fn no_plan_for_an_unknown_resting_face() {
         let t = tree_with_edge(0.4);
-        let upside_down = Isometry3::from_parts(Translation3::new(0.0, 0.0, 0.1), UnitQuaternion::from_scaled_axis(Vector3::x() * std::f64::consts::PI));
-        let e = plan(&t, &PlanRequest { palm_from_object: upside_down, towards: None, gravity_in_palm: -Vector3::z(), margin: None }).unwrap_err();
+        let upside_down = Isometry3::from_parts(
+            Translation3::new(0.0, 0.0, 0.1),
+            UnitQuaternion::from_scaled_axis(Vector3::x() * std::f64::consts::PI),
+        );
+        let e = plan(
+            &t,
+            &PlanRequest {
+                palm_from_object: upside_down,
+                towards: None,
+                gravity_in_palm: -Vector3::z(),
+                margin: None,
+            },
+        )
+        .unwrap_err();
         assert!(e.to_string().contains("no learnt edge"), "{e}");
     }
 }

@@ -92,16 +92,40 @@ pub struct PendulumObservation {
 
 impl Pendulum {
     fn refit(&mut self) {
-        let w: Vec<f64> = self.observations.iter().map(|o| 1.0 / (o.phi_sigma.powi(2) + 1e-12)).collect();
+        let w: Vec<f64> = self
+            .observations
+            .iter()
+            .map(|o| 1.0 / (o.phi_sigma.powi(2) + 1e-12))
+            .collect();
         let sw: f64 = w.iter().sum();
-        let phi = self.observations.iter().zip(&w).map(|(o, w)| o.phi * w).sum::<f64>() / sw;
+        let phi = self
+            .observations
+            .iter()
+            .zip(&w)
+            .map(|(o, w)| o.phi * w)
+            .sum::<f64>()
+            / sw;
         // Between-demonstration scatter guards against over-confident single estimates.
         let n = self.observations.len() as f64;
-        let scatter = if n > 1.0 { self.observations.iter().map(|o| (o.phi - phi).powi(2)).sum::<f64>() / (n - 1.0) / n } else { 0.0 };
+        let scatter = if n > 1.0 {
+            self.observations
+                .iter()
+                .map(|o| (o.phi - phi).powi(2))
+                .sum::<f64>()
+                / (n - 1.0)
+                / n
+        } else {
+            0.0
+        };
         self.phi = Some(phi);
         self.phi_sigma = Some((1.0 / sw).max(scatter).sqrt());
-        let ratios: Vec<f64> = self.observations.iter().filter_map(|o| o.inertia_ratio_m).collect();
-        self.inertia_ratio_m = (!ratios.is_empty()).then(|| ratios.iter().sum::<f64>() / ratios.len() as f64);
+        let ratios: Vec<f64> = self
+            .observations
+            .iter()
+            .filter_map(|o| o.inertia_ratio_m)
+            .collect();
+        self.inertia_ratio_m =
+            (!ratios.is_empty()).then(|| ratios.iter().sum::<f64>() / ratios.len() as f64);
         self.l_p = self.inertia_ratio_m.map(|r| 0.75 * r);
         self.support = self.observations.iter().map(|o| o.demo.clone()).collect();
     }
@@ -515,10 +539,24 @@ impl Tree {
 
     /// Add the dynamics of a classified demonstration's topples (after [`Tree::add`] of it):
     /// each becomes a pendulum observation of its edge, for the face it rested on.
-    pub fn add_dynamics(&mut self, c: &Classification, dynamics: &[crate::dynamics::ToppleDynamics]) {
+    pub fn add_dynamics(
+        &mut self,
+        c: &Classification,
+        dynamics: &[crate::dynamics::ToppleDynamics],
+    ) {
         for d in dynamics {
-            let (Some(phi), Some(phi_sigma), Some(top)) = (d.phi, d.phi_sigma, c.topples.get(d.topple)) else { continue };
-            let Some(edge) = self.edges.iter_mut().find(|e| e.observations.iter().any(|o| o.demo == c.name && o.line == top.edge.line)) else { continue };
+            let (Some(phi), Some(phi_sigma), Some(top)) =
+                (d.phi, d.phi_sigma, c.topples.get(d.topple))
+            else {
+                continue;
+            };
+            let Some(edge) = self.edges.iter_mut().find(|e| {
+                e.observations
+                    .iter()
+                    .any(|o| o.demo == c.name && o.line == top.edge.line)
+            }) else {
+                continue;
+            };
             // The edge direction of the tree may be reversed relative to this demonstration's.
             let obs = PendulumObservation {
                 demo: c.name.clone(),
@@ -530,14 +568,27 @@ impl Tree {
                 onset_t: d.onset.map(|o| o.t),
             };
             let n = d.resting_face_normal;
-            match edge.pendulums.iter_mut().find(|p| angle(&p.resting_face_normal, &n) < SAME_FACE_RAD) {
+            match edge
+                .pendulums
+                .iter_mut()
+                .find(|p| angle(&p.resting_face_normal, &n) < SAME_FACE_RAD)
+            {
                 Some(p) => {
                     p.observations.retain(|o| o.demo != c.name);
                     p.observations.push(obs);
                     p.refit();
                 }
                 None => {
-                    let mut p = Pendulum { resting_face_normal: n, toppling_axis: top.edge.line.direction, phi: None, l_p: None, phi_sigma: None, inertia_ratio_m: None, support: Vec::new(), observations: vec![obs] };
+                    let mut p = Pendulum {
+                        resting_face_normal: n,
+                        toppling_axis: top.edge.line.direction,
+                        phi: None,
+                        l_p: None,
+                        phi_sigma: None,
+                        inertia_ratio_m: None,
+                        support: Vec::new(),
+                        observations: vec![obs],
+                    };
                     p.refit();
                     edge.pendulums.push(p);
                 }
@@ -552,7 +603,9 @@ impl Tree {
         let mut planes = Vec::new();
         for e in &self.edges {
             for p in &e.pendulums {
-                let (Some(phi), n) = (p.phi, p.resting_face_normal) else { continue };
+                let (Some(phi), n) = (p.phi, p.resting_face_normal) else {
+                    continue;
+                };
                 let u = p.toppling_axis;
                 let inward = -n;
                 // Along the face from the edge into the object: the face lifts on that side.
@@ -577,8 +630,17 @@ impl Tree {
             return None;
         }
         let x = a.try_inverse()? * b;
-        let rms = (planes.iter().map(|(m, d, _)| (m.dot(&x) - d).powi(2)).sum::<f64>() / planes.len() as f64).sqrt();
-        Some(CentreOfMass { point: x, rms_residual_m: rms, pendulums: planes.len() })
+        let rms = (planes
+            .iter()
+            .map(|(m, d, _)| (m.dot(&x) - d).powi(2))
+            .sum::<f64>()
+            / planes.len() as f64)
+            .sqrt();
+        Some(CentreOfMass {
+            point: x,
+            rms_residual_m: rms,
+            pendulums: planes.len(),
+        })
     }
 
     /// Remove every observation of the demonstration `name`, and features left without any.
