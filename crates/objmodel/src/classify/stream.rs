@@ -24,6 +24,12 @@ pub const MAX_BLOCKS: usize = 1 << 14;
 /// Smallest rotation, in units of the rotation noise σ_r, from which a frame's screw axis is
 /// used: the axis estimate's bias is of order (σ_r/θ)² relative, 1% at 10 σ_r.
 pub const MIN_AXIS_SNR: f64 = 10.0;
+/// How far [m] a resting object's contact settles when it starts to turn onto an edge (the
+/// load concentrates on the edge; rigid-body simulators and real compliant contacts both show
+/// about 0.1 mm): an uncertainty of the reference pose, whose effect on the axis shrinks as 1/θ.
+pub const REFERENCE_SETTLING_M: f64 = 1e-4;
+/// The same for orientation [rad] (0.2°).
+pub const REFERENCE_SETTLING_RAD: f64 = 3.5e-3;
 /// Largest number of motion segments per demonstration; later rests no longer split.
 pub const MAX_SEGMENTS: usize = 256;
 
@@ -390,8 +396,16 @@ impl Core {
             let r = omega.cross(&xi.v) / theta2;
             let dist = r.norm().min(MAX_AXIS_DISTANCE_M);
             let chord2 = 4.0 * (0.5 * theta).sin().powi(2);
-            let var_point = (m.var_p + m.var_r * dist * dist) / chord2 + m.tol_p2;
-            let var_dir = m.var_r / theta2 + m.tol_r2;
+            // The pose from which the rotation starts is uncertain by the noise and by the
+            // contacts settling as the load moves onto the edge (REFERENCE_SETTLING_*); its
+            // effect on the axis shrinks as 1/θ. The tolerance adds a constant wander.
+            let (settle_p2, settle_r2) = (
+                REFERENCE_SETTLING_M * REFERENCE_SETTLING_M,
+                REFERENCE_SETTLING_RAD * REFERENCE_SETTLING_RAD,
+            );
+            let var_point =
+                (m.var_p + settle_p2 + (m.var_r + settle_r2) * dist * dist) / chord2 + m.tol_p2;
+            let var_dir = (m.var_r + settle_r2) / theta2 + m.tol_r2;
             let h = u.dot(&t_rel);
             b.line.add_with_chord(
                 &r,
