@@ -25,6 +25,7 @@
 
 #![warn(missing_docs)]
 
+pub mod arm;
 pub mod convert;
 pub mod dataset;
 pub mod demo;
