@@ -1,7 +1,7 @@
 //! Robust fits of a segment's edge line and face plane over its blocks (MSAC + weighted least
 //! squares), and the labels they give.
 
-use super::stream::{Block, Phase, SegState};
+use super::blocks::{Block, Phase, SegState};
 use super::{Config, Kind, Label, Segment, Votes};
 use crate::edge::EdgeObservation;
 use crate::face::{FaceObservation, FaceSource};

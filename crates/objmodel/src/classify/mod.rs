@@ -25,6 +25,7 @@
 //!   5. the label of a frame is topple if it fits the line, else slide if it fits the plane, else
 //!      general; the demonstration's kind is the most frequent label (ties: topple, slide).
 
+mod blocks;
 mod files;
 mod fit;
 mod paper;

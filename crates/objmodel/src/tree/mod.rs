@@ -24,7 +24,10 @@ use crate::face::{FaceObservation, FaceSource};
 use crate::geometry::{Line, LineStats};
 use crate::noise::NoiseModel;
 use crate::{Error, Result};
+
+mod pendulums;
 use nalgebra::{Matrix3, Vector3};
+pub use pendulums::{CentreOfMass, Pendulum, PendulumObservation};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -45,104 +48,6 @@ pub const CONDITION_MIN: f64 = 1e-2;
 /// Resting-face normals closer than this [rad] (20°) are one face, for pendulums: faces of a
 /// polyhedron that share an edge differ by far more.
 pub const SAME_FACE_RAD: f64 = 0.349_065_850_398_865_9;
-
-/// A dynamic model on an edge's contact sub-manifold: the planar pendulum of Sec. II-B, one per
-/// face the object rested on when toppling about the edge (an edge has two sides).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Pendulum {
-    /// Outward normal (object frame) of the face the object rested on before toppling.
-    pub resting_face_normal: Vector3<f64>,
-    /// The edge direction about which the object turned (right-hand rule) when toppling off
-    /// this face; `toppling_axis × resting_face_normal` points from the edge into the face.
-    pub toppling_axis: Vector3<f64>,
-    /// Angle [rad] of the CoM from the vertical through the edge, resting on that face: the
-    /// support must tilt past it for the object to topple.
-    pub phi: Option<f64>,
-    /// Distance [m] of the CoM from the edge (homogeneous-box inertia model, see
-    /// [`crate::pendulum`]).
-    pub l_p: Option<f64>,
-    /// Standard deviation of phi [rad].
-    pub phi_sigma: Option<f64>,
-    /// `I_e / (m l_p)` [m], what the fall determines without an inertia model.
-    pub inertia_ratio_m: Option<f64>,
-    /// Demonstrations behind it.
-    pub support: Vec<String>,
-    /// Per-demonstration estimates.
-    pub observations: Vec<PendulumObservation>,
-}
-
-/// One demonstration's pendulum estimate.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct PendulumObservation {
-    /// The demonstration.
-    pub demo: String,
-    /// φ [rad] and its standard deviation.
-    pub phi: f64,
-    /// Standard deviation of φ [rad].
-    pub phi_sigma: f64,
-    /// φ as the palm tilt at the topple onset (instrumented) [rad].
-    pub phi_onset: Option<f64>,
-    /// φ from the pendulum fitted to the fall [rad].
-    pub phi_fall: Option<f64>,
-    /// `I_e / (m l_p)` [m] from the fall.
-    pub inertia_ratio_m: Option<f64>,
-    /// Onset time [s] (instrumented).
-    pub onset_t: Option<f64>,
-}
-
-impl Pendulum {
-    fn refit(&mut self) {
-        let w: Vec<f64> = self
-            .observations
-            .iter()
-            .map(|o| 1.0 / (o.phi_sigma.powi(2) + 1e-12))
-            .collect();
-        let sw: f64 = w.iter().sum();
-        let phi = self
-            .observations
-            .iter()
-            .zip(&w)
-            .map(|(o, w)| o.phi * w)
-            .sum::<f64>()
-            / sw;
-        // Between-demonstration scatter guards against over-confident single estimates.
-        let n = self.observations.len() as f64;
-        let scatter = if n > 1.0 {
-            self.observations
-                .iter()
-                .map(|o| (o.phi - phi).powi(2))
-                .sum::<f64>()
-                / (n - 1.0)
-                / n
-        } else {
-            0.0
-        };
-        self.phi = Some(phi);
-        self.phi_sigma = Some((1.0 / sw).max(scatter).sqrt());
-        let ratios: Vec<f64> = self
-            .observations
-            .iter()
-            .filter_map(|o| o.inertia_ratio_m)
-            .collect();
-        self.inertia_ratio_m =
-            (!ratios.is_empty()).then(|| ratios.iter().sum::<f64>() / ratios.len() as f64);
-        self.l_p = self.inertia_ratio_m.map(|r| 0.75 * r);
-        self.support = self.observations.iter().map(|o| o.demo.clone()).collect();
-    }
-}
-
-/// Where the centre of mass is, from the pendulums: each (edge, resting face, φ) puts the CoM
-/// in the plane through the edge tilted by φ from the face's inward normal; three or more
-/// independent planes give the point by least squares.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct CentreOfMass {
-    /// The CoM in the object frame [m].
-    pub point: Vector3<f64>,
-    /// RMS residual distance of the CoM from the planes [m].
-    pub rms_residual_m: f64,
-    /// Pendulums used.
-    pub pendulums: usize,
-}
 
 /// An edge of the object.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -266,7 +171,7 @@ fn rows(m: &Matrix3<f64>) -> [[f64; 3]; 3] {
     ]
 }
 
-fn angle(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+pub(crate) fn angle(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
     a.cross(b).norm().atan2(a.dot(b))
 }
 
@@ -535,112 +440,6 @@ impl Tree {
                 id
             }
         }
-    }
-
-    /// Add the dynamics of a classified demonstration's topples (after [`Tree::add`] of it):
-    /// each becomes a pendulum observation of its edge, for the face it rested on.
-    pub fn add_dynamics(
-        &mut self,
-        c: &Classification,
-        dynamics: &[crate::dynamics::ToppleDynamics],
-    ) {
-        for d in dynamics {
-            let (Some(phi), Some(phi_sigma), Some(top)) =
-                (d.phi, d.phi_sigma, c.topples.get(d.topple))
-            else {
-                continue;
-            };
-            let Some(edge) = self.edges.iter_mut().find(|e| {
-                e.observations
-                    .iter()
-                    .any(|o| o.demo == c.name && o.line == top.edge.line)
-            }) else {
-                continue;
-            };
-            // The edge direction of the tree may be reversed relative to this demonstration's.
-            let obs = PendulumObservation {
-                demo: c.name.clone(),
-                phi,
-                phi_sigma,
-                phi_onset: d.phi_onset,
-                phi_fall: d.fall.map(|f| f.phi),
-                inertia_ratio_m: d.fall.map(|f| f.inertia_ratio_m),
-                onset_t: d.onset.map(|o| o.t),
-            };
-            let n = d.resting_face_normal;
-            match edge
-                .pendulums
-                .iter_mut()
-                .find(|p| angle(&p.resting_face_normal, &n) < SAME_FACE_RAD)
-            {
-                Some(p) => {
-                    p.observations.retain(|o| o.demo != c.name);
-                    p.observations.push(obs);
-                    p.refit();
-                }
-                None => {
-                    let mut p = Pendulum {
-                        resting_face_normal: n,
-                        toppling_axis: top.edge.line.direction,
-                        phi: None,
-                        l_p: None,
-                        phi_sigma: None,
-                        inertia_ratio_m: None,
-                        support: Vec::new(),
-                        observations: vec![obs],
-                    };
-                    p.refit();
-                    edge.pendulums.push(p);
-                }
-            }
-        }
-        self.com = self.centre_of_mass();
-    }
-
-    /// The CoM from the pendulums (see [`CentreOfMass`]); `None` with fewer than three
-    /// independent planes.
-    pub fn centre_of_mass(&self) -> Option<CentreOfMass> {
-        let mut planes = Vec::new();
-        for e in &self.edges {
-            for p in &e.pendulums {
-                let (Some(phi), n) = (p.phi, p.resting_face_normal) else {
-                    continue;
-                };
-                let u = p.toppling_axis;
-                let inward = -n;
-                // Along the face from the edge into the object: the face lifts on that side.
-                let w = u.cross(&n).normalize();
-                let d = inward * phi.cos() + w * phi.sin();
-                let m = u.cross(&d).normalize();
-                let sigma = p.phi_sigma.unwrap_or(0.02).max(1e-3);
-                planes.push((m, m.dot(&e.point), 1.0 / sigma));
-            }
-        }
-        if planes.len() < 3 {
-            return None;
-        }
-        let mut a = nalgebra::Matrix3::zeros();
-        let mut b = Vector3::zeros();
-        for (m, d, w) in &planes {
-            a += m * m.transpose() * (w * w);
-            b += m * (d * w * w);
-        }
-        let eig = a.symmetric_eigenvalues();
-        if eig.min() < CONDITION_MIN * eig.max() {
-            return None;
-        }
-        let x = a.try_inverse()? * b;
-        let rms = (planes
-            .iter()
-            .map(|(m, d, _)| (m.dot(&x) - d).powi(2))
-            .sum::<f64>()
-            / planes.len() as f64)
-            .sqrt();
-        Some(CentreOfMass {
-            point: x,
-            rms_residual_m: rms,
-            pendulums: planes.len(),
-        })
     }
 
     /// Remove every observation of the demonstration `name`, and features left without any.

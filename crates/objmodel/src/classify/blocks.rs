@@ -1,0 +1,553 @@
+//! Segments and blocks: after rest detection, frames are split into motion segments (each with
+//! the mean pose of the rest before it as reference) and summarised, relative to that
+//! reference, into per-frame statistics, with memory bounded independently of the file length.
+//!
+//! Frames are summarised into *blocks* of sufficient statistics ([`LineStats`], [`PlaneStats`]).
+//! While a file has fewer than [`MAX_BLOCKS`] frames every block is one frame, so per-frame
+//! labels are exact; beyond that, adjacent blocks of the same phase and segment are merged in
+//! pairs (and new blocks take twice as many frames), so labels become per block of 2, 4, ...
+//! frames and memory stays flat.
+
+use super::fit;
+use super::rest::{Item, RestDetector};
+use super::{Classification, Config, Label, LabelRun, Method, Votes};
+use crate::clean::RawFrame;
+use crate::geometry::{Line, LineStats, PlaneStats};
+use crate::noise::{self, NoiseModel};
+use crate::se3::{so3_log, Twist};
+use nalgebra::{Quaternion, UnitQuaternion, Vector3, Vector4};
+
+/// Largest number of blocks kept per demonstration.
+pub const MAX_BLOCKS: usize = 1 << 14;
+/// Smallest rotation, in units of the rotation noise σ_r, from which a frame's screw axis is
+/// used: the axis estimate's bias is of order (σ_r/θ)² relative, 1% at 10 σ_r.
+pub const MIN_AXIS_SNR: f64 = 10.0;
+/// How far [m] a resting object's contact settles when it starts to turn onto an edge (the
+/// load concentrates on the edge; rigid-body simulators and real compliant contacts both show
+/// about 0.1 mm): an uncertainty of the reference pose, whose effect on the axis shrinks as 1/θ.
+pub const REFERENCE_SETTLING_M: f64 = 1e-4;
+/// The same for orientation [rad] (0.2°).
+pub const REFERENCE_SETTLING_RAD: f64 = 3.5e-3;
+/// Largest number of motion segments per demonstration; later rests no longer split.
+pub const MAX_SEGMENTS: usize = 256;
+
+/// Upper bound [m] on the axis distance used in the axis-point variance (beyond the palm the
+/// frame cannot be a topple anyway; this keeps far-away axes from underflowing the weight).
+const MAX_AXIS_DISTANCE_M: f64 = 10.0;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Phase {
+    Rest,
+    Outlier,
+    Moving,
+}
+
+/// Sufficient statistics of a run of consecutive frames of one phase and segment.
+#[derive(Clone, Debug)]
+pub(super) struct Block {
+    pub first: usize,
+    pub last: usize,
+    pub t0: f64,
+    pub t1: f64,
+    pub frames: u64,
+    pub phase: Phase,
+    pub segment: Option<usize>,
+    /// Frames measurably displaced from the segment reference (they vote).
+    pub significant: u64,
+    pub line: LineStats,
+    pub plane: PlaneStats,
+    /// Largest rotation in the block and the screw axis at that frame.
+    pub max_angle: f64,
+    pub max_line: Option<(Line, Vector3<f64>)>,
+    pub label: Label,
+}
+
+impl Block {
+    fn new(index: usize, t: f64, phase: Phase, segment: Option<usize>) -> Self {
+        Self {
+            first: index,
+            last: index,
+            t0: t,
+            t1: t,
+            frames: 0,
+            phase,
+            segment,
+            significant: 0,
+            line: LineStats::default(),
+            plane: PlaneStats::default(),
+            max_angle: 0.0,
+            max_line: None,
+            label: match phase {
+                Phase::Rest => Label::Rest,
+                Phase::Outlier => Label::Outlier,
+                Phase::Moving => Label::Still,
+            },
+        }
+    }
+
+    fn merge(&mut self, o: &Block) {
+        // A mixed block takes the phase that carries the most information.
+        let rank = |p: Phase| match p {
+            Phase::Moving => 2,
+            Phase::Rest => 1,
+            Phase::Outlier => 0,
+        };
+        if rank(o.phase) > rank(self.phase) {
+            self.phase = o.phase;
+            self.label = o.label;
+        }
+        self.last = o.last;
+        self.t1 = o.t1;
+        self.frames += o.frames;
+        self.significant += o.significant;
+        self.line.merge(&o.line);
+        self.plane.merge(&o.plane);
+        if o.max_angle > self.max_angle {
+            self.max_angle = o.max_angle;
+            self.max_line = o.max_line;
+        }
+    }
+}
+
+/// Mean pose and mean "down" over a rest, and the least-squares drift of the pose over the
+/// whole rest (to tell a real rest from a motion too slow for the windowed rest test).
+#[derive(Clone, Copy, Debug, Default)]
+struct RestAcc {
+    n: f64,
+    q: Vector4<f64>,
+    p: Vector3<f64>,
+    down_obj: Vector3<f64>,
+    has_down: bool,
+    t0: f64,
+    t1: f64,
+    q0: Option<UnitQuaternion<f64>>,
+    p0: Vector3<f64>,
+    st: f64,
+    stt: f64,
+    sx: [f64; 6],
+    stx: [f64; 6],
+}
+
+impl RestAcc {
+    /// χ²₆ statistic of the pose's drift (least-squares slope) over the whole rest. The slope's
+    /// variance is the noise's, `σ²/S_tt`, plus the model tolerance spread over the rest,
+    /// `(tol/T)²`: contacts settle by that much without the object being moved.
+    fn drift_chi2(&self, m: &FrameModel) -> f64 {
+        let den = self.n * self.stt - self.st * self.st;
+        let duration = self.t1 - self.t0;
+        if self.n < 3.0 || den <= 0.0 || duration <= 0.0 {
+            return 0.0;
+        }
+        let stt_c = den / self.n;
+        (0..6)
+            .map(|j| {
+                let beta = (self.n * self.stx[j] - self.st * self.sx[j]) / den;
+                let (var, tol2) = if j < 3 {
+                    (m.var_r, m.tol_r2)
+                } else {
+                    (m.var_p, m.tol_p2)
+                };
+                beta * beta / (var / stt_c + tol2 / (duration * duration))
+            })
+            .sum()
+    }
+
+    fn add(&mut self, f: &RawFrame) {
+        if self.n == 0.0 {
+            self.t0 = f.t;
+            self.q0 = Some(f.q);
+            self.p0 = f.p;
+        }
+        self.t1 = f.t;
+        let dt = f.t - self.t0;
+        let w = so3_log(&(self.q0.unwrap().inverse() * f.q));
+        let d = f.p - self.p0;
+        let x = [w.x, w.y, w.z, d.x, d.y, d.z];
+        self.st += dt;
+        self.stt += dt * dt;
+        for j in 0..6 {
+            self.sx[j] += x[j];
+            self.stx[j] += dt * x[j];
+        }
+        let mut q = f.q.into_inner().coords;
+        if self.n > 0.0 && q.dot(&self.q) < 0.0 {
+            q = -q;
+        }
+        self.n += 1.0;
+        self.q += q;
+        self.p += f.p;
+        if let Some(d) = f.down {
+            self.down_obj += f.q.inverse() * d;
+            self.has_down = true;
+        }
+    }
+
+    fn mean(&self) -> Option<(UnitQuaternion<f64>, Vector3<f64>)> {
+        (self.n > 0.0).then(|| {
+            (
+                UnitQuaternion::from_quaternion(Quaternion::from(self.q)),
+                self.p / self.n,
+            )
+        })
+    }
+
+    fn down(&self) -> Option<Vector3<f64>> {
+        (self.has_down && self.n > 0.0).then(|| self.down_obj.normalize())
+    }
+}
+
+pub(super) struct SegState {
+    pub ref_q: UnitQuaternion<f64>,
+    pub ref_p: Vector3<f64>,
+    pub t_start: f64,
+    pub t_end: f64,
+    /// Down (unit) in object coordinates at the reference, if gravity is known.
+    pub down_ref: Option<Vector3<f64>>,
+    /// Number of frames averaged into the reference pose.
+    pub n_ref: f64,
+    pub rest_before: Option<Vector3<f64>>,
+    pub rest_after: Option<Vector3<f64>>,
+}
+
+/// Per-frame variances and the χ² level, shared by the block statistics.
+#[derive(Clone, Copy, Debug)]
+struct FrameModel {
+    var_p: f64,
+    var_r: f64,
+    tol_p2: f64,
+    tol_r2: f64,
+    displaced: f64,
+    rotated: f64,
+}
+
+/// The robust core: noise warm-up, rest detection, segments and blocks.
+pub(super) struct Core {
+    config: Config,
+    warm: Vec<Item>,
+    noise: Option<NoiseModel>,
+    model: Option<FrameModel>,
+    rest: Option<RestDetector>,
+    blocks: Vec<Block>,
+    block_size: u64,
+    segments: Vec<SegState>,
+    rest_acc: RestAcc,
+    in_motion: bool,
+    outliers: u64,
+}
+
+impl Core {
+    pub(super) fn new(config: &Config) -> Self {
+        Self {
+            config: *config,
+            warm: Vec::new(),
+            noise: config.robust.noise.map(NoiseModel::floored),
+            model: None,
+            rest: None,
+            blocks: Vec::new(),
+            block_size: 1,
+            segments: Vec::new(),
+            rest_acc: RestAcc::default(),
+            in_motion: false,
+            outliers: 0,
+        }
+    }
+
+    fn start(&mut self) {
+        if self.noise.is_none() {
+            let samples: Vec<noise::PoseSample> = self
+                .warm
+                .iter()
+                .filter_map(|i| match i {
+                    Item::Frame(f) => Some((f.t, f.q, f.p)),
+                    Item::Outlier(..) => None,
+                })
+                .collect();
+            self.noise = Some(noise::estimate(&samples).unwrap_or(NoiseModel {
+                sigma_position: noise::MIN_SIGMA_POSITION_M,
+                sigma_rotation: noise::MIN_SIGMA_ROTATION_RAD,
+            }));
+        }
+        let n = self.noise.unwrap();
+        let r = &self.config.robust;
+        self.model = Some(FrameModel {
+            var_p: n.sigma_position.powi(2),
+            var_r: n.sigma_rotation.powi(2),
+            tol_p2: r.edge_tolerance_m.powi(2),
+            tol_r2: r.edge_tolerance_rad.powi(2),
+            displaced: crate::stats::chi2_threshold(6.0, r.alpha),
+            rotated: crate::stats::chi2_threshold(3.0, r.alpha),
+        });
+        self.rest = Some(RestDetector::new(
+            r.rest_window_s,
+            n.sigma_position,
+            n.sigma_rotation,
+            r.alpha,
+        ));
+        for item in std::mem::take(&mut self.warm) {
+            self.feed_rest(item);
+        }
+    }
+
+    pub(super) fn push(&mut self, item: Item) {
+        if self.rest.is_none() {
+            self.warm.push(item);
+            if self.warm.len() >= self.config.robust.warmup_frames.max(3) {
+                self.start();
+            }
+        } else {
+            self.feed_rest(item);
+        }
+    }
+
+    fn feed_rest(&mut self, item: Item) {
+        let mut rest = self.rest.take().unwrap();
+        rest.push(item, &mut |i, m| self.judged(i, m));
+        self.rest = Some(rest);
+    }
+
+    fn judged(&mut self, item: Item, moving: bool) {
+        match item {
+            Item::Outlier(index, t) => {
+                self.outliers += 1;
+                self.append(
+                    index,
+                    t,
+                    Phase::Outlier,
+                    self.segments.len().checked_sub(1),
+                    |_| {},
+                );
+            }
+            Item::Frame(f) if !moving => {
+                if self.in_motion {
+                    self.in_motion = false;
+                    self.rest_acc = RestAcc::default();
+                }
+                self.rest_acc.add(&f);
+                // Rests belong to the segment they follow (None before the first motion).
+                self.append(
+                    f.index,
+                    f.t,
+                    Phase::Rest,
+                    self.segments.len().checked_sub(1),
+                    |_| {},
+                );
+            }
+            Item::Frame(f) => self.moving(f),
+        }
+    }
+
+    fn moving(&mut self, f: RawFrame) {
+        if !self.in_motion {
+            self.in_motion = true;
+            // A new segment starts after a rest that is long enough and over which the pose did
+            // not drift measurably (a slow motion can pass the windowed test as rest).
+            let m = self.model.unwrap();
+            let long_rest = self.rest_acc.n > 0.0
+                && self.rest_acc.t1 - self.rest_acc.t0 >= self.config.robust.min_rest_s
+                && self.rest_acc.drift_chi2(&m) <= m.displaced;
+            if self.segments.is_empty() || (long_rest && self.segments.len() < MAX_SEGMENTS) {
+                if let Some(prev) = self.segments.last_mut() {
+                    prev.rest_after = self.rest_acc.down();
+                }
+                let (ref_q, ref_p) = self.rest_acc.mean().unwrap_or((f.q, f.p));
+                let down_ref = self
+                    .rest_acc
+                    .down()
+                    .or_else(|| f.down.map(|d| (f.q.inverse() * d).normalize()));
+                self.segments.push(SegState {
+                    ref_q,
+                    ref_p,
+                    t_start: f.t,
+                    t_end: f.t,
+                    down_ref,
+                    n_ref: self.rest_acc.n.max(1.0),
+                    rest_before: self.rest_acc.down(),
+                    rest_after: None,
+                });
+            }
+        }
+        let seg_index = self.segments.len() - 1;
+        let seg = &mut self.segments[seg_index];
+        seg.t_end = f.t;
+        let m = self.model.unwrap();
+        let q_rel = seg.ref_q.inverse() * f.q;
+        let t_rel = seg.ref_q.inverse() * (f.p - seg.ref_p);
+        let omega = so3_log(&q_rel);
+        let theta2 = omega.norm_squared();
+        let significant = theta2 / m.var_r + t_rel.norm_squared() / m.var_p > m.displaced;
+        let r_palm = self.config.paper.r_palm;
+        self.append(f.index, f.t, Phase::Moving, Some(seg_index), |b| {
+            if !significant {
+                return;
+            }
+            b.significant += 1;
+            b.plane
+                .add(&omega, &t_rel, m.var_r + m.tol_r2, m.var_p + m.tol_p2);
+            // An axis only from a rotation well above the noise: the axis point's bias is of
+            // order (σ_r/θ)² relative, kept below 1% by θ >= 10 σ_r (MIN_AXIS_SNR).
+            if theta2 / m.var_r <= m.rotated.max(MIN_AXIS_SNR * MIN_AXIS_SNR) {
+                return;
+            }
+            let theta = theta2.sqrt();
+            let u = omega / theta;
+            let xi = Twist::log_with_omega(omega, &t_rel);
+            let r = omega.cross(&xi.v) / theta2;
+            let dist = r.norm().min(MAX_AXIS_DISTANCE_M);
+            let chord2 = 4.0 * (0.5 * theta).sin().powi(2);
+            // The pose from which the rotation starts is uncertain by the noise and by the
+            // contacts settling as the load moves onto the edge (REFERENCE_SETTLING_*); its
+            // effect on the axis shrinks as 1/θ. The tolerance adds a constant wander.
+            let (settle_p2, settle_r2) = (
+                REFERENCE_SETTLING_M * REFERENCE_SETTLING_M,
+                REFERENCE_SETTLING_RAD * REFERENCE_SETTLING_RAD,
+            );
+            let var_point =
+                (m.var_p + settle_p2 + (m.var_r + settle_r2) * dist * dist) / chord2 + m.tol_p2;
+            let var_dir = (m.var_r + settle_r2) / theta2 + m.tol_r2;
+            let h = u.dot(&t_rel);
+            b.line.add_with_chord(
+                &r,
+                &u,
+                1.0 / var_point,
+                1.0 / var_dir,
+                h * h / (m.var_p + m.tol_p2),
+                1.0 / chord2.sqrt(),
+            );
+            if theta > b.max_angle {
+                b.max_angle = theta;
+                b.max_line = Some((Line::through(r, u), omega));
+            }
+            let _ = r_palm;
+        });
+    }
+
+    /// Add one frame to the current block (or a new one) and update it with `update`.
+    fn append(
+        &mut self,
+        index: usize,
+        t: f64,
+        phase: Phase,
+        segment: Option<usize>,
+        update: impl FnOnce(&mut Block),
+    ) {
+        let fits = self
+            .blocks
+            .last()
+            .map(|b| b.phase == phase && b.segment == segment && b.frames < self.block_size)
+            .unwrap_or(false);
+        if !fits {
+            if self.blocks.len() >= MAX_BLOCKS {
+                self.compact();
+            }
+            self.blocks.push(Block::new(index, t, phase, segment));
+        }
+        let b = self.blocks.last_mut().unwrap();
+        b.last = index;
+        b.t1 = t;
+        b.frames += 1;
+        update(b);
+    }
+
+    /// Merge adjacent pairs of blocks and double the block size: first pairs of one phase and
+    /// segment; if that does not free a quarter of the blocks (phases alternate), any pairs of
+    /// one segment. Blocks of different segments (different references) are never merged.
+    fn compact(&mut self) {
+        self.block_size *= 2;
+        for same_phase in [true, false] {
+            let old = std::mem::take(&mut self.blocks);
+            let mut it = old.into_iter().peekable();
+            while let Some(mut b) = it.next() {
+                if let Some(n) = it.peek() {
+                    if (!same_phase || n.phase == b.phase) && n.segment == b.segment {
+                        let n = it.next().unwrap();
+                        b.merge(&n);
+                    }
+                }
+                self.blocks.push(b);
+            }
+            if self.blocks.len() <= MAX_BLOCKS * 3 / 4 {
+                break;
+            }
+        }
+    }
+
+    pub(super) fn finish(
+        mut self,
+        name: &str,
+        instrumented: bool,
+        frames: u64,
+    ) -> crate::Result<Classification> {
+        if self.rest.is_none() {
+            self.start();
+        }
+        let rest = self.rest.take().unwrap();
+        rest.finish(&mut |i, m| self.judged(i, m));
+        if !self.in_motion {
+            if let Some(prev) = self.segments.last_mut() {
+                prev.rest_after = self.rest_acc.down();
+            }
+        }
+        let alpha = self.config.robust.alpha;
+        // The fits use the noise in force (given or estimated).
+        let mut config = self.config;
+        config.robust.noise = self.noise;
+        let mut segments = Vec::with_capacity(self.segments.len());
+        let mut votes = Votes::default();
+        for (i, seg) in self.segments.iter().enumerate() {
+            let s = fit::analyse_segment(i, seg, &mut self.blocks, &config, alpha, name);
+            votes.add(s.kind, 0);
+            for (k, n) in [
+                (super::Kind::Topple, s.votes.topple),
+                (super::Kind::Slide, s.votes.slide),
+                (super::Kind::General, s.votes.general),
+            ] {
+                votes.add(k, n);
+            }
+            segments.push(s);
+        }
+        let topples = fit::group_topples(&segments, alpha, name);
+        let paper_edge = topples
+            .iter()
+            .max_by_key(|t| t.edge.frames)
+            .and_then(|t| t.edge.paper_line);
+        Ok(Classification {
+            name: name.to_string(),
+            kind: votes.winner().unwrap_or(super::Kind::General),
+            method: Method::Robust,
+            instrumented,
+            frames,
+            outliers: self.outliers,
+            votes,
+            noise: self.noise,
+            segments,
+            topples,
+            labels: runs(&self.blocks),
+            paper_edge,
+        })
+    }
+}
+
+/// Run-length encode block labels.
+pub(super) fn runs(blocks: &[Block]) -> Vec<LabelRun> {
+    let mut out: Vec<LabelRun> = Vec::new();
+    for b in blocks {
+        if let Some(r) = out.last_mut() {
+            if r.label == b.label && r.segment == b.segment {
+                r.last = b.last;
+                r.t_end = b.t1;
+                r.frames += b.frames;
+                continue;
+            }
+        }
+        out.push(LabelRun {
+            first: b.first,
+            last: b.last,
+            t_start: b.t0,
+            t_end: b.t1,
+            frames: b.frames,
+            label: b.label,
+            segment: b.segment,
+        });
+    }
+    out
+}
