@@ -79,12 +79,21 @@ impl Cleaner {
         // Fast rejection, exact: the residual r from the geodesic point at fraction s obeys
         // r <= |s| d(a,b) + d(a,f) (triangle inequality), so a flip needs both
         // |s| d(a,b) + d(a,f) > d(a,b) and (|s| d(a,b) + d(a,f))² > threshold.
+        // The variance factor 1 + s² + (1-s)² is at least 1.5.
+        let floor = self.threshold_sq * self.var_rot * 1.5;
         let s = ((f.t - a.t) / (b.t - a.t)).abs();
+        // Cheapest first: the chord c = 2 sin(θ/2) = 2|imag(a⁻¹b)| bounds the angle from above
+        // by c (1 + c²/20) for c <= 1 (2 asin(c/2) = c + c³/24 + ...), without an atan2.
+        let chord = |x: &UnitQuaternion<f64>, y: &UnitQuaternion<f64>| 2.0 * (x.inverse() * y).quaternion().imag().norm();
+        let upper = |c: f64| if c <= 1.0 { c * (1.0 + c * c / 20.0) } else { std::f64::consts::PI };
+        let quick = s * upper(chord(&a.q, &b.q)) + upper(chord(&a.q, &f.q));
+        if quick * quick <= floor {
+            return false;
+        }
         let dab = rotation_angle_between(&a.q, &b.q);
         let daf = rotation_angle_between(&a.q, &f.q);
         let bound = s * dab + daf;
-        // The variance factor 1 + s² + (1-s)² is at least 1.5.
-        if bound <= dab || bound * bound <= self.threshold_sq * self.var_rot * 1.5 {
+        if bound <= dab || bound * bound <= floor {
             return false;
         }
         let (r, k) = residual(a, b, f);
