@@ -46,7 +46,7 @@ fn phi_error_deg(dy: &[objmodel::dynamics::ToppleDynamics], truth: &objmodel_sim
 
 #[test]
 fn phi_from_instrumented_topples() {
-    for (noise, limit) in [(NoiseModel::clean(), 0.2), (NoiseModel::real(), 2.5)] {
+    for (noise, limit) in [(NoiseModel::clean(), 0.2), (NoiseModel::real(), 1.0)] {
         for seed in 1..=3 {
             let (_, dy, truth) = learn(SceneKind::InstrumentedTopple, "weighted", &noise, seed);
             let err = phi_error_deg(&dy, &truth);

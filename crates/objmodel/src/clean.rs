@@ -84,8 +84,16 @@ impl Cleaner {
         let s = ((f.t - a.t) / (b.t - a.t)).abs();
         // Cheapest first: the chord c = 2 sin(θ/2) = 2|imag(a⁻¹b)| bounds the angle from above
         // by c (1 + c²/20) for c <= 1 (2 asin(c/2) = c + c³/24 + ...), without an atan2.
-        let chord = |x: &UnitQuaternion<f64>, y: &UnitQuaternion<f64>| 2.0 * (x.inverse() * y).quaternion().imag().norm();
-        let upper = |c: f64| if c <= 1.0 { c * (1.0 + c * c / 20.0) } else { std::f64::consts::PI };
+        let chord = |x: &UnitQuaternion<f64>, y: &UnitQuaternion<f64>| {
+            2.0 * (x.inverse() * y).quaternion().imag().norm()
+        };
+        let upper = |c: f64| {
+            if c <= 1.0 {
+                c * (1.0 + c * c / 20.0)
+            } else {
+                std::f64::consts::PI
+            }
+        };
         let quick = s * upper(chord(&a.q, &b.q)) + upper(chord(&a.q, &f.q));
         if quick * quick <= floor {
             return false;

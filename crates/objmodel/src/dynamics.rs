@@ -29,6 +29,10 @@ pub const PENDULUM_TOLERANCE_RAD: f64 = 0.001_745_329_251_994_329_5;
 /// Frames within this angle [rad] (2°) of where the object comes to rest are the landing, not
 /// the fall.
 pub const LANDING_RAD: f64 = 0.034_906_585_039_886_59;
+/// Rest frames closer than this [s] to the first moving frame are not used as the reference.
+pub const REST_MARGIN_S: f64 = 0.3;
+/// At most this many rest frames are averaged for the reference.
+pub const MAX_REST_FRAMES: usize = 60;
 /// Half-width [s] of the local linear smoothing of the palm tilt.
 pub const SMOOTH_S: f64 = 0.25;
 
@@ -164,16 +168,35 @@ pub fn analyse(
         };
         let u = top.edge.line.direction;
         // The face normal and edge in the palm frame at the start (instrumented).
+        // The face normal and edge in the palm frame, averaged over the rest before the motion
+        // (one frame would put its orientation noise into every tilt angle).
+        let first_moving = c.segments[top.segments[0]].t_start;
         let palm_ref = demo.palm.as_ref().and_then(|palm| {
-            let first = demo
+            let (mut n_sum, mut u_sum) = (Vector3::zeros(), Vector3::zeros());
+            let rest = demo
                 .object
                 .iter()
                 .enumerate()
-                .find(|(i, _)| !outlier[*i])?
-                .1;
-            let qp = palm_at(palm, first.t)?;
-            let palm_from_object = qp.inverse() * first.pose.rotation;
-            Some((palm, palm_from_object * n, palm_from_object * u))
+                .filter(|(i, p)| !outlier[*i] && p.t < first_moving - REST_MARGIN_S);
+            for (_, p) in rest.take(MAX_REST_FRAMES) {
+                if let Some(qp) = palm_at(palm, p.t) {
+                    let palm_from_object = qp.inverse() * p.pose.rotation;
+                    n_sum += palm_from_object * n;
+                    u_sum += palm_from_object * u;
+                }
+            }
+            if n_sum == Vector3::zeros() {
+                let first = demo
+                    .object
+                    .iter()
+                    .enumerate()
+                    .find(|(i, _)| !outlier[*i])?
+                    .1;
+                let qp = palm_at(palm, first.t)?;
+                let palm_from_object = qp.inverse() * first.pose.rotation;
+                return Some((palm, palm_from_object * n, palm_from_object * u));
+            }
+            Some((palm, n_sum.normalize(), u_sum.normalize()))
         });
         let mut series = AngleSeries::default();
         let mut idx = Vec::new();
@@ -208,7 +231,6 @@ pub fn analyse(
             .rev()
             .find(|&k| (series.object[k] - final_angle).abs() > LANDING_RAD)
             .unwrap_or(last_labelled);
-        let first_moving = c.segments[top.segments[0]].t_start;
 
         // Onset and φ from the palm (instrumented).
         let (mut onset_r, mut phi_onset, mut phi_onset_sigma) = (None, None, None);

@@ -71,8 +71,8 @@ impl StreamCleaner {
 /// Pairs object frames with the palm pose at the same time (interpolated between the palm
 /// frames around it) and forms `palm_from_object`.
 ///
-/// The support's "down" in the palm frame is taken once, from gravity at the palm's first
-/// frame (the palm is level when a demonstration starts), and held fixed: the object rests on
+/// The support's "down" in the palm frame is taken once, from gravity over the palm's first
+/// [`SUPPORT_FRAMES`] frames (the palm is level when a demonstration starts), and held fixed: the object rests on
 /// the palm's surface however the palm is tilted later, so that is the direction whose face
 /// the object rests on, not the current gravity.
 #[derive(Default)]
@@ -81,12 +81,27 @@ struct PalmMerger {
     pending: VecDeque<(RawFrame, bool)>,
     palm_done: bool,
     support_down: Option<Option<Vector3<f64>>>,
+    support_sum: Vector3<f64>,
+    support_n: usize,
 }
+
+/// Palm frames averaged for the support's "down" in the palm frame (0.5 s at 30 Hz): one frame
+/// would carry its 0.5° orientation noise into every resting-face normal and tilt angle.
+const SUPPORT_FRAMES: usize = 15;
 
 impl PalmMerger {
     fn push_palm(&mut self, f: RawFrame, out: &mut impl FnMut(Item)) {
         if self.support_down.is_none() {
-            self.support_down = Some(f.down.map(|d| f.q.inverse() * d));
+            match f.down {
+                None => self.support_down = Some(None),
+                Some(d) => {
+                    self.support_sum += f.q.inverse() * d;
+                    self.support_n += 1;
+                    if self.support_n >= SUPPORT_FRAMES {
+                        self.support_down = Some(self.support_sum.try_normalize(1e-12));
+                    }
+                }
+            }
         }
         self.palm.push_back(f);
         self.drain(out);
@@ -99,6 +114,12 @@ impl PalmMerger {
     }
 
     fn drain(&mut self, out: &mut impl FnMut(Item)) {
+        if self.support_down.is_none() {
+            if !self.palm_done {
+                return; // Still averaging the support direction.
+            }
+            self.support_down = Some(self.support_sum.try_normalize(1e-12));
+        }
         while let Some((o, outlier)) = self.pending.front().copied() {
             if outlier {
                 self.pending.pop_front();
