@@ -9,6 +9,7 @@
 //! are 0; the object balances over its edge at ψ = φ.
 
 use crate::classify::{Classification, Label};
+use crate::geometry::angle_about;
 use crate::pendulum::{self, FallFit, Onset};
 use crate::trajectory::{Demonstration, StampedPose};
 use nalgebra::{UnitQuaternion, Vector3};
@@ -82,13 +83,6 @@ pub struct ToppleDynamics {
     pub phi_sigma: Option<f64>,
     /// The angles.
     pub series: AngleSeries,
-}
-
-/// Signed angle [rad] from `a` to `b` about `axis`, both projected normal to it.
-fn angle_about(axis: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
-    let pa = a - axis * axis.dot(a);
-    let pb = b - axis * axis.dot(b);
-    axis.dot(&pa.cross(&pb)).atan2(pa.dot(&pb))
 }
 
 /// Unwrap an angle series in place (no jumps of more than π between samples).

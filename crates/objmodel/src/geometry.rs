@@ -50,6 +50,14 @@ pub struct Plane {
     pub offset: f64,
 }
 
+/// Signed angle [rad] from `a` to `b` about `axis` (unit), both projected onto the plane
+/// normal to it (right-hand rule).
+pub fn angle_about(axis: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+    let pa = a - axis * axis.dot(a);
+    let pb = b - axis * axis.dot(b);
+    axis.dot(&pa.cross(&pb)).atan2(pa.dot(&pb))
+}
+
 /// Eigen-decomposition of a symmetric 3×3 matrix, eigenvalues ascending.
 pub fn sym_eigen(m: &Matrix3<f64>) -> ([f64; 3], [Vector3<f64>; 3]) {
     let e = SymmetricEigen::new(0.5 * (m + m.transpose()));

@@ -47,6 +47,76 @@ fn solve(a: &[[f64; 4]; 4], b: &[f64; 4], n: usize) -> Option<[f64; 4]> {
     Some(out)
 }
 
+/// Levenberg-Marquardt on `N <= 4` parameters with a forward-difference Jacobian (steps from
+/// `steps`), `clamp` keeping parameters in their domain. Returns the parameters, the residual
+/// sum of squares and the (undamped) normal matrix JᵀJ at the solution.
+fn levenberg_marquardt<const N: usize>(
+    p0: [f64; N],
+    resid: impl Fn(&[f64; N]) -> Vec<f64>,
+    steps: impl Fn(&[f64; N]) -> [f64; N],
+    clamp: impl Fn([f64; N]) -> [f64; N],
+) -> ([f64; N], f64, [[f64; 4]; 4]) {
+    let sse = |r: &[f64]| r.iter().map(|x| x * x).sum::<f64>();
+    let mut p = p0;
+    let mut r = resid(&p);
+    let mut cur = sse(&r);
+    let mut jtj = [[0.0; 4]; 4];
+    let mut lambda = 1e-3;
+    for _ in 0..100 {
+        let h = steps(&p);
+        let cols: Vec<Vec<f64>> = (0..N)
+            .map(|j| {
+                let mut q = p;
+                q[j] += h[j];
+                r.iter()
+                    .zip(resid(&q))
+                    .map(|(a, b)| (a - b) / h[j])
+                    .collect()
+            })
+            .collect();
+        let mut jtr = [0.0; 4];
+        jtj = [[0.0; 4]; 4];
+        for i in 0..r.len() {
+            for a in 0..N {
+                jtr[a] += cols[a][i] * r[i];
+                for b in 0..N {
+                    jtj[a][b] += cols[a][i] * cols[b][i];
+                }
+            }
+        }
+        let mut accepted = false;
+        for _ in 0..12 {
+            let mut damped = jtj;
+            for (a, row) in damped.iter_mut().enumerate().take(N) {
+                row[a] += lambda * jtj[a][a].max(1e-12);
+            }
+            let Some(delta) = solve(&damped, &jtr, N) else {
+                break;
+            };
+            let mut q = p;
+            for j in 0..N {
+                q[j] += delta[j];
+            }
+            let q = clamp(q);
+            let rq = resid(&q);
+            let s = sse(&rq);
+            if s < cur {
+                accepted = (cur - s) / cur.max(1e-300) > 1e-12;
+                p = q;
+                r = rq;
+                cur = s;
+                lambda = (lambda / 3.0).max(1e-12);
+                break;
+            }
+            lambda *= 4.0;
+        }
+        if !accepted {
+            break;
+        }
+    }
+    (p, cur, jtj)
+}
+
 /// Shape of the rotation after the onset, `s = t - τ` [s]: linearising the equation of motion
 /// about the balance point, with the support still tilting at a constant rate, gives
 /// `θ̈ = ω² (θ + β̇ s)`, whose solution from rest is `θ = β̇ (sinh(ω s)/ω - s)`: cubic at
@@ -225,63 +295,12 @@ pub fn fit_fall(t: &[f64], psi: &[f64], sigma: f64, phi0: f64) -> Option<FallFit
     }
     p[0] = best.1;
     p[1] = best.2;
-    // Levenberg-Marquardt.
-    let mut r = resid(&p);
-    let mut cur = sse(&r);
-    let mut jtj = [[0.0; 4]; 4];
-    let mut lambda = 1e-3;
-    for _ in 0..100 {
-        let steps = [1e-6, 1e-4 * p[1].max(1.0), 1e-6, 1e-5];
-        let cols: Vec<Vec<f64>> = (0..4)
-            .map(|j| {
-                let mut q = p;
-                q[j] += steps[j];
-                let rq = resid(&q);
-                r.iter().zip(&rq).map(|(a, b)| (a - b) / steps[j]).collect()
-            })
-            .collect();
-        let mut jtr = [0.0; 4];
-        jtj = [[0.0; 4]; 4];
-        for i in 0..n {
-            for a in 0..4 {
-                jtr[a] += cols[a][i] * r[i];
-                for b in 0..4 {
-                    jtj[a][b] += cols[a][i] * cols[b][i];
-                }
-            }
-        }
-        let mut accepted = false;
-        for _ in 0..12 {
-            let mut damped = jtj;
-            for (a, row) in damped.iter_mut().enumerate() {
-                row[a] += lambda * jtj[a][a].max(1e-12);
-            }
-            let Some(delta) = solve(&damped, &jtr, 4) else {
-                break;
-            };
-            let q = [
-                p[0] + delta[0],
-                (p[1] + delta[1]).max(1e-3),
-                p[2] + delta[2],
-                p[3] + delta[3],
-            ];
-            let rq = resid(&q);
-            let s = sse(&rq);
-            if s < cur {
-                let rel = (cur - s) / cur.max(1e-300);
-                p = q;
-                r = rq;
-                cur = s;
-                lambda = (lambda / 3.0).max(1e-12);
-                accepted = rel > 1e-12;
-                break;
-            }
-            lambda *= 4.0;
-        }
-        if !accepted {
-            break;
-        }
-    }
+    let (p, cur, jtj) = levenberg_marquardt(
+        p,
+        resid,
+        |p| [1e-6, 1e-4 * p[1].max(1.0), 1e-6, 1e-5],
+        |q| [q[0], q[1].max(1e-3), q[2], q[3]],
+    );
     // A pendulum about an edge of a resting object: 0 < φ < π/2 and k > 0.
     if !(p[0] > 0.0 && p[0] < std::f64::consts::FRAC_PI_2 && p[1] > 0.0) {
         return None;
@@ -400,57 +419,12 @@ pub fn fit_on_support(
             }
         }
     }
-    let (mut cur, mut p) = best;
-    let mut r = resid(p);
-    let mut lambda = 1e-3;
-    let mut jtj = [[0.0; 4]; 4];
-    for _ in 0..60 {
-        let steps = [1e-5, 1e-4 * p[1]];
-        let cols: Vec<Vec<f64>> = (0..2)
-            .map(|j| {
-                let mut q = p;
-                q[j] += steps[j];
-                r.iter()
-                    .zip(resid(q))
-                    .map(|(a, b)| (a - b) / steps[j])
-                    .collect()
-            })
-            .collect();
-        let mut jtr = [0.0; 4];
-        jtj = [[0.0; 4]; 4];
-        for i in 0..n {
-            for a in 0..2 {
-                jtr[a] += cols[a][i] * r[i];
-                for b in 0..2 {
-                    jtj[a][b] += cols[a][i] * cols[b][i];
-                }
-            }
-        }
-        let mut accepted = false;
-        for _ in 0..12 {
-            let mut damped = jtj;
-            damped[0][0] *= 1.0 + lambda;
-            damped[1][1] *= 1.0 + lambda;
-            let Some(d) = solve(&damped, &jtr, 2) else {
-                break;
-            };
-            let q = [p[0] + d[0], (p[1] + d[1]).max(1e-3)];
-            let rq = resid(q);
-            let s = sse(&rq);
-            if s < cur {
-                accepted = (cur - s) / cur.max(1e-300) > 1e-12;
-                p = q;
-                r = rq;
-                cur = s;
-                lambda = (lambda / 3.0).max(1e-12);
-                break;
-            }
-            lambda *= 4.0;
-        }
-        if !accepted {
-            break;
-        }
-    }
+    let (p, cur, jtj) = levenberg_marquardt(
+        best.1,
+        |p: &[f64; 2]| resid(*p),
+        |p| [1e-5, 1e-4 * p[1]],
+        |q| [q[0], q[1].max(1e-3)],
+    );
     if !(p[0] > 0.0 && p[0] < std::f64::consts::FRAC_PI_2) {
         return None;
     }

@@ -12,6 +12,7 @@
 //! `tilt = φ - ψ₀ + margin` about the edge line (right-hand rule about the toppling axis), with
 //! ψ₀ the tilt it already has, topples the object onto the adjacent face.
 
+use crate::geometry::angle_about;
 use crate::tree::{Tree, SAME_FACE_RAD};
 use crate::{Error, Result};
 use nalgebra::{Isometry3, Point3, Vector3};
@@ -61,12 +62,6 @@ pub struct Plan {
     pub resting_face_normal: Vector3<f64>,
     /// Outward normal of the face it will land on, in the palm frame, if learnt.
     pub landing_face_normal: Option<Vector3<f64>>,
-}
-
-fn angle_about(axis: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
-    let pa = a - axis * axis.dot(a);
-    let pb = b - axis * axis.dot(b);
-    axis.dot(&pa.cross(&pb)).atan2(pa.dot(&pb))
 }
 
 /// Choose the edge and the tilt. Errors (which trigger a request for a demonstration) when the
