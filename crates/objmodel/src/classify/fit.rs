@@ -72,7 +72,44 @@ fn top_k(idx: &[usize], k: usize, key: impl Fn(usize) -> f64) -> Vec<usize> {
     v.into_iter().map(|(_, i)| i).collect()
 }
 
-/// MSAC over candidate lines, then refinement on the inliers.
+/// MSAC: the valid candidate with the smallest truncated cost, then refinement: refit on its
+/// inlier blocks until the inlier set stops changing (or the refit is no longer valid).
+fn msac<H>(
+    idx: &[usize],
+    candidates: Vec<H>,
+    valid: impl Fn(&H) -> bool,
+    th: &mut Thresholds,
+    cost: impl Fn(&H, &mut Thresholds) -> f64,
+    inlier: impl Fn(usize, &H, &mut Thresholds) -> bool,
+    refit: impl Fn(&[usize]) -> Option<H>,
+) -> Option<H> {
+    let mut best = candidates
+        .into_iter()
+        .filter(|h| valid(h))
+        .map(|h| (cost(&h, th), h))
+        .min_by(|a, b| a.0.total_cmp(&b.0))?
+        .1;
+    let mut previous: Vec<usize> = Vec::new();
+    for _ in 0..REFINE_ITERATIONS {
+        let inliers: Vec<usize> = idx
+            .iter()
+            .copied()
+            .filter(|&i| inlier(i, &best, th))
+            .collect();
+        if inliers.is_empty() || inliers == previous {
+            break;
+        }
+        match refit(&inliers) {
+            Some(h) if valid(&h) => best = h,
+            _ => break,
+        }
+        previous = inliers;
+    }
+    Some(best)
+}
+
+/// The segment's fixed line (topple hypothesis): MSAC over the lines of the most informative
+/// blocks and the mean of all.
 fn fit_line(
     blocks: &[Block],
     idx: &[usize],
@@ -86,34 +123,23 @@ fn fit_line(
         .filter_map(|&i| blocks[i].line.mean())
         .collect();
     candidates.extend(all.mean());
-    let mut best = candidates
-        .into_iter()
-        .filter(|l| valid(l))
-        .map(|l| (line_cost(blocks, idx, &l, th), l))
-        .min_by(|a, b| a.0.total_cmp(&b.0))?
-        .1;
-    let mut previous: Vec<usize> = Vec::new();
-    for _ in 0..REFINE_ITERATIONS {
-        let inliers: Vec<usize> = idx
-            .iter()
-            .copied()
-            .filter(|&i| line_inlier(&blocks[i].line, &best, th))
-            .collect();
-        if inliers.is_empty() || inliers == previous {
-            break;
-        }
-        let mut s = LineStats::default();
-        inliers.iter().for_each(|&i| s.merge(&blocks[i].line));
-        match s.mean() {
-            Some(l) if valid(&l) => best = l,
-            _ => break,
-        }
-        previous = inliers;
-    }
-    Some(best)
+    msac(
+        idx,
+        candidates,
+        valid,
+        th,
+        |l, th| line_cost(blocks, idx, l, th),
+        |i, l, th| line_inlier(&blocks[i].line, l, th),
+        |inliers| {
+            let mut s = LineStats::default();
+            inliers.iter().for_each(|&i| s.merge(&blocks[i].line));
+            s.mean()
+        },
+    )
 }
 
-/// MSAC over candidate plane normals, then refinement on the inliers.
+/// The segment's fixed plane of motion (slide hypothesis): MSAC over the normals of the most
+/// informative blocks and the fit to all.
 fn fit_plane(
     blocks: &[Block],
     idx: &[usize],
@@ -128,31 +154,19 @@ fn fit_plane(
         .filter_map(|&i| blocks[i].plane.normal().map(|n| n.into_inner()))
         .collect();
     candidates.extend(all.normal().map(|n| n.into_inner()));
-    let mut best = candidates
-        .into_iter()
-        .filter(|n| valid(n))
-        .map(|n| (plane_cost(blocks, idx, &n, th), n))
-        .min_by(|a, b| a.0.total_cmp(&b.0))?
-        .1;
-    let mut previous: Vec<usize> = Vec::new();
-    for _ in 0..REFINE_ITERATIONS {
-        let inliers: Vec<usize> = idx
-            .iter()
-            .copied()
-            .filter(|&i| plane_inlier(&blocks[i].plane, &best, th))
-            .collect();
-        if inliers.is_empty() || inliers == previous {
-            break;
-        }
-        let mut s = PlaneStats::default();
-        inliers.iter().for_each(|&i| s.merge(&blocks[i].plane));
-        match s.normal() {
-            Some(n) if valid(&n) => best = n.into_inner(),
-            _ => break,
-        }
-        previous = inliers;
-    }
-    Some(best)
+    msac(
+        idx,
+        candidates,
+        valid,
+        th,
+        |n, th| plane_cost(blocks, idx, n, th),
+        |i, n, th| plane_inlier(&blocks[i].plane, n, th),
+        |inliers| {
+            let mut s = PlaneStats::default();
+            inliers.iter().for_each(|&i| s.merge(&blocks[i].plane));
+            s.normal().map(|n| n.into_inner())
+        },
+    )
 }
 
 /// Change-point trimming of a fitted edge: at the end of a topple the object may leave or slip
