@@ -215,3 +215,40 @@ fn slide_gives_the_face_normal_and_topples_give_its_offset() {
     assert_eq!(tree.edges.len(), 4);
     assert_eq!(tree.faces.len(), 5);
 }
+
+/// Other trackers run at other rates: the tests are in seconds and noise units, not frames.
+#[test]
+fn classification_holds_at_15_and_120_hz() {
+    for rate in [15.0, 120.0] {
+        let config = Config::default();
+        let mut wrong = Vec::new();
+        for kind in 0..4 {
+            for seed in 0..10u64 {
+                let mut rng = StdRng::seed_from_u64(5000 + 100 * kind as u64 + seed);
+                let b = SynthBox::random(&mut rng);
+                let side = rng.random_range(0..4);
+                let d = match kind {
+                    0 => synth::topple(
+                        &b,
+                        &ToppleParams {
+                            side,
+                            ..Default::default()
+                        },
+                        &SynthNoise::REAL,
+                        rate,
+                        seed,
+                    ),
+                    1 => synth::instrumented_topple(&b, side, 0.2, &SynthNoise::REAL, rate, seed),
+                    2 => synth::slide(&b, &SynthNoise::REAL, rate, seed),
+                    _ => synth::general(&b, &SynthNoise::REAL, rate, seed),
+                };
+                let c = classify(&d.demo, &config).unwrap();
+                if c.kind != d.truth.kind {
+                    wrong.push((rate, kind, seed, c.kind));
+                }
+            }
+        }
+        eprintln!("{rate} Hz: {} of 40 wrong: {wrong:?}", wrong.len());
+        assert!(wrong.len() <= 1, "{wrong:?}");
+    }
+}
