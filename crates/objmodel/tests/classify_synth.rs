@@ -252,3 +252,43 @@ fn classification_holds_at_15_and_120_hz() {
         assert!(wrong.len() <= 1, "{wrong:?}");
     }
 }
+
+/// A camera-frame tracker: the same demonstrations seen in a frame with y down (and turned),
+/// with gravity given in that frame, are classified and learnt the same.
+#[test]
+fn gravity_in_a_camera_frame() {
+    use nalgebra::{Isometry3, Translation3, UnitQuaternion};
+    let camera_from_world = Isometry3::from_parts(
+        Translation3::new(0.3, -0.2, 1.1),
+        UnitQuaternion::from_euler_angles(-1.9, 0.3, 0.7),
+    );
+    let config = Config {
+        gravity: Some(camera_from_world.rotation * Vector3::new(0.0, 0.0, -9.81)),
+        ..Config::default()
+    };
+    for kind in 0..4 {
+        for seed in 0..5u64 {
+            let mut rng = StdRng::seed_from_u64(7000 + 10 * kind as u64 + seed);
+            let b = SynthBox::random(&mut rng);
+            let mut d = match kind {
+                0 => synth::topple(&b, &ToppleParams::default(), &SynthNoise::REAL, 30.0, seed),
+                1 => synth::instrumented_topple(&b, 1, 0.2, &SynthNoise::REAL, 30.0, seed),
+                2 => synth::slide(&b, &SynthNoise::REAL, 30.0, seed),
+                _ => synth::general(&b, &SynthNoise::REAL, 30.0, seed),
+            };
+            for p in d
+                .demo
+                .object
+                .iter_mut()
+                .chain(d.demo.palm.iter_mut().flatten())
+            {
+                p.pose = camera_from_world * p.pose;
+            }
+            let c = classify(&d.demo, &config).unwrap();
+            assert_eq!(c.kind, d.truth.kind, "kind {kind} seed {seed}");
+            if let (Some(t), Some(e)) = (d.truth.edge, c.edges().next()) {
+                assert!(line_angle_deg(&e.line.direction, &t.direction) < 2.0);
+            };
+        }
+    }
+}
