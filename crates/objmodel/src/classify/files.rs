@@ -1,6 +1,7 @@
 //! Classifying demonstrations straight from their files, streaming.
 
-use super::{Analyzer, Classification, Config};
+use super::{Analyzer, Classification, Config, ObjectCleaner};
+use crate::clean::RawFrame;
 use crate::format;
 use crate::trajectory::StampedPose;
 use crate::Result;
@@ -19,14 +20,25 @@ pub fn classify_files(
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| object.display().to_string());
     let mut a = Analyzer::new(&name, config, palm.is_some());
-    let mut objects = ThreadedPoses::spawn(format::open(object)?);
     match palm {
         None => {
-            for p in objects {
-                a.push_object(&p?);
+            match a.take_object_cleaner() {
+                // Robust: parse and clean on the background thread.
+                Some(cleaner) => {
+                    for item in CleanedFrames::spawn(format::open(object)?, cleaner) {
+                        let (f, outlier) = item?;
+                        a.push_cleaned_object(f, outlier);
+                    }
+                }
+                None => {
+                    for p in ThreadedPoses::spawn(format::open(object)?) {
+                        a.push_object(&p?);
+                    }
+                }
             }
         }
         Some(palm) => {
+            let mut objects = ThreadedPoses::spawn(format::open(object)?);
             let mut palms = ThreadedPoses::spawn(format::open(palm)?);
             let (mut o, mut p) = (objects.next().transpose()?, palms.next().transpose()?);
             loop {
@@ -114,6 +126,70 @@ impl Iterator for ThreadedPoses {
         loop {
             if let Some(p) = self.chunk.next() {
                 return Some(Ok(p));
+            }
+            if let Some(e) = self.error.take() {
+                return Some(Err(e));
+            }
+            let (chunk, error) = self.rx.recv().ok()?;
+            self.chunk = chunk.into_iter();
+            self.error = error;
+        }
+    }
+}
+
+/// Object frames parsed *and cleaned* on a background thread (the cleaner's tag-flip tests are
+/// the costliest per-frame step after parsing), handed over in bounded chunks.
+struct CleanedFrames {
+    rx: std::sync::mpsc::Receiver<(Vec<(RawFrame, bool)>, Option<crate::Error>)>,
+    chunk: std::vec::IntoIter<(RawFrame, bool)>,
+    error: Option<crate::Error>,
+}
+
+impl CleanedFrames {
+    fn spawn<I: Iterator<Item = Result<StampedPose>> + Send + 'static>(
+        poses: I,
+        mut cleaner: ObjectCleaner,
+    ) -> Self {
+        let (tx, rx) = std::sync::mpsc::sync_channel(CHANNEL_CHUNKS);
+        std::thread::spawn(move || {
+            let mut chunk = Vec::with_capacity(CHUNK_POSES);
+            for p in poses {
+                match p {
+                    Ok(p) => cleaner.push(&p, &mut |f, o| chunk.push((f, o))),
+                    Err(e) => {
+                        let _ = tx.send((std::mem::take(&mut chunk), Some(e)));
+                        return;
+                    }
+                }
+                if chunk.len() >= CHUNK_POSES
+                    && tx
+                        .send((
+                            std::mem::replace(&mut chunk, Vec::with_capacity(CHUNK_POSES)),
+                            None,
+                        ))
+                        .is_err()
+                {
+                    return;
+                }
+            }
+            cleaner.finish(&mut |f, o| chunk.push((f, o)));
+            let _ = tx.send((chunk, None));
+        });
+        Self {
+            rx,
+            chunk: Vec::new().into_iter(),
+            error: None,
+        }
+    }
+}
+
+impl Iterator for CleanedFrames {
+    type Item = Result<(RawFrame, bool)>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        loop {
+            if let Some(f) = self.chunk.next() {
+                return Some(Ok(f));
             }
             if let Some(e) = self.error.take() {
                 return Some(Err(e));

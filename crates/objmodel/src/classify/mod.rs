@@ -33,7 +33,7 @@ mod rest;
 mod stream;
 
 pub use files::classify_files;
-pub use stream::Analyzer;
+pub use stream::{Analyzer, ObjectCleaner};
 
 use crate::edge::EdgeObservation;
 use crate::face::FaceObservation;

@@ -68,6 +68,34 @@ impl StreamCleaner {
     }
 }
 
+/// The object stream's cleaner, detached from its [`Analyzer`] so that it can run on another
+/// thread (it is `Send`).
+pub struct ObjectCleaner {
+    cleaner: StreamCleaner,
+    down: Option<Vector3<f64>>,
+    frames: usize,
+}
+
+impl ObjectCleaner {
+    /// Push the next object pose; judged frames are passed to `out` with their verdict.
+    pub fn push(&mut self, p: &StampedPose, out: &mut impl FnMut(RawFrame, bool)) {
+        let f = RawFrame {
+            index: self.frames,
+            t: p.t,
+            q: p.pose.rotation,
+            p: p.pose.translation.vector,
+            down: self.down,
+        };
+        self.frames += 1;
+        self.cleaner.push(f, out);
+    }
+
+    /// Flush the last frames.
+    pub fn finish(self, out: &mut impl FnMut(RawFrame, bool)) {
+        self.cleaner.finish(out);
+    }
+}
+
 /// Pairs object frames with the palm pose at the same time (interpolated between the palm
 /// frames around it) and forms `palm_from_object`.
 ///
@@ -193,7 +221,7 @@ pub struct Analyzer {
     instrumented: bool,
     down_world: Option<Vector3<f64>>,
     robust: bool,
-    object: StreamCleaner,
+    object: Option<StreamCleaner>,
     palm: Option<StreamCleaner>,
     merger: PalmMerger,
     back: Back,
@@ -210,7 +238,7 @@ impl Analyzer {
             instrumented,
             down_world: config.gravity.and_then(|g| g.try_normalize(1e-12)),
             robust: config.method == Method::Robust,
-            object: StreamCleaner::new(config),
+            object: Some(StreamCleaner::new(config)),
             palm: instrumented.then(|| StreamCleaner::new(config)),
             merger: PalmMerger::default(),
             back: match config.method {
@@ -255,10 +283,38 @@ impl Analyzer {
                 back.push(Item::Frame(f));
             }
         };
-        if *robust {
-            object.push(f, &mut to_back);
+        match object {
+            Some(c) if *robust => c.push(f, &mut to_back),
+            _ => to_back(f, false),
+        }
+    }
+
+    /// Take the object stream's cleaner, to run it elsewhere (e.g. on the parsing thread):
+    /// feed it with [`ObjectCleaner::push`], and pass what it emits to
+    /// [`Analyzer::push_cleaned_object`]. `None` for the paper method, which does not clean, or
+    /// if already taken.
+    pub fn take_object_cleaner(&mut self) -> Option<ObjectCleaner> {
+        if !self.robust {
+            return None;
+        }
+        Some(ObjectCleaner {
+            cleaner: self.object.take()?,
+            down: self.down_world,
+            frames: 0,
+        })
+    }
+
+    /// Push an object frame judged by an [`ObjectCleaner`] (`outlier` = rejected).
+    pub fn push_cleaned_object(&mut self, f: RawFrame, outlier: bool) {
+        self.frames += 1;
+        self.last_t = Some(f.t);
+        if self.instrumented {
+            let back = &mut self.back;
+            self.merger.push_object(f, outlier, &mut |i| back.push(i));
+        } else if outlier {
+            self.back.push(Item::Outlier(f.index, f.t));
         } else {
-            to_back(f, false);
+            self.back.push(Item::Frame(f));
         }
     }
 
@@ -310,14 +366,16 @@ impl Analyzer {
                     }
                 });
             }
-            object.finish(&mut |f, outlier| {
-                if instrumented {
-                    merger.push_object(f, outlier, &mut |i| back.push(i));
-                } else if outlier {
-                    back.push(Item::Outlier(f.index, f.t));
-                } else {
-                    back.push(Item::Frame(f));
-                }
+            object.into_iter().for_each(|o| {
+                o.finish(&mut |f, outlier| {
+                    if instrumented {
+                        merger.push_object(f, outlier, &mut |i| back.push(i));
+                    } else if outlier {
+                        back.push(Item::Outlier(f.index, f.t));
+                    } else {
+                        back.push(Item::Frame(f));
+                    }
+                })
             });
         }
         if instrumented {
