@@ -1,0 +1,474 @@
+//! End-to-end tests of the `objmodel` binary: the output contracts of `classify` and `learn`,
+//! incremental and atomic tree updates, per-frame labels, and `evaluate` on a simulated dataset.
+
+#[allow(unused_imports)]
+mod common;
+#[allow(unused_imports)]
+use common::*;
+#[allow(unused_imports)]
+use serde_json::Value;
+#[allow(unused_imports)]
+use std::path::{Path, PathBuf};
+
+// ---------------------------------------------------------------------------------------------
+// 2. output contract of `classify --json`
+
+fn classify_json(demo: &Path, extra: &[&str]) -> Value {
+    let mut args = vec!["classify".to_string(), s(demo), "--json".into()];
+    args.extend(extra.iter().map(|x| x.to_string()));
+    let r = run(&args).ok();
+    let v = r.json();
+    r.check(
+        v.is_object(),
+        "classify --json should print one JSON object",
+    );
+    v
+}
+
+#[test]
+fn classify_json_kinds() {
+    let d = TempDir::new("kinds");
+    for (kind, expected) in [
+        ("topple", "topple"),
+        ("slide", "slide"),
+        ("general", "general"),
+    ] {
+        let files = synth(kind, &d.join(kind), 1, 3, &[]);
+        let v = classify_json(&files[0], &[]);
+        assert_eq!(
+            v["kind"], expected,
+            "synth {kind} classified as {}: {v}",
+            v["kind"]
+        );
+        assert_eq!(v["instrumented"], false, "{kind}: not instrumented");
+        assert_eq!(v["method"], "robust");
+        assert_eq!(v["file"], s(&files[0]));
+        assert!(
+            v["palm_file"].is_null(),
+            "{kind}: no palm file expected, got {}",
+            v["palm_file"]
+        );
+        assert!(
+            v["frames"].as_u64().is_some_and(|n| n > 10),
+            "{kind}: frames: {}",
+            v["frames"]
+        );
+        let labels = v["labels"].as_array().expect("labels array");
+        assert!(!labels.is_empty(), "{kind}: per-frame labels expected");
+        // the truth agrees
+        assert_eq!(truth_of(&files[0])["kind"], expected);
+    }
+}
+
+#[test]
+fn classify_instrumented_picks_up_palm() {
+    let d = TempDir::new("instr");
+    let files = synth("instrumented", d.path(), 1, 3, &[]);
+    let demo = &files[0];
+    let palm = demo.with_extension("palm.tum");
+    assert!(
+        palm.is_file(),
+        "synth instrumented should write {}",
+        palm.display()
+    );
+    let v = classify_json(demo, &[]);
+    assert_eq!(v["instrumented"], true, "{v}");
+    assert_eq!(
+        v["kind"], "topple",
+        "an instrumented topple is a topple: {v}"
+    );
+    assert_eq!(v["palm_file"], s(&palm));
+    // --no-palm ignores it
+    let v = classify_json(demo, &["--no-palm"]);
+    assert_eq!(v["instrumented"], false);
+    assert!(v["palm_file"].is_null());
+    // --palm names it explicitly
+    let v = classify_json(demo, &["--no-palm", "--palm", &s(&palm)]);
+    assert_eq!(v["instrumented"], true);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 3. `learn --json`: the tree and its schema
+
+#[test]
+fn learn_json_tree_matches_truth() {
+    let d = TempDir::new("learn");
+    let files = synth("topple", d.path(), 2, 3, &[]);
+    let r = run(&[
+        "learn".to_string(),
+        s(&files[0]),
+        s(&files[1]),
+        "--json".into(),
+    ])
+    .ok();
+    let t = r.json();
+    assert_eq!(t["schema"], "objmodel.tree");
+    assert_eq!(t["version"], 1);
+    let edges = t["edges"].as_array().expect("edges array");
+    let faces = t["faces"].as_array().expect("faces array");
+    assert!(!edges.is_empty(), "no edges learnt: {t}");
+    for e in edges {
+        let p = vec3(&e["point"], "edge point");
+        let dir = vec3(&e["direction"], "edge direction");
+        assert!(
+            (norm(dir) - 1.0).abs() < 1e-9,
+            "direction not unit: {dir:?}"
+        );
+        // the point is the one closest to the origin: perpendicular to the line
+        assert!(
+            (p[0] * dir[0] + p[1] * dir[1] + p[2] * dir[2]).abs() < 1e-6,
+            "point {p:?} not closest to the origin on {dir:?}"
+        );
+        assert!(
+            e["pendulums"].is_array(),
+            "pendulums should be an array: {e}"
+        );
+    }
+    for f in faces {
+        let n = vec3(&f["normal"], "face normal");
+        assert!((norm(n) - 1.0).abs() < 1e-6, "normal not unit: {n:?}");
+        assert!(
+            f["offset"].is_null() || f["offset"].as_f64().is_some_and(f64::is_finite),
+            "offset should be a number or null: {f}"
+        );
+    }
+    // both demonstrations show the same edge of the same box: one edge, and it is the true one
+    let truth = truth_of(&files[0]);
+    assert_eq!(
+        truth["edge"],
+        truth_of(&files[1])["edge"],
+        "count 2 should give two demos of one edge"
+    );
+    let tp = vec3(&truth["edge"]["point"], "truth point");
+    let td = vec3(&truth["edge"]["direction"], "truth direction");
+    assert_eq!(
+        edges.len(),
+        1,
+        "two topples over one edge should fuse into one edge: {}",
+        t["edges"]
+    );
+    let e = &edges[0];
+    let angle = line_angle_deg(vec3(&e["direction"], "dir"), td);
+    let off = dist(vec3(&e["point"], "point"), tp);
+    assert!(angle < 2.0, "edge direction off by {angle:.3} deg");
+    assert!(off < 5e-3, "edge point off by {:.3} mm", off * 1e3);
+    assert_eq!(e["n_support"], 2);
+    // the faces the box rested on are there: the true resting face (normal and offset)
+    let tn = vec3(&truth["face"]["normal"], "truth normal");
+    let to = truth["face"]["offset"].as_f64().unwrap();
+    let rest = faces
+        .iter()
+        .find(|f| line_angle_deg(vec3(&f["normal"], "n"), tn) < 3.0);
+    let rest = rest.unwrap_or_else(|| {
+        panic!(
+            "no face with the true resting normal {tn:?}: {}",
+            t["faces"]
+        )
+    });
+    let n = vec3(&rest["normal"], "n");
+    let sign = if n[0] * tn[0] + n[1] * tn[1] + n[2] * tn[2] > 0.0 {
+        1.0
+    } else {
+        -1.0
+    };
+    if let Some(o) = rest["offset"].as_f64() {
+        assert!(
+            (sign * o - to).abs() < 5e-3,
+            "resting face offset {o} vs truth {to}"
+        );
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 4. incremental and atomic updates
+
+fn temp_leftovers(dir: &Path, prefix: &str) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(prefix))
+        .collect()
+}
+
+#[test]
+fn learn_incremental_and_atomic() {
+    let d = TempDir::new("incr");
+    let files = synth("topple", &d.join("demos"), 2, 3, &["--side", "1"]);
+    let tree = d.join("box.json");
+    // first demonstration
+    let r = run(&["learn".to_string(), s(&files[0]), "-o".into(), s(&tree)]).ok();
+    r.check(
+        r.stdout.contains(&format!("wrote {}", tree.display())),
+        "learn -o should say where it wrote",
+    );
+    let t1 = read_json(&tree);
+    assert_eq!(t1["schema"], "objmodel.tree");
+    assert_eq!(t1["demos"].as_array().map(Vec::len), Some(1));
+    let e1 = t1["edges"].as_array().expect("edges");
+    assert_eq!(e1.len(), 1, "one topple, one edge: {}", t1["edges"]);
+    assert_eq!(e1[0]["n_support"], 1);
+    // second demonstration of the same edge, fused in
+    run(&["learn".to_string(), s(&files[1]), "--into".into(), s(&tree)]).ok();
+    let t2 = read_json(&tree);
+    assert_eq!(t2["demos"].as_array().map(Vec::len), Some(2));
+    let e2 = t2["edges"].as_array().expect("edges");
+    assert_eq!(
+        e2.len(),
+        1,
+        "the same edge should be fused, not added: {}",
+        t2["edges"]
+    );
+    assert_eq!(e2[0]["n_support"], 2, "{}", t2["edges"]);
+    let support: Vec<&str> = e2[0]["support"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(Value::as_str)
+        .collect();
+    assert_eq!(support.len(), 2, "support: {support:?}");
+    // the fused edge is still the true one
+    let truth = truth_of(&files[0]);
+    let angle = line_angle_deg(
+        vec3(&e2[0]["direction"], "dir"),
+        vec3(&truth["edge"]["direction"], "td"),
+    );
+    let off = dist(
+        vec3(&e2[0]["point"], "p"),
+        vec3(&truth["edge"]["point"], "tp"),
+    );
+    assert!(
+        angle < 2.0 && off < 5e-3,
+        "fused edge off by {angle:.3} deg, {:.3} mm",
+        off * 1e3
+    );
+
+    // a malformed demonstration: the command fails and the tree file is untouched
+    let before = std::fs::read(&tree).unwrap();
+    let bad = d.write("bad.tum", &format!("{GOOD}0.5 0 0 0 0 0 0\n"));
+    let r = run(&["learn".to_string(), s(&bad), "--into".into(), s(&tree)]).fails();
+    r.check(
+        r.stderr.contains(&format!("{}:6: ", bad.display())),
+        "the message should name bad.tum line 6",
+    );
+    // a good one followed by a bad one: nothing is written either
+    let r = run(&[
+        "learn".to_string(),
+        s(&files[0]),
+        s(&bad),
+        "--into".into(),
+        s(&tree),
+    ])
+    .fails();
+    r.check(
+        r.stderr.contains(&format!("{}:6: ", bad.display())),
+        "the message should name bad.tum line 6",
+    );
+    assert!(
+        std::fs::read(&tree).unwrap() == before,
+        "a failed learn must leave box.json byte-identical"
+    );
+    let left = temp_leftovers(d.path(), ".box.json");
+    assert!(left.is_empty(), "temporary files left behind: {left:?}");
+
+    // a corrupt tree file is reported, not overwritten
+    let corrupt = d.write("corrupt.json", "{ not json");
+    let r = run(&[
+        "learn".to_string(),
+        s(&files[0]),
+        "--into".into(),
+        s(&corrupt),
+    ])
+    .fails();
+    r.check(
+        r.stderr.contains("corrupt.json"),
+        "the message should name the corrupt tree file",
+    );
+    assert_eq!(std::fs::read_to_string(&corrupt).unwrap(), "{ not json");
+    assert!(temp_leftovers(d.path(), ".corrupt.json").is_empty());
+
+    // a tree that cannot be written (its folder does not exist): error, nothing left behind
+    let nowhere = d.join("no-such-dir").join("box.json");
+    let r = run(&["learn".to_string(), s(&files[0]), "-o".into(), s(&nowhere)]).fails();
+    r.check(
+        r.stderr.contains("box.json"),
+        "the message should name the output file",
+    );
+    assert!(!d.join("no-such-dir").exists());
+}
+
+// ---------------------------------------------------------------------------------------------
+// 5. classify's text output: per-frame labels, the paper's method
+
+#[test]
+fn classify_frames_and_paper_method() {
+    let d = TempDir::new("frames");
+    let files = synth("topple", d.path(), 1, 3, &[]);
+    let demo = &files[0];
+    let plain = run(&["classify".to_string(), s(demo)]).ok();
+    plain.check(
+        plain
+            .stdout
+            .lines()
+            .next()
+            .is_some_and(|l| l.contains("topple") && l.contains("robust")),
+        "first line: name, kind, method",
+    );
+    plain.check(
+        !plain.stdout.contains("frames:"),
+        "no frame runs without --frames",
+    );
+
+    let r = run(&["classify".to_string(), s(demo), "--frames".into()]).ok();
+    let runs: Vec<&str> = r
+        .stdout
+        .lines()
+        .skip_while(|l| l.trim() != "frames:")
+        .skip(1)
+        .collect();
+    r.check(!runs.is_empty(), "expected a 'frames:' section");
+    let label = |l: &str| l.split_whitespace().last().unwrap_or("").to_string();
+    r.check(
+        runs.iter().any(|l| label(l) == "rest"),
+        "expected a 'rest' run",
+    );
+    r.check(
+        runs.iter().any(|l| label(l) == "topple"),
+        "expected a 'topple' run",
+    );
+    // the runs cover the frames in order, without gaps: FIRST-LAST ranges
+    let mut next = 0u64;
+    for l in &runs {
+        let range = l.split_whitespace().next().unwrap();
+        let (a, b) = range
+            .split_once('-')
+            .unwrap_or_else(|| panic!("bad run line {l:?}"));
+        let (a, b): (u64, u64) = (a.parse().unwrap(), b.parse().unwrap());
+        assert_eq!(a, next, "runs should be contiguous: {l:?}");
+        assert!(b >= a);
+        next = b + 1;
+    }
+    let frames = classify_json(demo, &[])["frames"].as_u64().unwrap();
+    assert_eq!(next, frames, "the runs should cover all {frames} frames");
+
+    let r = run(&[
+        "classify".to_string(),
+        s(demo),
+        "--method".into(),
+        "paper".into(),
+    ])
+    .ok();
+    r.check(
+        r.stdout.contains("paper"),
+        "the summary should say the paper's method was used",
+    );
+    r.check(
+        r.stdout
+            .lines()
+            .next()
+            .is_some_and(|l| l.contains("(paper method)")),
+        "first line should name the paper method",
+    );
+    let v = classify_json(demo, &["--method", "paper"]);
+    assert_eq!(v["method"], "paper");
+    // an unknown method is rejected by the argument parser
+    let r = run(&[
+        "classify".to_string(),
+        s(demo),
+        "--method".into(),
+        "magic".into(),
+    ]);
+    r.check(
+        r.code == Some(2) && r.stderr.contains("magic") && !r.stderr.contains("panicked"),
+        "unknown --method should be a usage error",
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// 7. the learner over a slice of the standard (simulated) dataset
+
+#[test]
+fn dataset_quick_evaluate_end_to_end() {
+    let d = TempDir::new("dataset");
+    let data = d.join("data");
+    let r = run(&[
+        "dataset".to_string(),
+        "-o".into(),
+        s(&data),
+        "--quick".into(),
+        "--json".into(),
+    ])
+    .ok();
+    let m = r.json();
+    let n_demos = m["demos"].as_u64().unwrap_or(0);
+    r.check(
+        n_demos >= 20,
+        "the quick dataset should have demonstrations",
+    );
+    assert!(data.join("manifest.json").is_file());
+
+    let r = run(&["evaluate".to_string(), s(&data), "--json".into()]).ok();
+    let e = r.json();
+    let demos = e["demos"].as_array().expect("demos array");
+    assert_eq!(
+        demos.len() as u64,
+        n_demos,
+        "every demonstration should be evaluated"
+    );
+    for noise in ["clean", "real", "noisy"] {
+        assert!(
+            demos.iter().any(|x| x["noise"] == noise),
+            "no {noise} demos"
+        );
+    }
+    let real: Vec<&Value> = demos.iter().filter(|x| x["noise"] == "real").collect();
+    let correct = real.iter().filter(|x| x["correct"] == true).count();
+    assert!(!real.is_empty());
+    assert!(
+        correct * 10 >= real.len() * 9,
+        "only {correct}/{} real-noise demos classified correctly: {:?}",
+        real.len(),
+        real.iter()
+            .filter(|x| x["correct"] != true)
+            .map(|x| x["name"].as_str().unwrap_or("?"))
+            .collect::<Vec<_>>()
+    );
+    let topples: Vec<&Value> = demos.iter().filter(|x| x["scene"] == "topple").collect();
+    assert!(!topples.is_empty(), "no topple demos");
+    for t in topples {
+        let deg = t["edge_direction_deg"]
+            .as_f64()
+            .unwrap_or_else(|| panic!("topple demo without an edge: {t}"));
+        assert!(
+            deg < 5.0,
+            "{}: edge direction off by {deg:.2} deg",
+            t["name"]
+        );
+    }
+    assert!(
+        e["fused"].as_array().is_some_and(|f| !f.is_empty()),
+        "fused edges expected"
+    );
+
+    // the Markdown tables go to a file on request
+    let md = d.join("eval.md");
+    let r = run(&[
+        "evaluate".to_string(),
+        s(&data),
+        "--markdown".into(),
+        s(&md),
+    ])
+    .ok();
+    r.check(
+        r.stdout.contains("Classification accuracy"),
+        "tables on stdout",
+    );
+    assert_eq!(std::fs::read_to_string(&md).unwrap(), r.stdout);
+
+    // a folder that is not a dataset is a clear error
+    let r = run(&["evaluate".to_string(), s(d.path())]).fails();
+    r.check(
+        r.stderr.contains("manifest.json") || r.stderr.contains(&s(d.path())),
+        "the message should name the folder or its manifest",
+    );
+}
