@@ -9,6 +9,7 @@ mod opts;
 mod plan;
 mod sim_cmds;
 mod synth_cmd;
+mod task_cmd;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -47,6 +48,8 @@ enum Command {
     Plot(learn::PlotArgs),
     /// Plan a topple on the palm from a learnt tree: the tilt axis and angle.
     Plan(plan::PlanArgs),
+    /// Run the toppling task on the simulated arm: default policy, one demonstration, planned topple.
+    Task(task_cmd::TaskArgs),
 }
 
 fn main() -> ExitCode {
@@ -61,6 +64,7 @@ fn main() -> ExitCode {
         Command::Evaluate(a) => learn::run_evaluate(a),
         Command::Plot(a) => learn::run_plot(a),
         Command::Plan(a) => plan::run(a),
+        Command::Task(a) => task_cmd::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

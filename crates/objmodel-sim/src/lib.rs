@@ -34,6 +34,7 @@ pub mod events;
 pub mod noise;
 pub mod scenes;
 pub mod spec;
+pub mod task;
 pub mod truth;
 pub mod world;
 
