@@ -23,6 +23,9 @@ pub struct DemoArgs {
     /// Random seed of the built-in data.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Boxes for the Fig. 1 task on the simulated arm (0 skips it; `objmodel task` runs more).
+    #[arg(long, default_value_t = 3)]
+    pub task_boxes: usize,
 }
 
 /// Run `objmodel demo`.
@@ -131,6 +134,39 @@ pub fn run(a: &DemoArgs) -> Result<()> {
             phi.map_or("?".into(), |p| format!("{:.2}°", p.to_degrees())),
             rel.display()
         );
+    }
+    // The Fig. 1 loop on the simulated arm: default policy, demonstration, learnt plan.
+    if a.task_boxes > 0 {
+        let task_dir = a.output.join("task");
+        println!("the task on the simulated Panda ({} boxes): default policy, one demonstration, the learnt plan", a.task_boxes);
+        crate::task_cmd::run(&crate::task_cmd::TaskArgs {
+            boxes: a.task_boxes,
+            seed: a.seed,
+            json: false,
+            no_speed: true,
+            plots: Some(task_dir.clone()),
+            plot_boxes: a.task_boxes,
+        })?;
+        let mut pngs: Vec<PathBuf> = std::fs::read_dir(&task_dir)
+            .map(|d| {
+                d.filter_map(|e| e.ok().map(|e| e.path()))
+                    .filter(|p| p.extension().is_some_and(|x| x == "png"))
+                    .collect()
+            })
+            .unwrap_or_default();
+        pngs.sort();
+        html += "<h2>The task on the simulated arm (Fig. 1, Fig. 5)</h2><p>Each box: the default policy (a fixed 10° tilt) first, then one instrumented demonstration, learning, and the planned topple. Run <code>objmodel task --boxes 20</code> for the success rates.</p>";
+        for png in &pngs {
+            let rel = png.strip_prefix(&a.output).unwrap_or(png);
+            let _ = write!(
+                html,
+                "<h3>{}</h3><img src=\"{}\">",
+                rel.file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_default(),
+                rel.display()
+            );
+        }
     }
     let index = a.output.join("index.html");
     objmodel::format::write_atomic(&index, html.as_bytes())?;
