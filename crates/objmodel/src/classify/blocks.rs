@@ -375,7 +375,6 @@ impl Core {
         let omega = so3_log(&q_rel);
         let theta2 = omega.norm_squared();
         let significant = theta2 / m.var_r + t_rel.norm_squared() / m.var_p > m.displaced;
-        let r_palm = self.config.paper.r_palm;
         self.append(f.index, f.t, Phase::Moving, Some(seg_index), |b| {
             if !significant {
                 return;
@@ -417,7 +416,6 @@ impl Core {
                 b.max_angle = theta;
                 b.max_line = Some((Line::through(r, u), omega));
             }
-            let _ = r_palm;
         });
     }
 

@@ -355,16 +355,15 @@ pub(super) fn analyse_segment(
             Label::Still
         } else if cut.contains(&i) {
             Label::General
-        } else if let Some(l) = line.filter(|l| {
+        } else if line.is_some_and(|l| {
             if b.line.n > 0.0 {
-                line_inlier(&b.line, l, &mut th)
+                line_inlier(&b.line, &l, &mut th)
             } else {
                 // Too little rotation to have an axis: consistent with the edge if its motion
                 // lies in the plane normal to the edge.
                 plane_inlier(&b.plane, &l.direction, &mut th)
             }
         }) {
-            let _ = l;
             Label::Topple
         } else if plane.is_some_and(|n| plane_inlier(&b.plane, &n, &mut th)) {
             Label::Slide

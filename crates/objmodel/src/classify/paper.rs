@@ -67,7 +67,7 @@ impl PaperCore {
     pub(super) fn push(&mut self, item: Item) {
         let Item::Frame(f) = item else { return };
         let th = self.config.paper;
-        let (q0, p0, down0) =
+        let (q0, p0, _) =
             *self
                 .reference
                 .get_or_insert((f.q, f.p, f.down.map(|d| f.q.inverse() * d)));
@@ -118,7 +118,6 @@ impl PaperCore {
                 ));
             }
         }
-        let _ = down0;
         self.label(f.index, f.t, label);
         self.previous = Some((xi, screw, normal));
     }
