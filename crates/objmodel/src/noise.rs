@@ -68,13 +68,72 @@ pub fn estimate(samples: &[PoseSample]) -> Option<NoiseModel> {
     }
     let sp = crate::stats::robust_sigma_zero_mean(&mut pos)?;
     let sr = crate::stats::robust_sigma_zero_mean(&mut rot)?;
+    // Trackers often filter their output, and filtered noise is correlated from frame to
+    // frame: second differences then understate it. The scatter about a straight line over
+    // short windows does not; take the larger of the two (they agree for white noise).
+    let (wp, wr) = window_scatter(samples).unwrap_or((0.0, 0.0));
     Some(
         NoiseModel {
-            sigma_position: sp,
-            sigma_rotation: sr,
+            sigma_position: sp.max(wp),
+            sigma_rotation: sr.max(wr),
         }
         .floored(),
     )
+}
+
+/// Frames per window of [`window_scatter`].
+pub const SCATTER_WINDOW: usize = 9;
+
+/// Median over non-overlapping windows of [`SCATTER_WINDOW`] samples of the robust scale of the
+/// residuals about a least-squares straight line in time, per axis (corrected for the line's two
+/// parameters): the noise level including its correlation over a window. Motion that is not
+/// uniform within a window inflates only those windows, which the median ignores.
+pub fn window_scatter(samples: &[PoseSample]) -> Option<(f64, f64)> {
+    let k = SCATTER_WINDOW;
+    let (mut pos, mut rot) = (Vec::new(), Vec::new());
+    for w in samples.chunks_exact(k) {
+        let tm = w.iter().map(|s| s.0).sum::<f64>() / k as f64;
+        let stt: f64 = w.iter().map(|s| (s.0 - tm).powi(2)).sum();
+        if stt <= 0.0 {
+            continue;
+        }
+        let qc = w[k / 2].1;
+        let xs: Vec<[f64; 6]> = w
+            .iter()
+            .map(|(_, q, p)| {
+                let r = so3_log(&(qc.inverse() * q));
+                [r.x, r.y, r.z, p.x, p.y, p.z]
+            })
+            .collect();
+        let (mut rr, mut pr) = (Vec::with_capacity(3 * k), Vec::with_capacity(3 * k));
+        for j in 0..6 {
+            let m = xs.iter().map(|x| x[j]).sum::<f64>() / k as f64;
+            let slope = w
+                .iter()
+                .zip(&xs)
+                .map(|(s, x)| (s.0 - tm) * (x[j] - m))
+                .sum::<f64>()
+                / stt;
+            let res = w
+                .iter()
+                .zip(&xs)
+                .map(|(s, x)| (x[j] - m - slope * (s.0 - tm)).abs());
+            if j < 3 {
+                rr.extend(res)
+            } else {
+                pr.extend(res)
+            }
+        }
+        // Robust per window (a tag flip in it must not count): median |residual|, scaled to σ
+        // and corrected for the two parameters of the line.
+        let dof = (k as f64 / (k - 2) as f64).sqrt();
+        rot.push(crate::stats::robust_sigma_zero_mean(&mut rr)? * dof);
+        pos.push(crate::stats::robust_sigma_zero_mean(&mut pr)? * dof);
+    }
+    Some((
+        crate::stats::median(&mut pos)?,
+        crate::stats::median(&mut rot)?,
+    ))
 }
 
 #[cfg(test)]
