@@ -59,25 +59,31 @@ pub struct World {
     pub dt: f64,
 }
 
+/// An empty rapier world with gravity `-9.81 e_z` m/s² and the contact settings of `p`
+/// (shared by [`World`] and the arm's [`crate::arm::ArmSim`]).
+pub fn physics_world(p: &PhysicsParams) -> PhysicsWorld {
+    let mut pw = PhysicsWorld::new();
+    pw.gravity = Vector::new(0.0, 0.0, -9.81);
+    let ip = &mut pw.integration_parameters;
+    ip.dt = 1.0 / p.step_hz;
+    ip.num_solver_iterations = p.solver_iterations;
+    ip.contact_recycling = p.contact_recycling;
+    ip.friction_model = if p.simplified_friction {
+        FrictionModel::Simplified
+    } else {
+        FrictionModel::Coulomb
+    };
+    let soft = SpringCoefficients::new(p.contact_hz, p.contact_damping);
+    ip.contact_softness = soft;
+    ip.static_contact_softness = soft;
+    pw
+}
+
 impl World {
     /// An empty world with gravity `-9.81 e_z` m/s².
     pub fn new(p: &PhysicsParams) -> World {
-        let mut pw = PhysicsWorld::new();
-        pw.gravity = Vector::new(0.0, 0.0, -9.81);
-        let ip = &mut pw.integration_parameters;
-        ip.dt = 1.0 / p.step_hz;
-        ip.num_solver_iterations = p.solver_iterations;
-        ip.contact_recycling = p.contact_recycling;
-        ip.friction_model = if p.simplified_friction {
-            FrictionModel::Simplified
-        } else {
-            FrictionModel::Coulomb
-        };
-        let soft = SpringCoefficients::new(p.contact_hz, p.contact_damping);
-        ip.contact_softness = soft;
-        ip.static_contact_softness = soft;
         World {
-            pw,
+            pw: physics_world(p),
             t: 0.0,
             dt: 1.0 / p.step_hz,
         }

@@ -123,23 +123,7 @@ pub struct ArmSim {
 }
 
 /// A rapier world set up like [`crate::world::World::new`].
-pub fn physics_world(p: &PhysicsParams) -> PhysicsWorld {
-    let mut pw = PhysicsWorld::new();
-    pw.gravity = Vector::new(0.0, 0.0, -9.81);
-    let ip = &mut pw.integration_parameters;
-    ip.dt = 1.0 / p.step_hz;
-    ip.num_solver_iterations = p.solver_iterations;
-    ip.contact_recycling = p.contact_recycling;
-    ip.friction_model = if p.simplified_friction {
-        FrictionModel::Simplified
-    } else {
-        FrictionModel::Coulomb
-    };
-    let soft = SpringCoefficients::new(p.contact_hz, p.contact_damping);
-    ip.contact_softness = soft;
-    ip.static_contact_softness = soft;
-    pw
-}
+pub use crate::world::physics_world;
 
 /// Rapier mass properties of a body spec (principal axes from nalgebra's eigen-decomposition).
 fn mass_properties(b: &BodySpec) -> MassProperties {
