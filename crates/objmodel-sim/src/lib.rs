@@ -10,6 +10,10 @@
 //! * [`noise`]: tracking noise (Gaussian, dropped frames, sign flips, tag mirror flips).
 //! * [`events`], [`truth`]: what really happened, in the tag frame.
 //! * [`demo`]: [`simulate`] and [`write_demo`]; [`dataset`]: the standard data set.
+//! * [`eval`]: the learner measured against the truth of a data set.
+//! * [`arm`]: a 7-DoF Franka Panda with a palm (URDF, kinematics, IK, rapier multibody).
+//! * [`task`]: the toppling skill on the arm and the Fig. 1 loop (try, fail, ask for a
+//!   demonstration, learn, succeed).
 //!
 //! Units are SI (m, kg, s, rad). Frames: `world` (z up, the table's top is `z = 0`), `box` (the
 //! box's geometric centre and edges), `tag` (the tracked frame), `palm` (the plate's top
