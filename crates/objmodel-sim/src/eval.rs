@@ -27,23 +27,23 @@ pub struct DemoResult {
     pub kind: String,
     /// Whether the learnt kind is right (for a compound: a topple about the true edge was found).
     pub correct: bool,
-    /// Edge direction error [deg], for demos with an edge.
+    /// Edge direction error \[deg\], for demos with an edge.
     pub edge_direction_deg: Option<f64>,
-    /// Edge position error [mm]: distance between learnt and true points closest to the origin.
+    /// Edge position error \[mm\]: distance between learnt and true points closest to the origin.
     pub edge_position_mm: Option<f64>,
-    /// Face normal error [deg] (sign included), for slides.
+    /// Face normal error \[deg\] (sign included), for slides.
     pub face_normal_deg: Option<f64>,
-    /// φ error [deg] of the palm-at-onset estimate (instrumented).
+    /// φ error \[deg\] of the palm-at-onset estimate (instrumented).
     pub phi_onset_deg: Option<f64>,
-    /// φ error [deg] of the pendulum-on-palm fit (instrumented).
+    /// φ error \[deg\] of the pendulum-on-palm fit (instrumented).
     pub phi_support_deg: Option<f64>,
-    /// φ error [deg] of the pendulum fit to the fall.
+    /// φ error \[deg\] of the pendulum fit to the fall.
     pub phi_fall_deg: Option<f64>,
-    /// φ error [deg] of the combined estimate that goes into the tree.
+    /// φ error \[deg\] of the combined estimate that goes into the tree.
     pub phi_deg: Option<f64>,
-    /// Onset time error [s] against the simulator's topple start (instrumented).
+    /// Onset time error \[s\] against the simulator's topple start (instrumented).
     pub onset_s: Option<f64>,
-    /// Inertia ratio `I_e/(m l_p)` [m] fitted to the fall, and its truth for the box.
+    /// Inertia ratio `I_e/(m l_p)` \[m\] fitted to the fall, and its truth for the box.
     pub inertia_ratio_m: Option<(f64, f64)>,
 }
 
@@ -56,9 +56,9 @@ pub struct FusedResult {
     pub noise: String,
     /// Demonstrations fused into the edge.
     pub support: usize,
-    /// Direction error [deg].
+    /// Direction error \[deg\].
     pub direction_deg: f64,
-    /// Position error [mm].
+    /// Position error \[mm\].
     pub position_mm: f64,
 }
 
@@ -82,7 +82,7 @@ pub struct ComResult {
     pub noise: String,
     /// Pendulums used.
     pub pendulums: usize,
-    /// Distance from the true CoM [mm].
+    /// Distance from the true CoM \[mm\].
     pub error_mm: f64,
 }
 
@@ -231,7 +231,7 @@ pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
     Ok(Evaluation { demos, fused, coms })
 }
 
-/// `I_e/(m l_p)` [m] of the true box about its true edge: homogeneous box inertia about the
+/// `I_e/(m l_p)` \[m\] of the true box about its true edge: homogeneous box inertia about the
 /// CoM, parallel-axis to the edge (the sim's boxes are homogeneous apart from the CoM offset).
 fn true_inertia_ratio(t: &Truth) -> f64 {
     let (Some(e), d) = (t.edge, t.box_dims) else {

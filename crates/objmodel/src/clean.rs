@@ -19,16 +19,16 @@
 use crate::se3::{rotation_angle_between, so3_exp, so3_log};
 use nalgebra::{UnitQuaternion, Vector3};
 
-/// A frame as it flows through cleaning: index in the file, time [s], orientation, position [m].
+/// A frame as it flows through cleaning: index in the file, time \[s\], orientation, position \[m\].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RawFrame {
     /// 0-based index of the pose in its file.
     pub index: usize,
-    /// Time [s].
+    /// Time \[s\].
     pub t: f64,
     /// Orientation (any sign on input; sign-continuous on output).
     pub q: UnitQuaternion<f64>,
-    /// Position [m].
+    /// Position \[m\].
     pub p: Vector3<f64>,
     /// Unit "down" (gravity direction) in the frame that `q, p` are relative to, when known.
     pub down: Option<Vector3<f64>>,
@@ -53,7 +53,7 @@ fn align(q: UnitQuaternion<f64>, to: &UnitQuaternion<f64>) -> UnitQuaternion<f64
     }
 }
 
-/// Rotation residual [rad] of `f` from the geodesic through `a` and `b`, evaluated at `f.t`
+/// Rotation residual \[rad\] of `f` from the geodesic through `a` and `b`, evaluated at `f.t`
 /// (interpolation or extrapolation), and the factor of its variance over the per-frame one.
 fn residual(a: &RawFrame, b: &RawFrame, f: &RawFrame) -> (f64, f64) {
     let s = (f.t - a.t) / (b.t - a.t);
@@ -64,7 +64,7 @@ fn residual(a: &RawFrame, b: &RawFrame, f: &RawFrame) -> (f64, f64) {
 }
 
 impl Cleaner {
-    /// A cleaner for orientation noise `sigma_rotation` [rad] per axis, testing at level `alpha`.
+    /// A cleaner for orientation noise `sigma_rotation` \[rad\] per axis, testing at level `alpha`.
     pub fn new(sigma_rotation: f64, alpha: f64) -> Self {
         Self {
             threshold_sq: crate::stats::chi2_threshold(3.0, alpha),

@@ -15,29 +15,29 @@ use crate::trajectory::{Demonstration, StampedPose};
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
-/// Largest relative rotation [rad] (15°) kept in the onset window: enough of the start of the
+/// Largest relative rotation \[rad\] (15°) kept in the onset window: enough of the start of the
 /// topple to fix the change-point model, before the fall stops being polynomial.
 pub const ONSET_WINDOW_RAD: f64 = 0.26;
-/// Rest before the first moving frame [s] included in the onset window.
+/// Rest before the first moving frame \[s\] included in the onset window.
 pub const ONSET_REST_S: f64 = 2.0;
-/// Relative rotation [rad] (8.6°) up to which the pendulum-on-palm model is fitted (the palm
+/// Relative rotation \[rad\] (8.6°) up to which the pendulum-on-palm model is fitted (the palm
 /// may move fast after that, and the object may leave its edge).
 pub const SUPPORT_FIT_RAD: f64 = 0.15;
-/// Model tolerance [rad] of the pendulum (0.1°), added in quadrature to the tracking noise when
+/// Model tolerance \[rad\] of the pendulum (0.1°), added in quadrature to the tracking noise when
 /// fitting a fall: contacts are compliant and edges not perfectly sharp, so a real fall
 /// departs from the ideal pendulum by about this much.
 pub const PENDULUM_TOLERANCE_RAD: f64 = 0.001_745_329_251_994_329_5;
-/// Frames within this angle [rad] (2°) of where the object comes to rest are the landing, not
+/// Frames within this angle \[rad\] (2°) of where the object comes to rest are the landing, not
 /// the fall.
 pub const LANDING_RAD: f64 = 0.034_906_585_039_886_59;
-/// Rest frames closer than this [s] to the first moving frame are not used as the reference.
+/// Rest frames closer than this \[s\] to the first moving frame are not used as the reference.
 pub const REST_MARGIN_S: f64 = 0.3;
 /// At most this many rest frames are averaged for the reference.
 pub const MAX_REST_FRAMES: usize = 60;
-/// Half-width [s] of the local linear smoothing of the palm tilt.
+/// Half-width \[s\] of the local linear smoothing of the palm tilt.
 pub const SMOOTH_S: f64 = 0.25;
 
-/// Local linear regression smoothing of `y(t)` with half-width `h` [s].
+/// Local linear regression smoothing of `y(t)` with half-width `h` \[s\].
 fn smooth(t: &[f64], y: &[f64], h: f64) -> Vec<f64> {
     (0..t.len())
         .map(|i| {
@@ -51,11 +51,11 @@ fn smooth(t: &[f64], y: &[f64], h: f64) -> Vec<f64> {
 /// Angles of one topple over time, for analysis and plots.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct AngleSeries {
-    /// Times [s].
+    /// Times \[s\].
     pub t: Vec<f64>,
-    /// ψ_obj [rad].
+    /// ψ_obj \[rad\].
     pub object: Vec<f64>,
-    /// ψ_palm [rad] (instrumented), empty otherwise.
+    /// ψ_palm \[rad\] (instrumented), empty otherwise.
     pub palm: Vec<f64>,
 }
 
@@ -68,18 +68,18 @@ pub struct ToppleDynamics {
     pub resting_face_normal: Vector3<f64>,
     /// Topple onset relative to the palm (instrumented).
     pub onset: Option<Onset>,
-    /// φ as the palm's tilt at the onset (instrumented; the paper's method) [rad].
+    /// φ as the palm's tilt at the onset (instrumented; the paper's method) \[rad\].
     pub phi_onset: Option<f64>,
-    /// Its standard deviation [rad].
+    /// Its standard deviation \[rad\].
     pub phi_onset_sigma: Option<f64>,
     /// The pendulum on the tilting palm fitted to the onset and early fall jointly
     /// (instrumented): its φ is the palm tilt at which the object starts to turn.
     pub on_support: Option<FallFit>,
     /// The pendulum fitted to the fall.
     pub fall: Option<FallFit>,
-    /// The best φ [rad]: from the onset when instrumented, else from the fall.
+    /// The best φ \[rad\]: from the onset when instrumented, else from the fall.
     pub phi: Option<f64>,
-    /// Its standard deviation [rad].
+    /// Its standard deviation \[rad\].
     pub phi_sigma: Option<f64>,
     /// The angles.
     pub series: AngleSeries,

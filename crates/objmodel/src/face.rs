@@ -19,7 +19,7 @@ use crate::edge::EdgeObservation;
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
-/// Assumed standard deviation [rad] of the support's tilt from level (tables and palms at rest
+/// Assumed standard deviation \[rad\] of the support's tilt from level (tables and palms at rest
 /// are level to about a degree), the accuracy of a face normal taken from gravity at rest.
 pub const SUPPORT_LEVEL_SIGMA_RAD: f64 = 0.017_453_292_519_943_295;
 
@@ -40,11 +40,11 @@ pub struct FaceObservation {
     pub demo: String,
     /// Unit normal (outward when `sign_known`).
     pub normal: Vector3<f64>,
-    /// Covariance of the normal [rad²] (normal to it).
+    /// Covariance of the normal \[rad²\] (normal to it).
     pub normal_cov: Matrix3<f64>,
-    /// Offset [m], when known.
+    /// Offset \[m\], when known.
     pub offset: Option<f64>,
-    /// Variance of the offset [m²], when known.
+    /// Variance of the offset \[m²\], when known.
     pub offset_var: Option<f64>,
     /// Whether the normal's sign (outward) is known.
     pub sign_known: bool,
@@ -74,7 +74,7 @@ impl FaceObservation {
         }
     }
 
-    /// RMS standard deviation [rad] of the normal, per axis.
+    /// RMS standard deviation \[rad\] of the normal, per axis.
     pub fn sigma_normal(&self) -> f64 {
         (self.normal_cov.trace() / 2.0).max(0.0).sqrt()
     }

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 /// An infinite line `{point + λ direction}`, `point` the line's point closest to the origin.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Line {
-    /// Point of the line closest to the origin [m].
+    /// Point of the line closest to the origin \[m\].
     pub point: Vector3<f64>,
     /// Unit direction.
     pub direction: Vector3<f64>,
@@ -26,7 +26,7 @@ impl Line {
         }
     }
 
-    /// Distance [m] from `x` to the line.
+    /// Distance \[m\] from `x` to the line.
     pub fn distance_to(&self, x: &Vector3<f64>) -> f64 {
         let r = x - self.point;
         (r - self.direction * self.direction.dot(&r)).norm()
@@ -46,11 +46,11 @@ impl Line {
 pub struct Plane {
     /// Unit normal.
     pub normal: Vector3<f64>,
-    /// Offset [m]: signed distance of the plane from the origin along `normal`.
+    /// Offset \[m\]: signed distance of the plane from the origin along `normal`.
     pub offset: f64,
 }
 
-/// Signed angle [rad] from `a` to `b` about `axis` (unit), both projected onto the plane
+/// Signed angle \[rad\] from `a` to `b` about `axis` (unit), both projected onto the plane
 /// normal to it (right-hand rule).
 pub fn angle_about(axis: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
     let pa = a - axis * axis.dot(a);
@@ -71,8 +71,8 @@ pub fn sym_eigen(m: &Matrix3<f64>) -> ([f64; 3], [Vector3<f64>; 3]) {
 /// Weighted sufficient statistics of a set of lines `(r_k, u_k)` (points closest to the origin,
 /// unit directions), for the directional mean of the axes and the euclidean mean of the points.
 ///
-/// * point weights `w_k` = 1 / (variance of `r_k` per axis across the line) [1/m²],
-/// * direction weights `a_k` = 1 / (variance of `u_k` per axis) [1/rad²].
+/// * point weights `w_k` = 1 / (variance of `r_k` per axis across the line) \[1/m²\],
+/// * direction weights `a_k` = 1 / (variance of `u_k` per axis) \[1/rad²\].
 ///
 /// The mean direction is the principal eigenvector of `Σ a_k u_k u_kᵀ` (axial data: u and -u
 /// count the same), and the mean point is the weighted mean of the `r_k` projected onto the
@@ -170,7 +170,7 @@ impl LineStats {
     }
 
     /// Covariances of the mean line from the weighted scatter of the lines about it:
-    /// `(point covariance [m²], direction covariance [rad²])`, each divided by the effective
+    /// `(point covariance \[m²\], direction covariance \[rad²\])`, each divided by the effective
     /// number of independent lines `(Σw)²/Σw²` and projected normal to the line.
     pub fn covariances(&self, line: &Line) -> (Matrix3<f64>, Matrix3<f64>) {
         let u = line.direction;
@@ -234,7 +234,7 @@ impl PlaneStats {
         (self.sww.trace() - n.dot(&(self.sww * n)) + n.dot(&(self.stt * n))).max(0.0)
     }
 
-    /// Covariance [rad²] of the fitted normal: the inverse of the χ² Hessian restricted to the
+    /// Covariance \[rad²\] of the fitted normal: the inverse of the χ² Hessian restricted to the
     /// plane normal to n, `(S_ωω' + S_tt)` projected, where the Hessian of the quadratic form
     /// about its minimum is `2(M - λ_min I)` on that plane.
     pub fn normal_covariance(&self, n: &Vector3<f64>) -> Matrix3<f64> {

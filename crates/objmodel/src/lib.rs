@@ -12,7 +12,7 @@
 //!
 //! * [`se3`]: exact exponential and logarithm of SE(3) and SO(3), twists.
 //! * [`screw`]: screw parameters of a twist (paper eq. 1-3) and the plane normal (eq. 5).
-//! * [`format`]: TUM and CSV pose files, with errors that name file, line and problem.
+//! * [`format`](mod@format): TUM and CSV pose files, with errors that name file, line and problem.
 //! * [`trajectory`]: time-stamped poses, demonstrations (optionally with a palm).
 //! * [`clean`]: quaternion sign continuity and rejection of single-frame tag flips.
 //! * [`noise`]: tracking-noise estimation from the data itself.

@@ -12,19 +12,19 @@ use crate::se3::so3_log;
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
-/// Smallest position noise [m] the tests assume (50 µm). Below it, pose changes are not
+/// Smallest position noise \[m\] the tests assume (50 µm). Below it, pose changes are not
 /// demonstrations: rigid contacts comply and settle at this scale (a box on a tilting palm
 /// shifts by micrometres as the load moves), and no camera tracker resolves them.
 pub const MIN_SIGMA_POSITION_M: f64 = 5e-5;
-/// Smallest rotation noise [rad] the tests assume (2e-4 rad, 0.011°), for the same reason.
+/// Smallest rotation noise \[rad\] the tests assume (2e-4 rad, 0.011°), for the same reason.
 pub const MIN_SIGMA_ROTATION_RAD: f64 = 2e-4;
 
 /// Per-axis standard deviations of the tracking noise.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct NoiseModel {
-    /// Position noise per axis [m].
+    /// Position noise per axis \[m\].
     pub sigma_position: f64,
-    /// Orientation noise per axis [rad] (of the rotation vector of the error).
+    /// Orientation noise per axis \[rad\] (of the rotation vector of the error).
     pub sigma_rotation: f64,
 }
 
@@ -38,7 +38,7 @@ impl NoiseModel {
     }
 }
 
-/// One sample for the estimator: time [s], orientation, position [m].
+/// One sample for the estimator: time \[s\], orientation, position \[m\].
 pub type PoseSample = (f64, UnitQuaternion<f64>, Vector3<f64>);
 
 /// Estimate the noise from consecutive samples (at least 3; sign continuity not required).

@@ -7,7 +7,7 @@
 //! ```
 //!
 //! (ψ = 0 resting on the face, ψ = φ balanced over the edge). The motion determines φ and
-//! `k = m g l_p / I_e` [1/s²], i.e. the ratio `I_e/(m l_p) = g/k` [m]; `l_p` itself needs an
+//! `k = m g l_p / I_e` \[1/s²\], i.e. the ratio `I_e/(m l_p) = g/k` \[m\]; `l_p` itself needs an
 //! inertia model: for a solid homogeneous box `I_e = (4/3) m l_p²`, so `l_p = (3/4) g/k`.
 //!
 //! Two estimators:
@@ -21,15 +21,15 @@
 
 use serde::{Deserialize, Serialize};
 
-/// Standard gravity [m/s²].
+/// Standard gravity \[m/s²\].
 pub const G: f64 = 9.806_65;
 
 /// A detected topple onset.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Onset {
-    /// Onset time [s].
+    /// Onset time \[s\].
     pub t: f64,
-    /// Standard deviation of the onset time [s].
+    /// Standard deviation of the onset time \[s\].
     pub sigma_t: f64,
     /// χ² per degree of freedom of the two-phase fit.
     pub chi2_per_dof: f64,
@@ -117,10 +117,10 @@ fn levenberg_marquardt<const N: usize>(
     (p, cur, jtj)
 }
 
-/// Shape of the rotation after the onset, `s = t - τ` [s]: linearising the equation of motion
+/// Shape of the rotation after the onset, `s = t - τ` \[s\]: linearising the equation of motion
 /// about the balance point, with the support still tilting at a constant rate, gives
 /// `θ̈ = ω² (θ + β̇ s)`, whose solution from rest is `θ = β̇ (sinh(ω s)/ω - s)`: cubic at
-/// first (`β̇ ω² s³/6`), then exponential. `ω = sqrt(k)` [rad/s].
+/// first (`β̇ ω² s³/6`), then exponential. `ω = sqrt(k)` \[rad/s\].
 fn onset_shape(s: f64, omega: f64) -> f64 {
     if s <= 0.0 {
         0.0
@@ -160,11 +160,11 @@ fn two_phase_sse(t: &[f64], theta: &[f64], tau: f64, omega: f64) -> Option<f64> 
     )
 }
 
-/// Rates ω [rad/s] tried by the onset model: boxes of a few cm to half a metre.
+/// Rates ω \[rad/s\] tried by the onset model: boxes of a few cm to half a metre.
 const ONSET_OMEGAS: [f64; 10] = [2.0, 3.0, 4.5, 6.0, 8.0, 10.0, 13.0, 17.0, 22.0, 30.0];
 
-/// The onset of rotation in `theta(t)` [rad], a series that is constant (at rest) and then
-/// grows, with per-sample noise `sigma` [rad]. The series should run from some rest before the
+/// The onset of rotation in `theta(t)` \[rad\], a series that is constant (at rest) and then
+/// grows, with per-sample noise `sigma` \[rad\]. The series should run from some rest before the
 /// onset to a moderate angle after it (the caller cuts it, e.g. at 15°). `None` if too short.
 pub fn onset(t: &[f64], theta: &[f64], sigma: f64) -> Option<Onset> {
     let n = t.len();
@@ -220,25 +220,25 @@ pub fn onset(t: &[f64], theta: &[f64], sigma: f64) -> Option<Onset> {
 /// A fitted pendulum.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FallFit {
-    /// CoM angle from the vertical through the edge, resting on the face [rad].
+    /// CoM angle from the vertical through the edge, resting on the face \[rad\].
     pub phi: f64,
-    /// Standard deviation of phi [rad].
+    /// Standard deviation of phi \[rad\].
     pub phi_sigma: f64,
-    /// `k = m g l_p / I_e` [1/s²].
+    /// `k = m g l_p / I_e` \[1/s²\].
     pub k: f64,
     /// Standard deviation of k.
     pub k_sigma: f64,
-    /// `I_e / (m l_p) = g / k` [m].
+    /// `I_e / (m l_p) = g / k` \[m\].
     pub inertia_ratio_m: f64,
-    /// `l_p` [m] under the homogeneous-box inertia model, `(3/4) g / k`.
+    /// `l_p` \[m\] under the homogeneous-box inertia model, `(3/4) g / k`.
     pub l_p_homogeneous: f64,
     /// χ² per degree of freedom of the fit.
     pub chi2_per_dof: f64,
     /// Frames used.
     pub frames: usize,
-    /// Time span fitted [s].
+    /// Time span fitted \[s\].
     pub t_start: f64,
-    /// End of the fitted span [s].
+    /// End of the fitted span \[s\].
     pub t_end: f64,
 }
 
@@ -264,7 +264,7 @@ pub fn simulate(phi: f64, k: f64, t0: f64, psi0: f64, dpsi0: f64, t: &[f64]) -> 
     out
 }
 
-/// Fit the pendulum to ψ(t) [rad] with noise `sigma` [rad], starting from the guess `phi0`.
+/// Fit the pendulum to ψ(t) \[rad\] with noise `sigma` \[rad\], starting from the guess `phi0`.
 /// Parameters: φ, k, and the state (ψ, ψ̇) at the first sample. Gauss-Newton with a numerical
 /// Jacobian and step halving; covariance from the inverse normal matrix scaled by the noise.
 pub fn fit_fall(t: &[f64], psi: &[f64], sigma: f64, phi0: f64) -> Option<FallFit> {
@@ -384,8 +384,8 @@ pub fn simulate_on_support(phi: f64, k: f64, t: &[f64], beta: &[f64]) -> Vec<f64
 }
 
 /// φ and k from an instrumented topple: the object's rotation relative to the palm, `theta`
-/// [rad] (zero at rest), against the palm's tilt `beta` [rad] (smoothed), both at times `t`,
-/// with noise `sigma` [rad] on theta. The object starts to turn exactly when the tilt reaches
+/// \[rad\] (zero at rest), against the palm's tilt `beta` \[rad\] (smoothed), both at times `t`,
+/// with noise `sigma` \[rad\] on theta. The object starts to turn exactly when the tilt reaches
 /// φ, so φ is fixed by the whole onset and the early fall jointly, not by a threshold. Grid
 /// search around `phi0`, then Levenberg-Marquardt on (φ, k).
 pub fn fit_on_support(

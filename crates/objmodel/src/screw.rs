@@ -4,18 +4,18 @@
 //!
 //! ```text
 //! axis  l = { r + λ ω/θ : λ ∈ R },   r = ω × v / θ²      (eq. 1, 4)
-//! pitch p = ωᵀ v / θ²  [m/rad]                              (eq. 2)
-//! magnitude m = θ  [rad]                                    (eq. 3)
+//! pitch p = ωᵀ v / θ²  \[m/rad\]                              (eq. 2)
+//! magnitude m = θ  \[rad\]                                    (eq. 3)
 //! ```
 //!
 //! `r` is the point of the axis closest to the origin of the frame ξ is expressed in. For
 //! ω = 0 (a pure translation) the axis is `{λ v/|v|}`, the pitch is infinite and the magnitude
-//! is |v| [m]. Eq. 5's plane normal is ω/θ for ω ≠ 0 and `v(t) × v(t-1)` normalised otherwise.
+//! is |v| \[m\]. Eq. 5's plane normal is ω/θ for ω ≠ 0 and `v(t) × v(t-1)` normalised otherwise.
 
 use crate::se3::Twist;
 use nalgebra::{Unit, Vector3};
 
-/// |ω| [rad] at or below which a twist counts as a pure translation (ω = 0 in eq. 1-3).
+/// |ω| \[rad\] at or below which a twist counts as a pure translation (ω = 0 in eq. 1-3).
 pub const ZERO_ROTATION_RAD: f64 = 1e-12;
 
 /// A screw: a line (the axis), a pitch and a magnitude.
@@ -23,11 +23,11 @@ pub const ZERO_ROTATION_RAD: f64 = 1e-12;
 pub struct Screw {
     /// Unit direction of the axis (ω/θ, or v/|v| for a pure translation).
     pub direction: Unit<Vector3<f64>>,
-    /// Point of the axis closest to the origin [m]; the origin for a pure translation.
+    /// Point of the axis closest to the origin \[m\]; the origin for a pure translation.
     pub point: Vector3<f64>,
-    /// Pitch [m/rad]: translation along the axis per radian; `f64::INFINITY` for a translation.
+    /// Pitch \[m/rad\]: translation along the axis per radian; `f64::INFINITY` for a translation.
     pub pitch: f64,
-    /// Magnitude: rotation angle θ [rad], or the translation |v| [m] for a pure translation.
+    /// Magnitude: rotation angle θ \[rad\], or the translation |v| \[m\] for a pure translation.
     pub magnitude: f64,
 }
 
@@ -72,7 +72,7 @@ pub fn plane_normal(xi: &Twist, previous: Option<&Twist>) -> Option<Unit<Vector3
     Unit::try_new(c, 1e-300)
 }
 
-/// The unsigned angle [rad] between two lines' directions, in [0, π/2].
+/// The unsigned angle \[rad\] between two lines' directions, in [0, π/2].
 pub fn line_angle(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
     let c = a.cross(b).norm();
     let d = a.dot(b).abs();

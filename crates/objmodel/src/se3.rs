@@ -1,7 +1,7 @@
 //! The Lie groups SO(3) and SE(3): exact exponential and logarithm, and twists.
 //!
 //! A twist ξ = (v, ω) ∈ se(3) ≅ R⁶ generates the rigid motion `exp(ξ)`; for a rotation vector
-//! ω with θ = |ω| and Ω = [ω]ₓ:
+//! ω with θ = |ω| and Ω = \[ω\]ₓ:
 //!
 //! ```text
 //! exp(ξ) = (R, t),  R = I + sinθ/θ Ω + (1 - cosθ)/θ² Ω²,   t = V v,
@@ -18,7 +18,7 @@
 
 use nalgebra::{Isometry3, Matrix3, Quaternion, Translation3, UnitQuaternion, Vector3, Vector6};
 
-/// Rotation angle [rad] below which the coefficients `C(θ)` and `c(θ)` come from their Taylor
+/// Rotation angle \[rad\] below which the coefficients `C(θ)` and `c(θ)` come from their Taylor
 /// series instead of the closed forms (which cancel catastrophically near 0). At 0.1 rad the
 /// series, truncated after the θ⁸ (resp. θ⁶) term, is exact to 2e-16 relative.
 pub const SERIES_THRESHOLD_RAD: f64 = 0.1;
@@ -59,7 +59,7 @@ fn coef_vinv(theta: f64) -> f64 {
     }
 }
 
-/// Exponential of SO(3): the rotation by `|omega|` [rad] about `omega`.
+/// Exponential of SO(3): the rotation by `|omega|` \[rad\] about `omega`.
 pub fn so3_exp(omega: &Vector3<f64>) -> UnitQuaternion<f64> {
     let theta = omega.norm();
     let h = 0.5 * theta;
@@ -102,13 +102,13 @@ pub fn so3_log(q: &UnitQuaternion<f64>) -> Vector3<f64> {
     v * k
 }
 
-/// A twist ξ = (v, ω) ∈ se(3): `omega` [rad] is the rotation vector, `v` [m] the linear part.
+/// A twist ξ = (v, ω) ∈ se(3): `omega` \[rad\] is the rotation vector, `v` \[m\] the linear part.
 /// `exp(ξ)` is the rigid motion obtained by following ξ for unit time.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Twist {
-    /// Linear part v [m].
+    /// Linear part v \[m\].
     pub v: Vector3<f64>,
-    /// Angular part ω [rad].
+    /// Angular part ω \[rad\].
     pub omega: Vector3<f64>,
 }
 
@@ -153,13 +153,13 @@ impl Twist {
         Isometry3::from_parts(Translation3::from(t), so3_exp(&self.omega))
     }
 
-    /// Rotation angle θ = |ω| [rad].
+    /// Rotation angle θ = |ω| \[rad\].
     pub fn angle(&self) -> f64 {
         self.omega.norm()
     }
 }
 
-/// The geodesic distance between two rotations [rad], in [0, π]; q and -q count as equal.
+/// The geodesic distance between two rotations \[rad\], in [0, π]; q and -q count as equal.
 pub fn rotation_angle_between(a: &UnitQuaternion<f64>, b: &UnitQuaternion<f64>) -> f64 {
     let d = a.quaternion().dot(b.quaternion()).abs().min(1.0);
     // 2·atan2(|a⁻¹b|_v, |w|), accurate for small angles unlike 2·acos(d).

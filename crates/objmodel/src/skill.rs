@@ -18,7 +18,7 @@ use crate::{Error, Result};
 use nalgebra::{Isometry3, Point3, Vector3};
 use serde::{Deserialize, Serialize};
 
-/// Smallest margin [rad] past φ (2°): real palms are not perfectly flat and φ is uncertain.
+/// Smallest margin \[rad\] past φ (2°): real palms are not perfectly flat and φ is uncertain.
 pub const MIN_MARGIN_RAD: f64 = 0.034_906_585_039_886_59;
 /// Margin in standard deviations of φ added to [`MIN_MARGIN_RAD`].
 pub const MARGIN_SIGMAS: f64 = 3.0;
@@ -33,7 +33,7 @@ pub struct PlanRequest {
     pub towards: Option<Vector3<f64>>,
     /// Gravity in the palm frame (any length).
     pub gravity_in_palm: Vector3<f64>,
-    /// Margin past φ [rad]; `None` uses `MIN_MARGIN_RAD + MARGIN_SIGMAS σ_φ`.
+    /// Margin past φ \[rad\]; `None` uses `MIN_MARGIN_RAD + MARGIN_SIGMAS σ_φ`.
     pub margin: Option<f64>,
 }
 
@@ -42,19 +42,19 @@ pub struct PlanRequest {
 pub struct Plan {
     /// Id of the edge toppled about.
     pub edge: String,
-    /// Point of the tilt axis (the edge line) closest to the palm origin [m].
+    /// Point of the tilt axis (the edge line) closest to the palm origin \[m\].
     pub axis_point: Vector3<f64>,
     /// Direction of the tilt axis; tilt by the right-hand rule about it.
     pub axis_direction: Vector3<f64>,
-    /// How far to tilt the palm about the axis [rad].
+    /// How far to tilt the palm about the axis \[rad\].
     pub tilt: f64,
-    /// The pendulum's φ [rad].
+    /// The pendulum's φ \[rad\].
     pub phi: f64,
-    /// Standard deviation of φ [rad], if known.
+    /// Standard deviation of φ \[rad\], if known.
     pub phi_sigma: Option<f64>,
-    /// The tilt the support face already has about the axis [rad].
+    /// The tilt the support face already has about the axis \[rad\].
     pub current_tilt: f64,
-    /// Margin past φ [rad].
+    /// Margin past φ \[rad\].
     pub margin: f64,
     /// Horizontal direction (palm frame) in which the object falls.
     pub topple_direction: Vector3<f64>,

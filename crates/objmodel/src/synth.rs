@@ -30,9 +30,9 @@ use std::f64::consts::FRAC_PI_2;
 /// Tracking noise of the generator.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SynthNoise {
-    /// Position noise per axis [m].
+    /// Position noise per axis \[m\].
     pub sigma_position: f64,
-    /// Orientation noise per axis [rad].
+    /// Orientation noise per axis \[rad\].
     pub sigma_rotation: f64,
     /// Probability that a frame is dropped.
     pub drop: f64,
@@ -71,7 +71,7 @@ pub struct SynthTruth {
     pub edge: Option<Line>,
     /// The outward normal and offset of the face slid on (slides), or rested on first.
     pub face: Option<(Vector3<f64>, f64)>,
-    /// The tipping angle [rad] (topples).
+    /// The tipping angle \[rad\] (topples).
     pub phi: Option<f64>,
 }
 
@@ -87,14 +87,14 @@ pub struct SynthDemo {
 /// A box and where its tag sits.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SynthBox {
-    /// Half extents [m].
+    /// Half extents \[m\].
     pub half: Vector3<f64>,
     /// `box_from_tag`: the tag's pose in the box frame (box frame at the box's centre).
     pub box_from_tag: Isometry3<f64>,
 }
 
 impl SynthBox {
-    /// A box with a tag on its top face, `offset` [m] from the face centre, turned by `yaw` [rad].
+    /// A box with a tag on its top face, `offset` \[m\] from the face centre, turned by `yaw` \[rad\].
     pub fn new(half: Vector3<f64>, offset: (f64, f64), yaw: f64) -> Self {
         let box_from_tag = Isometry3::from_parts(
             Translation3::new(offset.0, offset.1, half.z),
@@ -126,7 +126,7 @@ impl SynthBox {
     }
 }
 
-/// Timing at `rate` [Hz] with rest `rest` [s] before and after a motion of `duration` [s].
+/// Timing at `rate` \[Hz\] with rest `rest` \[s\] before and after a motion of `duration` \[s\].
 fn times(rate: f64, rest: f64, duration: f64) -> Vec<f64> {
     let n = ((2.0 * rest + duration) * rate).round() as usize + 1;
     (0..n).map(|k| 1_700_000_000.0 + k as f64 / rate).collect()
@@ -177,13 +177,13 @@ pub fn add_noise(poses: &[StampedPose], noise: &SynthNoise, rng: &mut StdRng) ->
 pub struct ToppleParams {
     /// Which bottom edge: 0..4 for +x, +y, -x, -y sides of the box.
     pub side: usize,
-    /// Duration [s] of the slow rotation up to the tipping angle.
+    /// Duration \[s\] of the slow rotation up to the tipping angle.
     pub push_s: f64,
-    /// Duration [s] of the fall from the tipping angle to 90°.
+    /// Duration \[s\] of the fall from the tipping angle to 90°.
     pub fall_s: f64,
-    /// Angle [rad] after which the pivot slips.
+    /// Angle \[rad\] after which the pivot slips.
     pub slip_from: f64,
-    /// How far [m] the pivot slips by the time the box lands.
+    /// How far \[m\] the pivot slips by the time the box lands.
     pub slip: f64,
 }
 
@@ -214,7 +214,7 @@ fn side_edge(half: &Vector3<f64>, side: usize) -> (Vector3<f64>, Vector3<f64>, V
 }
 
 /// The pose `box_from_box(t)` of a topple about a bottom edge by angle `alpha`, with the pivot
-/// slipped by `slip` [m] along `-out` (in the table plane).
+/// slipped by `slip` \[m\] along `-out` (in the table plane).
 fn topple_motion(
     edge_point: &Vector3<f64>,
     dir: &Vector3<f64>,
@@ -296,7 +296,7 @@ pub fn topple(
 }
 
 /// An instrumented topple: the box rides on a palm that tilts about a horizontal axis at
-/// `tilt_rate` [rad/s]; when the tilt reaches φ the box falls over its downhill edge `side`.
+/// `tilt_rate` \[rad/s\]; when the tilt reaches φ the box falls over its downhill edge `side`.
 pub fn instrumented_topple(
     b: &SynthBox,
     side: usize,
@@ -363,7 +363,7 @@ pub fn instrumented_topple(
     }
 }
 
-/// A slide: over `duration` [s] the box translates by up to 15 cm and turns by up to ±60°
+/// A slide: over `duration` \[s\] the box translates by up to 15 cm and turns by up to ±60°
 /// about a vertical axis through a random point, on its bottom face.
 pub fn slide(b: &SynthBox, noise: &SynthNoise, rate: f64, seed: u64) -> SynthDemo {
     let mut rng = StdRng::seed_from_u64(seed);

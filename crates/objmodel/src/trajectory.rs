@@ -2,10 +2,10 @@
 
 use nalgebra::Isometry3;
 
-/// One tracked pose: `pose` is `world_from_object` (or `world_from_palm`) at time `t` [s].
+/// One tracked pose: `pose` is `world_from_object` (or `world_from_palm`) at time `t` \[s\].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StampedPose {
-    /// Timestamp [s]. Strictly increasing within a trajectory.
+    /// Timestamp \[s\]. Strictly increasing within a trajectory.
     pub t: f64,
     /// The tracked frame's pose in the tracker's frame (`world_from_object`).
     pub pose: Isometry3<f64>,

@@ -22,16 +22,16 @@ pub const MAX_BLOCKS: usize = 1 << 14;
 /// Smallest rotation, in units of the rotation noise σ_r, from which a frame's screw axis is
 /// used: the axis estimate's bias is of order (σ_r/θ)² relative, 1% at 10 σ_r.
 pub const MIN_AXIS_SNR: f64 = 10.0;
-/// How far [m] a resting object's contact settles when it starts to turn onto an edge (the
+/// How far \[m\] a resting object's contact settles when it starts to turn onto an edge (the
 /// load concentrates on the edge; rigid-body simulators and real compliant contacts both show
 /// about 0.1 mm): an uncertainty of the reference pose, whose effect on the axis shrinks as 1/θ.
 pub const REFERENCE_SETTLING_M: f64 = 1e-4;
-/// The same for orientation [rad] (0.2°).
+/// The same for orientation \[rad\] (0.2°).
 pub const REFERENCE_SETTLING_RAD: f64 = 3.5e-3;
 /// Largest number of motion segments per demonstration; later rests no longer split.
 pub const MAX_SEGMENTS: usize = 256;
 
-/// Upper bound [m] on the axis distance used in the axis-point variance (beyond the palm the
+/// Upper bound \[m\] on the axis distance used in the axis-point variance (beyond the palm the
 /// frame cannot be a topple anyway; this keeps far-away axes from underflowing the weight).
 const MAX_AXIS_DISTANCE_M: f64 = 10.0;
 

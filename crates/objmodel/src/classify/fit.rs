@@ -182,7 +182,7 @@ fn fit_plane(
 /// test repeated. The error of the reference pose is common to all frames and shifts each
 /// frame's axis by about `σ_ref / (2 sin(θ/2))`, more for small rotations; its effect on the
 /// difference, `σ_ref² (mean 1/c before - mean 1/c after)²`, is added to the variance, with
-/// `σ_ref` [m] the reference's point-equivalent standard deviation. Returns the kept blocks.
+/// `σ_ref` \[m\] the reference's point-equivalent standard deviation. Returns the kept blocks.
 fn trim_change_points(
     blocks: &[Block],
     order: &[usize],

@@ -57,19 +57,19 @@ pub enum Method {
 /// the robust method.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PaperThresholds {
-    /// `p_th` [m/rad]: |pitch| below this is "no translation along the axis".
+    /// `p_th` \[m/rad\]: |pitch| below this is "no translation along the axis".
     pub pitch: f64,
-    /// `l_th` [rad]: consecutive axes closer than this are "the same axis".
+    /// `l_th` \[rad\]: consecutive axes closer than this are "the same axis".
     pub axis_angle: f64,
-    /// `n_th` [rad]: consecutive plane normals closer than this are "the same plane".
+    /// `n_th` \[rad\]: consecutive plane normals closer than this are "the same plane".
     pub normal_angle: f64,
-    /// `r_palm` [m]: an axis farther than this from the object origin is not an edge of it
+    /// `r_palm` \[m\]: an axis farther than this from the object origin is not an edge of it
     /// (the paper: the size of the palm, known a priori). Default 0.5 m: the tag may sit on the
     /// far side of a 20 cm box from the edge it topples about.
     pub r_palm: f64,
-    /// A frame moves if its rotation from g(0) exceeds this [rad] ...
+    /// A frame moves if its rotation from g(0) exceeds this \[rad\] ...
     pub motion_rotation: f64,
-    /// ... or its translation exceeds this [m].
+    /// ... or its translation exceeds this \[m\].
     pub motion_translation: f64,
 }
 
@@ -94,20 +94,20 @@ pub struct RobustConfig {
     pub alpha: f64,
     /// Significance level of the tag-flip outlier test.
     pub outlier_alpha: f64,
-    /// Width [s] of the window over which the local velocity is fitted for the rest test.
+    /// Width \[s\] of the window over which the local velocity is fitted for the rest test.
     pub rest_window_s: f64,
-    /// A rest shorter than this [s] inside a motion does not start a new segment.
+    /// A rest shorter than this \[s\] inside a motion does not start a new segment.
     pub min_rest_s: f64,
     /// Number of frames at the start of each stream used to estimate the noise.
     pub warmup_frames: usize,
     /// Tracking noise; `None` estimates it from the data.
     pub noise: Option<NoiseModel>,
-    /// Model tolerance [m]: how far a real contact line may wander (rounded edges, compliant
+    /// Model tolerance \[m\]: how far a real contact line may wander (rounded edges, compliant
     /// surfaces, micro-slip) and still count as one edge; added in quadrature to the noise.
     pub edge_tolerance_m: f64,
-    /// Model tolerance [rad] on directions (edge direction, plane normal).
+    /// Model tolerance \[rad\] on directions (edge direction, plane normal).
     pub edge_tolerance_rad: f64,
-    /// Largest angle [rad] between a topple axis and the horizontal, and between a slide's
+    /// Largest angle \[rad\] between a topple axis and the horizontal, and between a slide's
     /// plane normal and the vertical, when gravity is known.
     pub max_axis_tilt_rad: f64,
 }
@@ -257,9 +257,9 @@ pub struct LabelRun {
     pub first: usize,
     /// Index of the last frame of the run (inclusive).
     pub last: usize,
-    /// Time of the first frame [s].
+    /// Time of the first frame \[s\].
     pub t_start: f64,
-    /// Time of the last frame [s].
+    /// Time of the last frame \[s\].
     pub t_end: f64,
     /// Number of frames in the run (fewer than `last - first + 1` if frames were dropped).
     pub frames: u64,
@@ -278,15 +278,15 @@ pub struct Segment {
     /// Largest rotation among them: (angle, screw axis, rotation vector).
     #[serde(skip)]
     pub(crate) topple_best: Option<(f64, Line, Vector3<f64>)>,
-    /// Time of the first moving frame [s].
+    /// Time of the first moving frame \[s\].
     pub t_start: f64,
-    /// Time of the last moving frame [s].
+    /// Time of the last moving frame \[s\].
     pub t_end: f64,
     /// The segment's kind.
     pub kind: Kind,
     /// Its votes.
     pub votes: Votes,
-    /// Largest rotation from the reference [rad].
+    /// Largest rotation from the reference \[rad\].
     pub max_angle: f64,
     /// The fitted edge, for a topple segment.
     pub edge: Option<EdgeObservation>,

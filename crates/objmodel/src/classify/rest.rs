@@ -109,7 +109,7 @@ pub struct RestDetector {
 }
 
 impl RestDetector {
-    /// A detector with windows of `window_s` [s], noise sigmas, and level `alpha`.
+    /// A detector with windows of `window_s` \[s\], noise sigmas, and level `alpha`.
     pub fn new(window_s: f64, sigma_position: f64, sigma_rotation: f64, alpha: f64) -> Self {
         let vr = 1.0 / (sigma_rotation * sigma_rotation);
         let vp = 1.0 / (sigma_position * sigma_position);

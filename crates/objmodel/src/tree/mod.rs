@@ -37,15 +37,15 @@ pub const SCHEMA: &str = "objmodel.tree";
 pub const VERSION: u32 = 1;
 /// Significance level of the test that decides whether an observation is a known feature.
 pub const MATCH_ALPHA: f64 = 1e-4;
-/// Per-demonstration systematic error [m] of an edge's position beyond its propagated noise
+/// Per-demonstration systematic error \[m\] of an edge's position beyond its propagated noise
 /// (pivot micro-slip, rounded edges), used only when matching observations to features.
 pub const SYSTEMATIC_POINT_M: f64 = 3e-3;
-/// Per-demonstration systematic error [rad] of a direction (2°), used only when matching.
+/// Per-demonstration systematic error \[rad\] of a direction (2°), used only when matching.
 pub const SYSTEMATIC_DIRECTION_RAD: f64 = 0.034_906_585_039_886_59;
 /// Smallest ratio of the smallest to the largest eigenvalue of the CoM normal equations: below
 /// it the pendulums' planes are too close to parallel to fix a point, and no CoM is reported.
 pub const CONDITION_MIN: f64 = 1e-2;
-/// Resting-face normals closer than this [rad] (20°) are one face, for pendulums: faces of a
+/// Resting-face normals closer than this \[rad\] (20°) are one face, for pendulums: faces of a
 /// polyhedron that share an edge differ by far more.
 pub const SAME_FACE_RAD: f64 = 0.349_065_850_398_865_9;
 
@@ -54,17 +54,17 @@ pub const SAME_FACE_RAD: f64 = 0.349_065_850_398_865_9;
 pub struct Edge {
     /// Identifier, `e0`, `e1`, ...
     pub id: String,
-    /// Point of the edge line closest to the object-frame origin [m].
+    /// Point of the edge line closest to the object-frame origin \[m\].
     pub point: Vector3<f64>,
     /// Unit direction of the edge line.
     pub direction: Vector3<f64>,
-    /// Covariance of `point` [m²], rows.
+    /// Covariance of `point` \[m²\], rows.
     pub point_cov: [[f64; 3]; 3],
-    /// Covariance of `direction` [rad²], rows.
+    /// Covariance of `direction` \[rad²\], rows.
     pub direction_cov: [[f64; 3]; 3],
-    /// RMS standard deviation of `point` normal to the line [m].
+    /// RMS standard deviation of `point` normal to the line \[m\].
     pub sigma_point_m: f64,
-    /// RMS standard deviation of `direction` [rad].
+    /// RMS standard deviation of `direction` \[rad\].
     pub sigma_direction_rad: f64,
     /// Names of the demonstrations that show this edge.
     pub support: Vec<String>,
@@ -85,11 +85,11 @@ pub struct Face {
     pub id: String,
     /// Unit normal (outward when `sign_known`).
     pub normal: Vector3<f64>,
-    /// Offset [m], or null when the data do not determine it (a slide alone does not).
+    /// Offset \[m\], or null when the data do not determine it (a slide alone does not).
     pub offset: Option<f64>,
-    /// Standard deviation of the offset [m].
+    /// Standard deviation of the offset \[m\].
     pub offset_sigma_m: Option<f64>,
-    /// RMS standard deviation of the normal [rad].
+    /// RMS standard deviation of the normal \[rad\].
     pub sigma_normal_rad: f64,
     /// Whether the normal is known to point out of the object.
     pub sign_known: bool,

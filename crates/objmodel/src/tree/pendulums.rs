@@ -15,15 +15,15 @@ pub struct Pendulum {
     /// The edge direction about which the object turned (right-hand rule) when toppling off
     /// this face; `toppling_axis × resting_face_normal` points from the edge into the face.
     pub toppling_axis: Vector3<f64>,
-    /// Angle [rad] of the CoM from the vertical through the edge, resting on that face: the
+    /// Angle \[rad\] of the CoM from the vertical through the edge, resting on that face: the
     /// support must tilt past it for the object to topple.
     pub phi: Option<f64>,
-    /// Distance [m] of the CoM from the edge (homogeneous-box inertia model, see
+    /// Distance \[m\] of the CoM from the edge (homogeneous-box inertia model, see
     /// [`crate::pendulum`]).
     pub l_p: Option<f64>,
-    /// Standard deviation of phi [rad].
+    /// Standard deviation of phi \[rad\].
     pub phi_sigma: Option<f64>,
-    /// `I_e / (m l_p)` [m], what the fall determines without an inertia model.
+    /// `I_e / (m l_p)` \[m\], what the fall determines without an inertia model.
     pub inertia_ratio_m: Option<f64>,
     /// Demonstrations behind it.
     pub support: Vec<String>,
@@ -36,17 +36,17 @@ pub struct Pendulum {
 pub struct PendulumObservation {
     /// The demonstration.
     pub demo: String,
-    /// φ [rad] and its standard deviation.
+    /// φ \[rad\] and its standard deviation.
     pub phi: f64,
-    /// Standard deviation of φ [rad].
+    /// Standard deviation of φ \[rad\].
     pub phi_sigma: f64,
-    /// φ as the palm tilt at the topple onset (instrumented) [rad].
+    /// φ as the palm tilt at the topple onset (instrumented) \[rad\].
     pub phi_onset: Option<f64>,
-    /// φ from the pendulum fitted to the fall [rad].
+    /// φ from the pendulum fitted to the fall \[rad\].
     pub phi_fall: Option<f64>,
-    /// `I_e / (m l_p)` [m] from the fall.
+    /// `I_e / (m l_p)` \[m\] from the fall.
     pub inertia_ratio_m: Option<f64>,
-    /// Onset time [s] (instrumented).
+    /// Onset time \[s\] (instrumented).
     pub onset_t: Option<f64>,
 }
 
@@ -96,9 +96,9 @@ impl Pendulum {
 /// independent planes give the point by least squares.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CentreOfMass {
-    /// The CoM in the object frame [m].
+    /// The CoM in the object frame \[m\].
     pub point: Vector3<f64>,
-    /// RMS residual distance of the CoM from the planes [m].
+    /// RMS residual distance of the CoM from the planes \[m\].
     pub rms_residual_m: f64,
     /// Pendulums used.
     pub pendulums: usize,
