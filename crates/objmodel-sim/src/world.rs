@@ -79,6 +79,30 @@ pub fn physics_world(p: &PhysicsParams) -> PhysicsWorld {
     pw
 }
 
+/// The rigid body and collider of the box of `spec` at `world_from_box`, with friction `mu`
+/// (combined with the other surface's by the smaller). Its mass properties are the spec's mass,
+/// CoM and inertia, never derived from a density.
+pub fn box_builders(
+    spec: &BoxSpec,
+    mu: f64,
+    world_from_box: &Isometry3<f64>,
+) -> (RigidBodyBuilder, ColliderBuilder) {
+    let h = spec.half_extents();
+    let mp = MassProperties::new(
+        vec_from_na(&spec.com_box().coords),
+        spec.mass,
+        vec_from_na(&spec.principal_inertia()),
+    );
+    let body = RigidBodyBuilder::dynamic()
+        .pose(pose_from_na(world_from_box))
+        .can_sleep(false);
+    let col = ColliderBuilder::cuboid(h.x, h.y, h.z)
+        .mass_properties(mp)
+        .friction(mu)
+        .friction_combine_rule(CoefficientCombineRule::Min);
+    (body, col)
+}
+
 impl World {
     /// An empty world with gravity `-9.81 e_z` m/s².
     pub fn new(p: &PhysicsParams) -> World {
@@ -127,19 +151,7 @@ impl World {
     /// The box of `spec` as a dynamic body at `world_from_box`, in contact with friction `mu`.
     /// Its mass properties are the spec's mass, CoM and inertia, never derived from a density.
     pub fn add_box(&mut self, spec: &BoxSpec, mu: f64, world_from_box: &Isometry3<f64>) -> Body {
-        let h = spec.half_extents();
-        let mp = MassProperties::new(
-            vec_from_na(&spec.com_box().coords),
-            spec.mass,
-            vec_from_na(&spec.principal_inertia()),
-        );
-        let body = RigidBodyBuilder::dynamic()
-            .pose(pose_from_na(world_from_box))
-            .can_sleep(false);
-        let col = ColliderBuilder::cuboid(h.x, h.y, h.z)
-            .mass_properties(mp)
-            .friction(mu)
-            .friction_combine_rule(CoefficientCombineRule::Min);
+        let (body, col) = box_builders(spec, mu, world_from_box);
         self.pw.insert(body, col).0
     }
 

@@ -305,22 +305,36 @@ pub fn fit_fall(t: &[f64], psi: &[f64], sigma: f64, phi0: f64) -> Option<FallFit
     if !(p[0] > 0.0 && p[0] < std::f64::consts::FRAC_PI_2 && p[1] > 0.0) {
         return None;
     }
-    let dof = (n as f64 - 4.0).max(1.0);
+    fit_result(p[0], p[1], cur, &jtj, 4, sigma, t)
+}
+
+/// The [`FallFit`] of a least-squares solution with φ and k its first two of `n_params`
+/// parameters: covariance `(JᵀJ)⁻¹ σ²`, inflated by the reduced χ² when the fit is worse than
+/// the noise.
+fn fit_result(
+    phi: f64,
+    k: f64,
+    sse: f64,
+    jtj: &[[f64; 4]; 4],
+    n_params: usize,
+    sigma: f64,
+    t: &[f64],
+) -> Option<FallFit> {
+    let n = t.len();
     let var = sigma * sigma;
-    // Covariance (J^T J)^-1 σ², inflated by the reduced χ² when the fit is worse than the noise.
-    let chi2 = cur / var / dof;
-    let m = nalgebra::DMatrix::from_fn(4, 4, |i, j| jtj[i][j]);
+    let chi2 = sse / var / (n as f64 - n_params as f64).max(1.0);
+    let m = nalgebra::DMatrix::from_fn(n_params, n_params, |i, j| jtj[i][j]);
     let cov = m.try_inverse()? * var * chi2.max(1.0);
     Some(FallFit {
-        phi: p[0],
+        phi,
         phi_sigma: cov[(0, 0)].max(0.0).sqrt(),
-        k: p[1],
+        k,
         k_sigma: cov[(1, 1)].max(0.0).sqrt(),
-        inertia_ratio_m: G / p[1],
-        l_p_homogeneous: 0.75 * G / p[1],
+        inertia_ratio_m: G / k,
+        l_p_homogeneous: 0.75 * G / k,
         chi2_per_dof: chi2,
         frames: n,
-        t_start: t0,
+        t_start: t[0],
         t_end: t[n - 1],
     })
 }
@@ -428,21 +442,5 @@ pub fn fit_on_support(
     if !(p[0] > 0.0 && p[0] < std::f64::consts::FRAC_PI_2) {
         return None;
     }
-    let var = sigma * sigma;
-    let dof = (n as f64 - 2.0).max(1.0);
-    let chi2 = cur / var / dof;
-    let m = nalgebra::Matrix2::new(jtj[0][0], jtj[0][1], jtj[1][0], jtj[1][1]);
-    let cov = m.try_inverse()? * var * chi2.max(1.0);
-    Some(FallFit {
-        phi: p[0],
-        phi_sigma: cov[(0, 0)].max(0.0).sqrt(),
-        k: p[1],
-        k_sigma: cov[(1, 1)].max(0.0).sqrt(),
-        inertia_ratio_m: G / p[1],
-        l_p_homogeneous: 0.75 * G / p[1],
-        chi2_per_dof: chi2,
-        frames: n,
-        t_start: t[0],
-        t_end: t[n - 1],
-    })
+    fit_result(p[0], p[1], cur, &jtj, 2, sigma, t)
 }

@@ -456,24 +456,12 @@ impl ArmSim {
     /// Add a box as a dynamic body at `world_from_box` (mass, CoM and inertia from the spec,
     /// friction `spec.friction` combined with the palm's by the smaller).
     pub fn add_box(&mut self, spec: &BoxSpec, world_from_box: &Isometry3<f64>) -> RigidBodyHandle {
-        let h = spec.half_extents();
-        let mp = MassProperties::new(
-            vec_from_na(&spec.com_box().coords),
-            spec.mass,
-            vec_from_na(&spec.principal_inertia()),
-        );
-        let body = RigidBodyBuilder::dynamic()
-            .pose(pose_from_na(world_from_box))
-            .can_sleep(false);
-        let col = ColliderBuilder::cuboid(h.x, h.y, h.z)
-            .mass_properties(mp)
-            .friction(spec.friction)
-            .friction_combine_rule(CoefficientCombineRule::Min)
-            .collision_groups(InteractionGroups::new(
-                OBJECT_GROUP,
-                Group::ALL,
-                InteractionTestMode::And,
-            ));
+        let (body, col) = crate::world::box_builders(spec, spec.friction, world_from_box);
+        let col = col.collision_groups(InteractionGroups::new(
+            OBJECT_GROUP,
+            Group::ALL,
+            InteractionTestMode::And,
+        ));
         self.world.insert(body, col).0
     }
 
