@@ -30,8 +30,6 @@ pub struct RawFrame {
     pub q: UnitQuaternion<f64>,
     /// Position \[m\].
     pub p: Vector3<f64>,
-    /// Unit "down" (gravity direction) in the frame that `q, p` are relative to, when known.
-    pub down: Option<Vector3<f64>>,
 }
 
 /// Streaming cleaner: push frames in time order, receive `(frame, is_outlier)` a frame or two
@@ -42,7 +40,7 @@ pub struct Cleaner {
     var_rot: f64,
     kept_prev: Option<RawFrame>,
     kept: Option<RawFrame>,
-    buffer: Vec<RawFrame>,
+    buffer: std::collections::VecDeque<RawFrame>,
 }
 
 fn align(q: UnitQuaternion<f64>, to: &UnitQuaternion<f64>) -> UnitQuaternion<f64> {
@@ -71,7 +69,7 @@ impl Cleaner {
             var_rot: sigma_rotation * sigma_rotation,
             kept_prev: None,
             kept: None,
-            buffer: Vec::with_capacity(3),
+            buffer: std::collections::VecDeque::with_capacity(4),
         }
     }
 
@@ -81,23 +79,26 @@ impl Cleaner {
         // |s| d(a,b) + d(a,f) > d(a,b) and (|s| d(a,b) + d(a,f))² > threshold.
         // The variance factor 1 + s² + (1-s)² is at least 1.5.
         let floor = self.threshold_sq * self.var_rot * 1.5;
-        let s = ((f.t - a.t) / (b.t - a.t)).abs();
-        // Cheapest first: the chord c = 2 sin(θ/2) = 2|imag(a⁻¹b)| bounds the angle from above
-        // by c (1 + c²/20) for c <= 1 (2 asin(c/2) = c + c³/24 + ...), without an atan2.
-        let chord = |x: &UnitQuaternion<f64>, y: &UnitQuaternion<f64>| {
-            2.0 * (x.inverse() * y).quaternion().imag().norm()
+        // Cheapest first, without a square root, division or atan2: the squared chord
+        // c² = 4|imag(x⁻¹y)|² of the angle θ between x and y (c = 2 sin(θ/2)) bounds θ² from
+        // above by u = c² (1 + c²/20)² for c <= 1 (2 asin(c/2) = c + c³/24 + ...), and
+        // (|s| √u_ab + √u_af)² <= 2 (s² u_ab + u_af); s = Δt_af / Δt_ab is cleared of its
+        // denominator.
+        let chord2 = |x: &UnitQuaternion<f64>, y: &UnitQuaternion<f64>| {
+            4.0 * (x.quaternion().conjugate() * y.quaternion())
+                .imag()
+                .norm_squared()
         };
-        let upper = |c: f64| {
-            if c <= 1.0 {
-                c * (1.0 + c * c / 20.0)
-            } else {
-                std::f64::consts::PI
+        let (c_ab, c_af) = (chord2(&a.q, &b.q), chord2(&a.q, &f.q));
+        if c_ab <= 1.0 && c_af <= 1.0 {
+            let u = |c2: f64| c2 * (1.0 + c2 / 20.0) * (1.0 + c2 / 20.0);
+            let (t_ab, t_af) = (b.t - a.t, f.t - a.t);
+            let d2 = t_ab * t_ab;
+            if 2.0 * (t_af * t_af * u(c_ab) + d2 * u(c_af)) <= floor * d2 {
+                return false;
             }
-        };
-        let quick = s * upper(chord(&a.q, &b.q)) + upper(chord(&a.q, &f.q));
-        if quick * quick <= floor {
-            return false;
         }
+        let s = ((f.t - a.t) / (b.t - a.t)).abs();
         let dab = rotation_angle_between(&a.q, &b.q);
         let daf = rotation_angle_between(&a.q, &f.q);
         let bound = s * dab + daf;
@@ -117,20 +118,20 @@ impl Cleaner {
 
     /// Push the next frame; frames are passed to `out` with their verdict once judged.
     pub fn push(&mut self, mut f: RawFrame, out: &mut impl FnMut(RawFrame, bool)) {
-        if let Some(last) = self.buffer.last().or(self.kept.as_ref()) {
+        if let Some(last) = self.buffer.back().or(self.kept.as_ref()) {
             f.q = align(f.q, &last.q);
         }
-        self.buffer.push(f);
+        self.buffer.push_back(f);
         loop {
             match self.kept {
                 None if self.buffer.len() >= 3 => {
                     let bad = self.is_flip(&self.buffer[1], &self.buffer[2], &self.buffer[0]);
-                    let first = self.buffer.remove(0);
+                    let first = self.buffer.pop_front().unwrap();
                     self.emit(first, bad, out);
                 }
                 Some(k) if self.buffer.len() >= 2 => {
                     let bad = self.is_flip(&k, &self.buffer[1], &self.buffer[0]);
-                    let mut next = self.buffer.remove(0);
+                    let mut next = self.buffer.pop_front().unwrap();
                     if !bad {
                         next.q = align(next.q, &k.q);
                     }
@@ -164,7 +165,6 @@ mod tests {
             t: i as f64 / 30.0,
             q: UnitQuaternion::from_scaled_axis(Vector3::new(0.0, angle, 0.0)),
             p: Vector3::zeros(),
-            down: None,
         }
     }
 

@@ -109,15 +109,13 @@ impl Block {
     }
 }
 
-/// Mean pose and mean "down" over a rest, and the least-squares drift of the pose over the
-/// whole rest (to tell a real rest from a motion too slow for the windowed rest test).
+/// Mean pose over a rest, and the least-squares drift of the pose over the whole rest (to tell
+/// a real rest from a motion too slow for the windowed rest test).
 #[derive(Clone, Copy, Debug, Default)]
 struct RestAcc {
     n: f64,
     q: Vector4<f64>,
     p: Vector3<f64>,
-    down_obj: Vector3<f64>,
-    has_down: bool,
     t0: f64,
     t1: f64,
     q0: Option<UnitQuaternion<f64>>,
@@ -176,10 +174,6 @@ impl RestAcc {
         self.n += 1.0;
         self.q += q;
         self.p += f.p;
-        if let Some(d) = f.down {
-            self.down_obj += f.q.inverse() * d;
-            self.has_down = true;
-        }
     }
 
     fn mean(&self) -> Option<(UnitQuaternion<f64>, Vector3<f64>)> {
@@ -191,8 +185,11 @@ impl RestAcc {
         })
     }
 
-    fn down(&self) -> Option<Vector3<f64>> {
-        (self.has_down && self.n > 0.0).then(|| self.down_obj.normalize())
+    /// "Down" in object coordinates at the mean pose, given it (`down`) in the frame the poses
+    /// are relative to.
+    fn down(&self, down: Option<Vector3<f64>>) -> Option<Vector3<f64>> {
+        let (q, _) = self.mean()?;
+        Some((q.inverse() * down?).normalize())
     }
 }
 
@@ -233,6 +230,10 @@ pub(super) struct Core {
     rest_acc: RestAcc,
     in_motion: bool,
     outliers: u64,
+    /// Unit "down" in the frame the poses are relative to, if known.
+    down: Option<Vector3<f64>>,
+    /// Items judged by the rest detector, not yet handled.
+    judged_buf: Vec<(Item, bool)>,
 }
 
 impl Core {
@@ -249,6 +250,8 @@ impl Core {
             rest_acc: RestAcc::default(),
             in_motion: false,
             outliers: 0,
+            down: None,
+            judged_buf: Vec::new(),
         }
     }
 
@@ -288,7 +291,9 @@ impl Core {
         }
     }
 
-    pub(super) fn push(&mut self, item: Item) {
+    /// Push the next item; `down` is the unit "down" in the frame the poses are relative to.
+    pub(super) fn push(&mut self, item: Item, down: Option<Vector3<f64>>) {
+        self.down = down;
         if self.rest.is_none() {
             self.warm.push(item);
             if self.warm.len() >= self.config.robust.warmup_frames.max(3) {
@@ -300,9 +305,17 @@ impl Core {
     }
 
     fn feed_rest(&mut self, item: Item) {
-        let mut rest = self.rest.take().unwrap();
-        rest.push(item, &mut |i, m| self.judged(i, m));
-        self.rest = Some(rest);
+        // Judged items go through a reused buffer: the detector stays in place (moving it out
+        // of `self` and back for every frame cost more than the detection itself).
+        let mut judged = std::mem::take(&mut self.judged_buf);
+        let Some(rest) = self.rest.as_mut() else {
+            return;
+        };
+        rest.push(item, &mut |i, m| judged.push((i, m)));
+        for (i, m) in judged.drain(..) {
+            self.judged(i, m);
+        }
+        self.judged_buf = judged;
     }
 
     fn judged(&mut self, item: Item, moving: bool) {
@@ -346,14 +359,13 @@ impl Core {
                 && self.rest_acc.t1 - self.rest_acc.t0 >= self.config.robust.min_rest_s
                 && self.rest_acc.drift_chi2(&m) <= m.displaced;
             if self.segments.is_empty() || (long_rest && self.segments.len() < MAX_SEGMENTS) {
+                let rest_down = self.rest_acc.down(self.down);
                 if let Some(prev) = self.segments.last_mut() {
-                    prev.rest_after = self.rest_acc.down();
+                    prev.rest_after = rest_down;
                 }
                 let (ref_q, ref_p) = self.rest_acc.mean().unwrap_or((f.q, f.p));
-                let down_ref = self
-                    .rest_acc
-                    .down()
-                    .or_else(|| f.down.map(|d| (f.q.inverse() * d).normalize()));
+                let down_ref =
+                    rest_down.or_else(|| self.down.map(|d| (f.q.inverse() * d).normalize()));
                 self.segments.push(SegState {
                     ref_q,
                     ref_p,
@@ -361,7 +373,7 @@ impl Core {
                     t_end: f.t,
                     down_ref,
                     n_ref: self.rest_acc.n.max(1.0),
-                    rest_before: self.rest_acc.down(),
+                    rest_before: rest_down,
                     rest_after: None,
                 });
             }
@@ -481,8 +493,9 @@ impl Core {
         let rest = self.rest.take().unwrap();
         rest.finish(&mut |i, m| self.judged(i, m));
         if !self.in_motion {
+            let rest_down = self.rest_acc.down(self.down);
             if let Some(prev) = self.segments.last_mut() {
-                prev.rest_after = self.rest_acc.down();
+                prev.rest_after = rest_down;
             }
         }
         let alpha = self.config.robust.alpha;

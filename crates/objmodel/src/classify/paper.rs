@@ -64,13 +64,14 @@ impl PaperCore {
         });
     }
 
-    pub(super) fn push(&mut self, item: Item) {
+    /// Push the next item; `down` is the unit "down" in the frame the poses are relative to.
+    pub(super) fn push(&mut self, item: Item, down: Option<Vector3<f64>>) {
         let Item::Frame(f) = item else { return };
         let th = self.config.paper;
         let (q0, p0, _) =
             *self
                 .reference
-                .get_or_insert((f.q, f.p, f.down.map(|d| f.q.inverse() * d)));
+                .get_or_insert((f.q, f.p, down.map(|d| f.q.inverse() * d)));
         self.t_range = Some(self.t_range.map_or((f.t, f.t), |(a, _)| (a, f.t)));
         let omega = so3_log(&(q0.inverse() * f.q));
         let xi = Twist::log_with_omega(omega, &(q0.inverse() * (f.p - p0)));

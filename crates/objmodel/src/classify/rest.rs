@@ -35,12 +35,11 @@ pub enum Item {
     Outlier(usize, f64),
 }
 
+/// Window data of one item: time, and for frames (accumulated rotation, position).
 #[derive(Clone, Copy, Debug)]
 struct Entry {
-    item: Item,
     t: f64,
     is_frame: bool,
-    /// (accumulated rotation, position), for frames.
     x: [f64; 6],
 }
 
@@ -55,37 +54,42 @@ struct Sums {
 }
 
 impl Sums {
+    #[inline(always)]
     fn add(&mut self, e: &Entry, origin: &(f64, [f64; 6]), sign: f64) {
         if !e.is_frame {
             return;
         }
         let dt = e.t - origin.0;
+        let sdt = sign * dt;
         self.n += sign;
-        self.st += sign * dt;
-        self.stt += sign * dt * dt;
+        self.st += sdt;
+        self.stt += sdt * dt;
         for j in 0..6 {
             let x = e.x[j] - origin.1[j];
             self.sx[j] += sign * x;
-            self.stx[j] += sign * dt * x;
+            self.stx[j] += sdt * x;
         }
     }
 
-    /// χ²₆ statistic of the slope (0 with fewer than 3 frames).
-    fn statistic(&self, inv_var: &[f64; 6]) -> f64 {
+    /// Whether the χ²₆ statistic of the slope exceeds `threshold` (never with fewer than 3
+    /// frames). With `D = n S_tt - S_t²` the slope is `β_j = (n S_tx_j - S_t S_x_j) / D` and
+    /// its variance `σ_j² n / D`, so the statistic is `Σ_j (n S_tx_j - S_t S_x_j)² / (σ_j² n D)`,
+    /// compared here without a division.
+    #[inline(always)]
+    fn exceeds(&self, inv_var: &[f64; 6], threshold: f64) -> bool {
         if self.n < 3.0 {
-            return 0.0;
+            return false;
         }
         let den = self.n * self.stt - self.st * self.st;
         if den <= 0.0 {
-            return 0.0;
+            return false;
         }
-        let stt_c = den / self.n;
-        (0..6)
-            .map(|j| {
-                let beta = (self.n * self.stx[j] - self.st * self.sx[j]) / den;
-                beta * beta * stt_c * inv_var[j]
-            })
-            .sum()
+        let mut sum = 0.0;
+        for j in 0..6 {
+            let b = self.n * self.stx[j] - self.st * self.sx[j];
+            sum += b * b * inv_var[j];
+        }
+        sum > threshold * self.n * den
     }
 }
 
@@ -95,7 +99,9 @@ pub struct RestDetector {
     window: f64,
     threshold: f64,
     inv_var: [f64; 6],
+    /// Window data, and the items themselves (same indices).
     buf: VecDeque<Entry>,
+    items: VecDeque<Item>,
     /// Index in `buf` of the next item to judge; `buf[..center]` is the left window's past.
     center: usize,
     /// `buf[center..hi]` is the right window.
@@ -118,6 +124,7 @@ impl RestDetector {
             threshold: crate::stats::chi2_threshold(6.0, alpha),
             inv_var: [vr, vr, vr, vp, vp, vp],
             buf: VecDeque::new(),
+            items: VecDeque::new(),
             center: 0,
             hi: 0,
             left: Sums::default(),
@@ -130,46 +137,42 @@ impl RestDetector {
     }
 
     fn rebase(&mut self) {
-        let c = self.buf[self.center];
+        let c = &self.buf[self.center];
         self.origin = (c.t, c.x);
         self.left = Sums::default();
         self.right = Sums::default();
-        for i in 0..=self.center {
-            self.left.add(&self.buf[i], &self.origin, 1.0);
+        for e in self.buf.range(..=self.center) {
+            self.left.add(e, &self.origin, 1.0);
         }
-        for i in self.center..self.hi {
-            self.right.add(&self.buf[i], &self.origin, 1.0);
+        for e in self.buf.range(self.center..self.hi) {
+            self.right.add(e, &self.origin, 1.0);
         }
         self.since_rebase = 0;
     }
 
     /// Push the next item; judged items are passed to `out` with `moving` (false for outliers).
     pub fn push(&mut self, item: Item, out: &mut impl FnMut(Item, bool)) {
-        let mut x = [0.0; 6];
-        let (t, is_frame) = match &item {
+        let entry = match &item {
             Item::Frame(f) => {
                 if let Some(q0) = self.last_q {
                     self.cum_rot += so3_log(&(q0.inverse() * f.q));
                 }
                 self.last_q = Some(f.q);
-                x = [
-                    self.cum_rot.x,
-                    self.cum_rot.y,
-                    self.cum_rot.z,
-                    f.p.x,
-                    f.p.y,
-                    f.p.z,
-                ];
-                (f.t, true)
+                let r = &self.cum_rot;
+                Entry {
+                    t: f.t,
+                    is_frame: true,
+                    x: [r.x, r.y, r.z, f.p.x, f.p.y, f.p.z],
+                }
             }
-            Item::Outlier(_, t) => (*t, false),
+            Item::Outlier(_, t) => Entry {
+                t: *t,
+                is_frame: false,
+                x: [0.0; 6],
+            },
         };
-        self.buf.push_back(Entry {
-            item,
-            t,
-            is_frame,
-            x,
-        });
+        self.buf.push_back(entry);
+        self.items.push_back(item);
         self.drain(false, out);
     }
 
@@ -183,8 +186,7 @@ impl RestDetector {
             let tc = self.buf[self.center].t;
             // Extend the right window [tc, tc + w].
             while self.hi < self.buf.len() && self.buf[self.hi].t <= tc + self.window {
-                let e = self.buf[self.hi];
-                self.right.add(&e, &self.origin, 1.0);
+                self.right.add(&self.buf[self.hi], &self.origin, 1.0);
                 self.hi += 1;
             }
             if self.hi == self.buf.len() && !at_end {
@@ -193,6 +195,7 @@ impl RestDetector {
             // Drop frames older than tc - w from the left window [tc - w, tc].
             while self.center > 0 && self.buf[0].t < tc - self.window {
                 let e = self.buf.pop_front().unwrap();
+                self.items.pop_front();
                 self.left.add(&e, &self.origin, -1.0);
                 self.center -= 1;
                 self.hi -= 1;
@@ -200,17 +203,16 @@ impl RestDetector {
             if self.since_rebase == 0 || self.since_rebase >= REBASE_EVERY {
                 self.rebase();
             } else {
-                let e = self.buf[self.center];
-                self.left.add(&e, &self.origin, 1.0);
+                self.left.add(&self.buf[self.center], &self.origin, 1.0);
             }
             self.since_rebase += 1;
-            let e = self.buf[self.center];
+            let e = &self.buf[self.center];
             let moving = e.is_frame
-                && self.left.statistic(&self.inv_var) > self.threshold
-                && self.right.statistic(&self.inv_var) > self.threshold;
-            out(e.item, moving);
+                && self.left.exceeds(&self.inv_var, self.threshold)
+                && self.right.exceeds(&self.inv_var, self.threshold);
             // The centre leaves the right window (it stays in the left one).
-            self.right.add(&e, &self.origin, -1.0);
+            self.right.add(e, &self.origin, -1.0);
+            out(self.items[self.center], moving);
             self.center += 1;
         }
     }
@@ -234,7 +236,6 @@ mod tests {
                 t,
                 q: UnitQuaternion::from_scaled_axis(Vector3::new(angle, 0.0, 0.0)),
                 p: Vector3::zeros(),
-                down: None,
             };
             d.push(Item::Frame(f), &mut |i, m| verdicts.push((i, m)));
         }

@@ -72,7 +72,6 @@ impl StreamCleaner {
 /// thread (it is `Send`).
 pub struct ObjectCleaner {
     cleaner: StreamCleaner,
-    down: Option<Vector3<f64>>,
     frames: usize,
 }
 
@@ -84,7 +83,6 @@ impl ObjectCleaner {
             t: p.t,
             q: p.pose.rotation,
             p: p.pose.translation.vector,
-            down: self.down,
         };
         self.frames += 1;
         self.cleaner.push(f, out);
@@ -102,12 +100,14 @@ impl ObjectCleaner {
 /// The support's "down" in the palm frame is taken once, from gravity over the palm's first
 /// [`SUPPORT_FRAMES`] frames (the palm is level when a demonstration starts), and held fixed: the object rests on
 /// the palm's surface however the palm is tilted later, so that is the direction whose face
-/// the object rests on, not the current gravity.
+/// the object rests on, not the current gravity. It is passed on with every item.
 #[derive(Default)]
 struct PalmMerger {
     palm: VecDeque<RawFrame>,
     pending: VecDeque<(RawFrame, bool)>,
     palm_done: bool,
+    /// Gravity in the world frame, if known.
+    down_world: Option<Vector3<f64>>,
     support_down: Option<Option<Vector3<f64>>>,
     support_sum: Vector3<f64>,
     support_n: usize,
@@ -118,9 +118,9 @@ struct PalmMerger {
 const SUPPORT_FRAMES: usize = 15;
 
 impl PalmMerger {
-    fn push_palm(&mut self, f: RawFrame, out: &mut impl FnMut(Item)) {
+    fn push_palm(&mut self, f: RawFrame, out: &mut impl FnMut(Item, Option<Vector3<f64>>)) {
         if self.support_down.is_none() {
-            match f.down {
+            match self.down_world {
                 None => self.support_down = Some(None),
                 Some(d) => {
                     self.support_sum += f.q.inverse() * d;
@@ -136,18 +136,25 @@ impl PalmMerger {
     }
 
     /// Queue an object frame (or an object outlier, kept in order).
-    fn push_object(&mut self, f: RawFrame, outlier: bool, out: &mut impl FnMut(Item)) {
+    fn push_object(
+        &mut self,
+        f: RawFrame,
+        outlier: bool,
+        out: &mut impl FnMut(Item, Option<Vector3<f64>>),
+    ) {
         self.pending.push_back((f, outlier));
         self.drain(out);
     }
 
-    fn drain(&mut self, out: &mut impl FnMut(Item)) {
+    fn drain(&mut self, out: &mut impl FnMut(Item, Option<Vector3<f64>>)) {
         if self.support_down.is_none() {
             if !self.palm_done {
                 return; // Still averaging the support direction.
             }
             self.support_down = Some(self.support_sum.try_normalize(1e-12));
         }
+        let down = self.support_down.flatten();
+        let mut out = |i| out(i, down);
         while let Some((o, outlier)) = self.pending.front().copied() {
             if outlier {
                 self.pending.pop_front();
@@ -187,14 +194,13 @@ impl PalmMerger {
                         t: o.t,
                         q: inv * o.q,
                         p: inv * (o.p - pp),
-                        down: self.support_down.flatten(),
                     }))
                 }
             }
         }
     }
 
-    fn finish(&mut self, out: &mut impl FnMut(Item)) {
+    fn finish(&mut self, out: &mut impl FnMut(Item, Option<Vector3<f64>>)) {
         self.palm_done = true;
         self.drain(out);
     }
@@ -206,10 +212,12 @@ enum Back {
 }
 
 impl Back {
-    fn push(&mut self, item: Item) {
+    /// Push an item; `down` is the unit "down" in the frame the item's pose is relative to
+    /// (constant over a stream once known).
+    fn push(&mut self, item: Item, down: Option<Vector3<f64>>) {
         match self {
-            Back::Robust(c) => c.push(item),
-            Back::Paper(p) => p.push(item),
+            Back::Robust(c) => c.push(item, down),
+            Back::Paper(p) => p.push(item, down),
         }
     }
 }
@@ -233,14 +241,18 @@ pub struct Analyzer {
 impl Analyzer {
     /// A classifier for the demonstration `name`; `instrumented` if palm poses will be pushed.
     pub fn new(name: &str, config: &Config, instrumented: bool) -> Self {
+        let down_world = config.gravity.and_then(|g| g.try_normalize(1e-12));
         Self {
             name: name.to_string(),
             instrumented,
-            down_world: config.gravity.and_then(|g| g.try_normalize(1e-12)),
+            down_world,
             robust: config.method == Method::Robust,
             object: Some(StreamCleaner::new(config)),
             palm: instrumented.then(|| StreamCleaner::new(config)),
-            merger: PalmMerger::default(),
+            merger: PalmMerger {
+                down_world,
+                ..PalmMerger::default()
+            },
             back: match config.method {
                 Method::Robust => Back::Robust(Core::new(config)),
                 Method::Paper => Back::Paper(PaperCore::new(config)),
@@ -257,7 +269,6 @@ impl Analyzer {
             t: p.t,
             q: p.pose.rotation,
             p: p.pose.translation.vector,
-            down: self.down_world,
         }
     }
 
@@ -272,15 +283,17 @@ impl Analyzer {
             back,
             instrumented,
             robust,
+            down_world,
             ..
         } = self;
+        let down_world = *down_world;
         let mut to_back = |f: RawFrame, outlier: bool| {
             if *instrumented {
-                merger.push_object(f, outlier, &mut |i| back.push(i));
+                merger.push_object(f, outlier, &mut |i, d| back.push(i, d));
             } else if outlier {
-                back.push(Item::Outlier(f.index, f.t));
+                back.push(Item::Outlier(f.index, f.t), down_world);
             } else {
-                back.push(Item::Frame(f));
+                back.push(Item::Frame(f), down_world);
             }
         };
         match object {
@@ -299,7 +312,6 @@ impl Analyzer {
         }
         Some(ObjectCleaner {
             cleaner: self.object.take()?,
-            down: self.down_world,
             frames: 0,
         })
     }
@@ -310,11 +322,11 @@ impl Analyzer {
         self.last_t = Some(f.t);
         if self.instrumented {
             let back = &mut self.back;
-            self.merger.push_object(f, outlier, &mut |i| back.push(i));
+            self.merger.push_object(f, outlier, &mut |i, d| back.push(i, d));
         } else if outlier {
-            self.back.push(Item::Outlier(f.index, f.t));
+            self.back.push(Item::Outlier(f.index, f.t), self.down_world);
         } else {
-            self.back.push(Item::Frame(f));
+            self.back.push(Item::Frame(f), self.down_world);
         }
     }
 
@@ -331,7 +343,7 @@ impl Analyzer {
         } = self;
         let mut to_merger = |f: RawFrame, outlier: bool| {
             if !outlier {
-                merger.push_palm(f, &mut |i| back.push(i));
+                merger.push_palm(f, &mut |i, d| back.push(i, d));
             }
         };
         match palm {
@@ -351,6 +363,7 @@ impl Analyzer {
             mut back,
             frames,
             robust,
+            down_world,
             ..
         } = self;
         if frames == 0 {
@@ -362,24 +375,24 @@ impl Analyzer {
             if let Some(p) = palm {
                 p.finish(&mut |f, outlier| {
                     if !outlier {
-                        merger.push_palm(f, &mut |i| back.push(i));
+                        merger.push_palm(f, &mut |i, d| back.push(i, d));
                     }
                 });
             }
             object.into_iter().for_each(|o| {
                 o.finish(&mut |f, outlier| {
                     if instrumented {
-                        merger.push_object(f, outlier, &mut |i| back.push(i));
+                        merger.push_object(f, outlier, &mut |i, d| back.push(i, d));
                     } else if outlier {
-                        back.push(Item::Outlier(f.index, f.t));
+                        back.push(Item::Outlier(f.index, f.t), down_world);
                     } else {
-                        back.push(Item::Frame(f));
+                        back.push(Item::Frame(f), down_world);
                     }
                 })
             });
         }
         if instrumented {
-            merger.finish(&mut |i| back.push(i));
+            merger.finish(&mut |i, d| back.push(i, d));
         }
         match back {
             Back::Robust(c) => c.finish(&name, instrumented, frames),
