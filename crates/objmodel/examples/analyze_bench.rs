@@ -2,8 +2,8 @@
 //!
 //! `cargo run --release --example analyze_bench -p objmodel [FILE.tum] [REPS]`
 //!
-//! Prints the best of REPS runs of: cleaning alone, and cleaning + rest detection + blocks
-//! (the whole analysis after parsing), as thread CPU time.
+//! Prints the best of REPS runs of: cleaning alone, cleaning + rest detection + blocks (the
+//! whole robust analysis after parsing), and the paper's Algorithm 1, as thread CPU time.
 
 use objmodel::classify::{Analyzer, Config};
 use std::path::PathBuf;
@@ -35,7 +35,10 @@ fn main() {
     let reps: usize = args.next().and_then(|s| s.parse().ok()).unwrap_or(5);
     let poses = objmodel::format::read_trajectory(&path).expect("the benchmark file");
     let n = poses.len() as f64;
-    let config = Config::default();
+    let mut config = Config::default();
+    if let Some(w) = std::env::var("REST_WINDOW").ok().and_then(|w| w.parse().ok()) {
+        config.robust.rest_window_s = w; // e.g. 30 for gen_tum.py's 2.3-hour topple
+    }
     let clean = best(reps, || {
         let mut a = Analyzer::new("bench", &config, false);
         let mut c = a.take_object_cleaner().expect("robust");
@@ -56,7 +59,17 @@ fn main() {
         c.finish(&mut |f, o| a.push_cleaned_object(f, o));
         kind = a.finish().expect("classify").kind.as_str().to_string();
     });
+    let mut paper_config = Config::default();
+    paper_config.method = objmodel::classify::Method::Paper;
+    let paper = best(reps, || {
+        let mut a = Analyzer::new("bench", &paper_config, false);
+        for p in &poses {
+            a.push_object(p);
+        }
+        std::hint::black_box(a.finish().expect("classify").kind);
+    });
     println!("{} poses ({}), kind {kind}", poses.len(), path.display());
+    println!("paper (Algorithm 1): cpu {paper:.3} s = {:.0} ns/pose", paper / n * 1e9);
     println!("clean only:          cpu {clean:.3} s = {:.0} ns/pose", clean / n * 1e9);
     println!("clean + analysis:    cpu {all:.3} s = {:.0} ns/pose", all / n * 1e9);
 }

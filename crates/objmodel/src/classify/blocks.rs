@@ -14,7 +14,7 @@ use super::{Classification, Config, Label, LabelRun, Method, Votes};
 use crate::clean::RawFrame;
 use crate::geometry::{Line, LineStats, PlaneStats};
 use crate::noise::{self, NoiseModel};
-use crate::se3::{so3_log, Twist};
+use crate::se3::Twist;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3, Vector4};
 
 /// Largest number of blocks kept per demonstration.
@@ -120,6 +120,8 @@ struct RestAcc {
     t1: f64,
     q0: Option<UnitQuaternion<f64>>,
     p0: Vector3<f64>,
+    /// Accumulated rotation at the first frame.
+    r0: Vector3<f64>,
     st: f64,
     stt: f64,
     sx: [f64; 6],
@@ -150,15 +152,20 @@ impl RestAcc {
             .sum()
     }
 
-    fn add(&mut self, f: &RawFrame) {
+    /// Add a frame; `rot` is its accumulated rotation (sum of the logs of the frame-to-frame
+    /// rotations, from [`RestDetector`]): over a rest it differs from the log of the rotation
+    /// from the first frame only at second order in the (small) angles, and it stays linear in
+    /// time for a slow turn about a fixed axis, which the drift test is about.
+    fn add(&mut self, f: &RawFrame, rot: &Vector3<f64>) {
         if self.n == 0.0 {
             self.t0 = f.t;
             self.q0 = Some(f.q);
             self.p0 = f.p;
+            self.r0 = *rot;
         }
         self.t1 = f.t;
         let dt = f.t - self.t0;
-        let w = so3_log(&(self.q0.unwrap().inverse() * f.q));
+        let w = rot - self.r0;
         let d = f.p - self.p0;
         let x = [w.x, w.y, w.z, d.x, d.y, d.z];
         self.st += dt;
@@ -233,7 +240,7 @@ pub(super) struct Core {
     /// Unit "down" in the frame the poses are relative to, if known.
     down: Option<Vector3<f64>>,
     /// Items judged by the rest detector, not yet handled.
-    judged_buf: Vec<(Item, bool)>,
+    judged_buf: Vec<(Item, bool, Vector3<f64>)>,
 }
 
 impl Core {
@@ -311,14 +318,14 @@ impl Core {
         let Some(rest) = self.rest.as_mut() else {
             return;
         };
-        rest.push(item, &mut |i, m| judged.push((i, m)));
-        for (i, m) in judged.drain(..) {
-            self.judged(i, m);
+        rest.push(item, &mut |i, m, r| judged.push((i, m, *r)));
+        for (i, m, r) in judged.drain(..) {
+            self.judged(i, m, &r);
         }
         self.judged_buf = judged;
     }
 
-    fn judged(&mut self, item: Item, moving: bool) {
+    fn judged(&mut self, item: Item, moving: bool, rot: &Vector3<f64>) {
         match item {
             Item::Outlier(index, t) => {
                 self.outliers += 1;
@@ -335,7 +342,7 @@ impl Core {
                     self.in_motion = false;
                     self.rest_acc = RestAcc::default();
                 }
-                self.rest_acc.add(&f);
+                self.rest_acc.add(&f, rot);
                 // Rests belong to the segment they follow (None before the first motion).
                 self.append(
                     f.index,
@@ -382,9 +389,10 @@ impl Core {
         let seg = &mut self.segments[seg_index];
         seg.t_end = f.t;
         let m = self.model.unwrap();
-        let q_rel = seg.ref_q.inverse() * f.q;
-        let t_rel = seg.ref_q.inverse() * (f.p - seg.ref_p);
-        let omega = so3_log(&q_rel);
+        let ref_inv = seg.ref_q.inverse();
+        let t_rel = ref_inv * (f.p - seg.ref_p);
+        let xi = Twist::log_quat(&(ref_inv * f.q), &t_rel);
+        let omega = xi.omega;
         let theta2 = omega.norm_squared();
         let significant = theta2 / m.var_r + t_rel.norm_squared() / m.var_p > m.displaced;
         self.append(f.index, f.t, Phase::Moving, Some(seg_index), |b| {
@@ -401,7 +409,6 @@ impl Core {
             }
             let theta = theta2.sqrt();
             let u = omega / theta;
-            let xi = Twist::log_with_omega(omega, &t_rel);
             let r = omega.cross(&xi.v) / theta2;
             let dist = r.norm().min(MAX_AXIS_DISTANCE_M);
             let chord2 = 4.0 * (0.5 * theta).sin().powi(2);
@@ -491,7 +498,7 @@ impl Core {
             self.start();
         }
         let rest = self.rest.take().unwrap();
-        rest.finish(&mut |i, m| self.judged(i, m));
+        rest.finish(&mut |i, m, r| self.judged(i, m, r));
         if !self.in_motion {
             let rest_down = self.rest_acc.down(self.down);
             if let Some(prev) = self.segments.last_mut() {

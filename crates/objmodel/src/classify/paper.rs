@@ -12,8 +12,8 @@ use super::{Classification, Config, Kind, Label, LabelRun, Method, Segment, Vote
 use crate::edge::EdgeObservation;
 use crate::face::{FaceObservation, FaceSource};
 use crate::geometry::Line;
-use crate::screw::{line_angle, plane_normal, Screw};
-use crate::se3::{so3_log, Twist};
+use crate::screw::{plane_normal, Screw};
+use crate::se3::Twist;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 /// Streaming state of the literal algorithm.
@@ -27,6 +27,9 @@ pub(super) struct PaperCore {
     normal_sum: Vector3<f64>,
     slide_frames: u64,
     t_range: Option<(f64, f64)>,
+    /// Cosines of the axis and normal angle thresholds.
+    cos_axis: f64,
+    cos_normal: f64,
 }
 
 impl PaperCore {
@@ -41,6 +44,8 @@ impl PaperCore {
             normal_sum: Vector3::zeros(),
             slide_frames: 0,
             t_range: None,
+            cos_axis: config.paper.axis_angle.cos(),
+            cos_normal: config.paper.normal_angle.cos(),
         }
     }
 
@@ -73,8 +78,9 @@ impl PaperCore {
                 .reference
                 .get_or_insert((f.q, f.p, down.map(|d| f.q.inverse() * d)));
         self.t_range = Some(self.t_range.map_or((f.t, f.t), |(a, _)| (a, f.t)));
-        let omega = so3_log(&(q0.inverse() * f.q));
-        let xi = Twist::log_with_omega(omega, &(q0.inverse() * (f.p - p0)));
+        let q0_inv = q0.inverse();
+        let xi = Twist::log_quat(&(q0_inv * f.q), &(q0_inv * (f.p - p0)));
+        let omega = xi.omega;
         let screw = Screw::from_twist(&xi);
         let normal =
             plane_normal(&xi, self.previous.as_ref().map(|p| &p.0)).map(|n| n.into_inner());
@@ -83,9 +89,12 @@ impl PaperCore {
         let label = match (&self.previous, &screw) {
             (Some((_, prev_screw, prev_normal)), Some(s)) => {
                 if s.pitch.abs() < th.pitch {
-                    let same_axis = prev_screw
-                        .is_some_and(|p| line_angle(&p.direction, &s.direction) < th.axis_angle);
-                    let same_normal = matches!((prev_normal, &normal), (Some(a), Some(b)) if line_angle(a, b) < th.normal_angle);
+                    // angle(a, b) < th as |a·b| > cos th for unit a, b (no atan2 per frame).
+                    let same_axis = prev_screw.is_some_and(|p| {
+                        p.direction.dot(&s.direction).abs() > self.cos_axis
+                    });
+                    let same_normal = matches!((prev_normal, &normal),
+                        (Some(a), Some(b)) if a.dot(b).abs() > self.cos_normal);
                     if same_axis && s.point.norm() < th.r_palm {
                         Label::Topple
                     } else if same_normal {

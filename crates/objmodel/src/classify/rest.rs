@@ -16,7 +16,8 @@
 //! steady on either side of it.
 //!
 //! Sums over the windows are kept incrementally, re-based on a local time and pose origin every
-//! [`REBASE_EVERY`] frames so that long files do not lose precision to cancellation.
+//! [`REBASE_EVERY`] frames (or every window's worth of frames, if more, so that re-basing costs
+//! O(1) per frame) so that long files do not lose precision to cancellation.
 
 use crate::clean::RawFrame;
 use crate::se3::so3_log;
@@ -41,33 +42,53 @@ struct Entry {
     t: f64,
     is_frame: bool,
     x: [f64; 6],
+    /// The item's terms of the window sums about the current origin (see [`Sums`]), zero for
+    /// outliers.
+    terms: [f64; TERMS],
 }
 
-/// Running least-squares sums of (t, x) over a window, about a local origin.
-#[derive(Clone, Copy, Debug, Default)]
-struct Sums {
-    n: f64,
-    st: f64,
-    stt: f64,
-    sx: [f64; 6],
-    stx: [f64; 6],
+/// Number of running sums (padded to an even count for two-lane SIMD).
+const TERMS: usize = 16;
+
+/// Running least-squares sums of (t, x) over a window, about a local origin: with
+/// `dt = t - t₀` and `x = x - x₀`, the terms are `[1, dt, dt², x₀..x₅, dt·x₀..dt·x₅, 0]`, so
+/// adding or removing an item is one vector addition.
+#[derive(Clone, Copy, Debug)]
+struct Sums([f64; TERMS]);
+
+impl Default for Sums {
+    fn default() -> Self {
+        Sums([0.0; TERMS])
+    }
+}
+
+/// The terms of a frame at `t, x` about `origin` (see [`Sums`]).
+fn terms(t: f64, x: &[f64; 6], origin: &(f64, [f64; 6])) -> [f64; TERMS] {
+    let dt = t - origin.0;
+    let mut v = [0.0; TERMS];
+    v[0] = 1.0;
+    v[1] = dt;
+    v[2] = dt * dt;
+    for j in 0..6 {
+        let d = x[j] - origin.1[j];
+        v[3 + j] = d;
+        v[9 + j] = dt * d;
+    }
+    v
 }
 
 impl Sums {
     #[inline(always)]
-    fn add(&mut self, e: &Entry, origin: &(f64, [f64; 6]), sign: f64) {
-        if !e.is_frame {
-            return;
+    fn add(&mut self, e: &Entry) {
+        for (s, v) in self.0.iter_mut().zip(&e.terms) {
+            *s += v;
         }
-        let dt = e.t - origin.0;
-        let sdt = sign * dt;
-        self.n += sign;
-        self.st += sdt;
-        self.stt += sdt * dt;
-        for j in 0..6 {
-            let x = e.x[j] - origin.1[j];
-            self.sx[j] += sign * x;
-            self.stx[j] += sdt * x;
+    }
+
+    #[inline(always)]
+    fn sub(&mut self, e: &Entry) {
+        for (s, v) in self.0.iter_mut().zip(&e.terms) {
+            *s -= v;
         }
     }
 
@@ -77,19 +98,20 @@ impl Sums {
     /// compared here without a division.
     #[inline(always)]
     fn exceeds(&self, inv_var: &[f64; 6], threshold: f64) -> bool {
-        if self.n < 3.0 {
+        let [n, st, stt, ..] = self.0;
+        if n < 2.5 {
             return false;
         }
-        let den = self.n * self.stt - self.st * self.st;
+        let den = n * stt - st * st;
         if den <= 0.0 {
             return false;
         }
         let mut sum = 0.0;
         for j in 0..6 {
-            let b = self.n * self.stx[j] - self.st * self.sx[j];
+            let b = n * self.0[9 + j] - st * self.0[3 + j];
             sum += b * b * inv_var[j];
         }
-        sum > threshold * self.n * den
+        sum > threshold * n * den
     }
 }
 
@@ -141,17 +163,22 @@ impl RestDetector {
         self.origin = (c.t, c.x);
         self.left = Sums::default();
         self.right = Sums::default();
+        for e in self.buf.iter_mut().filter(|e| e.is_frame) {
+            e.terms = terms(e.t, &e.x, &self.origin);
+        }
         for e in self.buf.range(..=self.center) {
-            self.left.add(e, &self.origin, 1.0);
+            self.left.add(e);
         }
         for e in self.buf.range(self.center..self.hi) {
-            self.right.add(e, &self.origin, 1.0);
+            self.right.add(e);
         }
         self.since_rebase = 0;
     }
 
-    /// Push the next item; judged items are passed to `out` with `moving` (false for outliers).
-    pub fn push(&mut self, item: Item, out: &mut impl FnMut(Item, bool)) {
+    /// Push the next item; judged items are passed to `out` with `moving` (false for outliers)
+    /// and the accumulated rotation \[rad\] (the sum of the logs of the frame-to-frame
+    /// rotations since the first frame; zero for outliers).
+    pub fn push(&mut self, item: Item, out: &mut impl FnMut(Item, bool, &Vector3<f64>)) {
         let entry = match &item {
             Item::Frame(f) => {
                 if let Some(q0) = self.last_q {
@@ -159,16 +186,19 @@ impl RestDetector {
                 }
                 self.last_q = Some(f.q);
                 let r = &self.cum_rot;
+                let x = [r.x, r.y, r.z, f.p.x, f.p.y, f.p.z];
                 Entry {
                     t: f.t,
                     is_frame: true,
-                    x: [r.x, r.y, r.z, f.p.x, f.p.y, f.p.z],
+                    x,
+                    terms: terms(f.t, &x, &self.origin),
                 }
             }
             Item::Outlier(_, t) => Entry {
                 t: *t,
                 is_frame: false,
                 x: [0.0; 6],
+                terms: [0.0; TERMS],
             },
         };
         self.buf.push_back(entry);
@@ -177,16 +207,16 @@ impl RestDetector {
     }
 
     /// Flush the remaining items at the end of the stream.
-    pub fn finish(mut self, out: &mut impl FnMut(Item, bool)) {
+    pub fn finish(mut self, out: &mut impl FnMut(Item, bool, &Vector3<f64>)) {
         self.drain(true, out);
     }
 
-    fn drain(&mut self, at_end: bool, out: &mut impl FnMut(Item, bool)) {
+    fn drain(&mut self, at_end: bool, out: &mut impl FnMut(Item, bool, &Vector3<f64>)) {
         while self.center < self.buf.len() {
             let tc = self.buf[self.center].t;
             // Extend the right window [tc, tc + w].
             while self.hi < self.buf.len() && self.buf[self.hi].t <= tc + self.window {
-                self.right.add(&self.buf[self.hi], &self.origin, 1.0);
+                self.right.add(&self.buf[self.hi]);
                 self.hi += 1;
             }
             if self.hi == self.buf.len() && !at_end {
@@ -196,14 +226,14 @@ impl RestDetector {
             while self.center > 0 && self.buf[0].t < tc - self.window {
                 let e = self.buf.pop_front().unwrap();
                 self.items.pop_front();
-                self.left.add(&e, &self.origin, -1.0);
+                self.left.sub(&e);
                 self.center -= 1;
                 self.hi -= 1;
             }
-            if self.since_rebase == 0 || self.since_rebase >= REBASE_EVERY {
+            if self.since_rebase == 0 || self.since_rebase >= REBASE_EVERY.max(self.buf.len()) {
                 self.rebase();
             } else {
-                self.left.add(&self.buf[self.center], &self.origin, 1.0);
+                self.left.add(&self.buf[self.center]);
             }
             self.since_rebase += 1;
             let e = &self.buf[self.center];
@@ -211,8 +241,9 @@ impl RestDetector {
                 && self.left.exceeds(&self.inv_var, self.threshold)
                 && self.right.exceeds(&self.inv_var, self.threshold);
             // The centre leaves the right window (it stays in the left one).
-            self.right.add(e, &self.origin, -1.0);
-            out(self.items[self.center], moving);
+            self.right.sub(e);
+            let rot = Vector3::new(e.x[0], e.x[1], e.x[2]);
+            out(self.items[self.center], moving, &rot);
             self.center += 1;
         }
     }
@@ -237,9 +268,9 @@ mod tests {
                 q: UnitQuaternion::from_scaled_axis(Vector3::new(angle, 0.0, 0.0)),
                 p: Vector3::zeros(),
             };
-            d.push(Item::Frame(f), &mut |i, m| verdicts.push((i, m)));
+            d.push(Item::Frame(f), &mut |i, m, _| verdicts.push((i, m)));
         }
-        d.finish(&mut |i, m| verdicts.push((i, m)));
+        d.finish(&mut |i, m, _| verdicts.push((i, m)));
         assert_eq!(verdicts.len(), 120);
         let moving: Vec<bool> = verdicts.iter().map(|v| v.1).collect();
         assert!(moving[..20].iter().all(|m| !m), "{moving:?}");
