@@ -30,6 +30,9 @@ pub const REFERENCE_SETTLING_M: f64 = 1e-4;
 pub const REFERENCE_SETTLING_RAD: f64 = 3.5e-3;
 /// Largest number of motion segments per demonstration; later rests no longer split.
 pub const MAX_SEGMENTS: usize = 256;
+/// Rest frames between two drift tests of the rest so far (a slow motion is found at most this
+/// many frames late).
+pub const SLOW_CHECK_FRAMES: u64 = 32;
 
 /// Upper bound \[m\] on the axis distance used in the axis-point variance (beyond the palm the
 /// frame cannot be a topple anyway; this keeps far-away axes from underflowing the weight).
@@ -122,6 +125,9 @@ struct RestAcc {
     p0: Vector3<f64>,
     /// Accumulated rotation at the first frame.
     r0: Vector3<f64>,
+    /// Mean pose and frame count over the rest's first `head_s` seconds (taken when a frame
+    /// beyond them arrives): the pose a slow motion started from.
+    head: Option<(UnitQuaternion<f64>, Vector3<f64>, f64)>,
     st: f64,
     stt: f64,
     sx: [f64; 6],
@@ -156,7 +162,7 @@ impl RestAcc {
     /// rotations, from [`RestDetector`]): over a rest it differs from the log of the rotation
     /// from the first frame only at second order in the (small) angles, and it stays linear in
     /// time for a slow turn about a fixed axis, which the drift test is about.
-    fn add(&mut self, f: &RawFrame, rot: &Vector3<f64>) {
+    fn add(&mut self, f: &RawFrame, rot: &Vector3<f64>, head_s: f64) {
         if self.n == 0.0 {
             self.t0 = f.t;
             self.q0 = Some(f.q);
@@ -165,6 +171,9 @@ impl RestAcc {
         }
         self.t1 = f.t;
         let dt = f.t - self.t0;
+        if dt > head_s && self.head.is_none() {
+            self.head = self.mean().map(|(q, p)| (q, p, self.n));
+        }
         let w = rot - self.r0;
         let d = f.p - self.p0;
         let x = [w.x, w.y, w.z, d.x, d.y, d.z];
@@ -190,6 +199,13 @@ impl RestAcc {
                 self.p / self.n,
             )
         })
+    }
+
+    /// The pose a slow motion through this "rest" started from: the mean over the rest's head
+    /// (or over all of it while it is short), and the number of frames averaged.
+    fn start(&self) -> Option<(UnitQuaternion<f64>, Vector3<f64>, f64)> {
+        self.head
+            .or_else(|| self.mean().map(|(q, p)| (q, p, self.n)))
     }
 
     /// "Down" in object coordinates at the mean pose, given it (`down`) in the frame the poses
@@ -241,6 +257,9 @@ pub(super) struct Core {
     down: Option<Vector3<f64>>,
     /// Items judged by the rest detector, not yet handled.
     judged_buf: Vec<(Item, bool, Vector3<f64>)>,
+    /// In a slow motion: a "rest" (to the windowed test) whose pose drifted measurably; its
+    /// frames are treated as moving until the windowed test sees motion again.
+    slow: bool,
 }
 
 impl Core {
@@ -259,6 +278,7 @@ impl Core {
             outliers: 0,
             down: None,
             judged_buf: Vec::new(),
+            slow: false,
         }
     }
 
@@ -337,12 +357,14 @@ impl Core {
                     |_| {},
                 );
             }
+            Item::Frame(f) if !moving && self.slow => self.moving(f, false),
             Item::Frame(f) if !moving => {
                 if self.in_motion {
                     self.in_motion = false;
                     self.rest_acc = RestAcc::default();
                 }
-                self.rest_acc.add(&f, rot);
+                let min_rest = self.config.robust.min_rest_s;
+                self.rest_acc.add(&f, rot, min_rest);
                 // Rests belong to the segment they follow (None before the first motion).
                 self.append(
                     f.index,
@@ -351,26 +373,51 @@ impl Core {
                     self.segments.len().checked_sub(1),
                     |_| {},
                 );
+                // A "rest" whose pose drifts measurably over at least `min_rest_s` is a motion
+                // too slow for the windowed test (checked every SLOW_CHECK_FRAMES frames).
+                let r = &self.rest_acc;
+                if (r.n as u64).is_multiple_of(SLOW_CHECK_FRAMES)
+                    && r.t1 - r.t0 >= min_rest
+                    && r.drift_chi2(&self.model.unwrap()) > self.model.unwrap().displaced
+                {
+                    self.slow = true;
+                    self.in_motion = false;
+                    self.moving(f, true);
+                }
             }
-            Item::Frame(f) => self.moving(f),
+            Item::Frame(f) => {
+                self.slow = false;
+                self.moving(f, false)
+            }
         }
     }
 
-    fn moving(&mut self, f: RawFrame) {
+    /// A moving frame; `slow_start` when it reveals that the rest before it was a slow motion.
+    fn moving(&mut self, f: RawFrame, slow_start: bool) {
         if !self.in_motion {
             self.in_motion = true;
             // A new segment starts after a rest that is long enough and over which the pose did
-            // not drift measurably (a slow motion can pass the windowed test as rest).
+            // not drift measurably (a slow motion can pass the windowed test as rest), and where
+            // a slow motion is found; it starts from the pose at the slow motion's start.
             let m = self.model.unwrap();
             let long_rest = self.rest_acc.n > 0.0
                 && self.rest_acc.t1 - self.rest_acc.t0 >= self.config.robust.min_rest_s
                 && self.rest_acc.drift_chi2(&m) <= m.displaced;
-            if self.segments.is_empty() || (long_rest && self.segments.len() < MAX_SEGMENTS) {
-                let rest_down = self.rest_acc.down(self.down);
+            if self.segments.is_empty()
+                || ((long_rest || slow_start) && self.segments.len() < MAX_SEGMENTS)
+            {
+                let start = if slow_start {
+                    self.rest_acc.start()
+                } else {
+                    self.rest_acc.mean().map(|(q, p)| (q, p, self.rest_acc.n))
+                };
+                let rest_down = start
+                    .zip(self.down)
+                    .map(|((q, _, _), d)| (q.inverse() * d).normalize());
                 if let Some(prev) = self.segments.last_mut() {
                     prev.rest_after = rest_down;
                 }
-                let (ref_q, ref_p) = self.rest_acc.mean().unwrap_or((f.q, f.p));
+                let (ref_q, ref_p, n_ref) = start.unwrap_or((f.q, f.p, 1.0));
                 let down_ref =
                     rest_down.or_else(|| self.down.map(|d| (f.q.inverse() * d).normalize()));
                 self.segments.push(SegState {
@@ -379,7 +426,7 @@ impl Core {
                     t_start: f.t,
                     t_end: f.t,
                     down_ref,
-                    n_ref: self.rest_acc.n.max(1.0),
+                    n_ref: n_ref.max(1.0),
                     rest_before: rest_down,
                     rest_after: None,
                 });
