@@ -292,3 +292,35 @@ fn gravity_in_a_camera_frame() {
         }
     }
 }
+
+/// A quasi-static push (the box turned onto its edge over a minute, about 0.5°/s: within the
+/// tracking noise over any 0.6 s rest window) is still a topple about the right edge: the
+/// rest's drift test finds the slow motion.
+#[test]
+fn quasi_static_topples_give_the_edge() {
+    for seed in 0..5u64 {
+        let mut rng = StdRng::seed_from_u64(300 + seed);
+        let b = SynthBox::random(&mut rng);
+        let d = synth::topple(
+            &b,
+            &ToppleParams {
+                side: (seed % 4) as usize,
+                push_s: 60.0,
+                ..Default::default()
+            },
+            &SynthNoise::REAL,
+            30.0,
+            seed,
+        );
+        let c = classify(&d.demo, &Config::default()).unwrap();
+        let t = d.truth.edge.unwrap();
+        let e = c.edges().next().expect("an edge");
+        let (angle, dist) = (
+            line_angle_deg(&e.line.direction, &t.direction),
+            (e.line.point - t.point).norm() * 1e3,
+        );
+        eprintln!("seed {seed}: {:?}, {angle:.3} deg, {dist:.2} mm", c.kind);
+        assert_eq!(c.kind, Kind::Topple);
+        assert!(angle < 1.0 && dist < 3.0, "{angle} deg, {dist} mm");
+    }
+}

@@ -257,9 +257,23 @@ pub(super) struct Core {
     down: Option<Vector3<f64>>,
     /// Items judged by the rest detector, not yet handled.
     judged_buf: Vec<(Item, bool, Vector3<f64>)>,
-    /// In a slow motion: a "rest" (to the windowed test) whose pose drifted measurably; its
-    /// frames are treated as moving until the windowed test sees motion again.
-    slow: bool,
+    /// The latest part (a quarter to a half) of the current rest, to tell a persistent drift
+    /// (a slow motion) from a transient one (contacts settling after a landing).
+    recent: RestAcc,
+    /// In a slow motion (see [`Slow`]).
+    slow: Option<Slow>,
+}
+
+/// A slow motion: a "rest" to the windowed test over which the pose drifted measurably, both
+/// over the whole rest and over its latest part. All its frames are treated as moving, in one
+/// segment, until a span as long as the one that revealed the motion shows no drift (a real
+/// rest: it becomes the current rest) or the stream ends.
+#[derive(Clone, Copy, Debug)]
+struct Slow {
+    /// Duration \[s\] of the span that revealed the slow motion.
+    span_s: f64,
+    /// Frames since the windowed test last saw motion, or since the last probe.
+    probe: RestAcc,
 }
 
 impl Core {
@@ -278,7 +292,8 @@ impl Core {
             outliers: 0,
             down: None,
             judged_buf: Vec::new(),
-            slow: false,
+            recent: RestAcc::default(),
+            slow: None,
         }
     }
 
@@ -357,14 +372,23 @@ impl Core {
                     |_| {},
                 );
             }
-            Item::Frame(f) if !moving && self.slow => self.moving(f, false),
+            Item::Frame(f) if self.slow.is_some() => {
+                self.moving(f, false);
+                self.probe_slow(&f, rot, moving);
+            }
             Item::Frame(f) if !moving => {
                 if self.in_motion {
                     self.in_motion = false;
                     self.rest_acc = RestAcc::default();
+                    self.recent = RestAcc::default();
                 }
                 let min_rest = self.config.robust.min_rest_s;
                 self.rest_acc.add(&f, rot, min_rest);
+                let full = self.rest_acc.t1 - self.rest_acc.t0;
+                if self.recent.n > 0.0 && self.recent.t1 - self.recent.t0 >= 0.5 * full {
+                    self.recent = RestAcc::default();
+                }
+                self.recent.add(&f, rot, min_rest);
                 // Rests belong to the segment they follow (None before the first motion).
                 self.append(
                     f.index,
@@ -373,22 +397,58 @@ impl Core {
                     self.segments.len().checked_sub(1),
                     |_| {},
                 );
-                // A "rest" whose pose drifts measurably over at least `min_rest_s` is a motion
-                // too slow for the windowed test (checked every SLOW_CHECK_FRAMES frames).
-                let r = &self.rest_acc;
-                if (r.n as u64).is_multiple_of(SLOW_CHECK_FRAMES)
-                    && r.t1 - r.t0 >= min_rest
-                    && r.drift_chi2(&self.model.unwrap()) > self.model.unwrap().displaced
-                {
-                    self.slow = true;
+                if self.is_slow_motion() {
+                    self.slow = Some(Slow {
+                        span_s: full,
+                        probe: RestAcc::default(),
+                    });
                     self.in_motion = false;
                     self.moving(f, true);
                 }
             }
-            Item::Frame(f) => {
-                self.slow = false;
-                self.moving(f, false)
-            }
+            Item::Frame(f) => self.moving(f, false),
+        }
+    }
+
+    /// Whether the current rest is a motion too slow for the windowed test: over at least
+    /// `min_rest_s` its pose drifted measurably, and so it did over its latest part (at least a
+    /// quarter of it), so that the drift is not a transient such as contacts settling. Tested
+    /// every [`SLOW_CHECK_FRAMES`] frames.
+    fn is_slow_motion(&self) -> bool {
+        let (r, recent) = (&self.rest_acc, &self.recent);
+        let m = self.model.unwrap();
+        let full = r.t1 - r.t0;
+        (r.n as u64).is_multiple_of(SLOW_CHECK_FRAMES)
+            && full >= self.config.robust.min_rest_s
+            && recent.t1 - recent.t0 >= 0.25 * full
+            && r.drift_chi2(&m) > m.displaced
+            && recent.drift_chi2(&m) > m.displaced
+    }
+
+    /// In a slow motion, look for a real rest: frames the windowed test calls rest, over a
+    /// span as long as the one that revealed the slow motion, without drift.
+    fn probe_slow(&mut self, f: &RawFrame, rot: &Vector3<f64>, moving: bool) {
+        let Some(slow) = self.slow.as_mut() else {
+            return;
+        };
+        if moving {
+            slow.probe = RestAcc::default();
+            return;
+        }
+        slow.probe.add(f, rot, self.config.robust.min_rest_s);
+        let p = &slow.probe;
+        if !(p.n as u64).is_multiple_of(SLOW_CHECK_FRAMES) || p.t1 - p.t0 < slow.span_s {
+            return;
+        }
+        let m = self.model.unwrap();
+        if p.drift_chi2(&m) <= m.displaced {
+            // A real rest: the slow motion is over, and this rest may start a new segment.
+            self.rest_acc = slow.probe;
+            self.recent = RestAcc::default();
+            self.in_motion = false;
+            self.slow = None;
+        } else {
+            slow.probe = RestAcc::default();
         }
     }
 
