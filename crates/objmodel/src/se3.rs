@@ -81,6 +81,7 @@ pub fn so3_exp(omega: &Vector3<f64>) -> UnitQuaternion<f64> {
 ///
 /// Works for either sign of the quaternion (q and -q give the same ω, except at exactly π
 /// where the axis sign is arbitrary).
+#[inline]
 pub fn so3_log(q: &UnitQuaternion<f64>) -> Vector3<f64> {
     let q = q.quaternion();
     let (w, v) = if q.w < 0.0 {

@@ -498,7 +498,8 @@ impl Core {
         let m = self.model.unwrap();
         let ref_inv = seg.ref_q.inverse();
         let t_rel = ref_inv * (f.p - seg.ref_p);
-        let xi = Twist::log_quat(&(ref_inv * f.q), &t_rel);
+        let q_rel = ref_inv * f.q;
+        let xi = Twist::log_quat(&q_rel, &t_rel);
         let omega = xi.omega;
         let theta2 = omega.norm_squared();
         let significant = theta2 / m.var_r + t_rel.norm_squared() / m.var_p > m.displaced;
@@ -518,7 +519,8 @@ impl Core {
             let u = omega / theta;
             let r = omega.cross(&xi.v) / theta2;
             let dist = r.norm().min(MAX_AXIS_DISTANCE_M);
-            let chord2 = 4.0 * (0.5 * theta).sin().powi(2);
+            // Chord 2 sin(θ/2) = 2 |imag(q_rel)|, from the quaternion (no sine).
+            let chord2 = 4.0 * q_rel.quaternion().imag().norm_squared();
             // The pose from which the rotation starts is uncertain by the noise and by the
             // contacts settling as the load moves onto the edge (REFERENCE_SETTLING_*); its
             // effect on the axis shrinks as 1/θ. The tolerance adds a constant wander.
@@ -540,7 +542,14 @@ impl Core {
             );
             if theta > b.max_angle {
                 b.max_angle = theta;
-                b.max_line = Some((Line::through(r, u), omega));
+                // r is already the point of the line closest to the origin (r ⊥ u).
+                b.max_line = Some((
+                    Line {
+                        point: r,
+                        direction: u,
+                    },
+                    omega,
+                ));
             }
         });
     }
