@@ -61,7 +61,8 @@ fn main() {
     });
     let mut paper_config = Config::default();
     paper_config.method = objmodel::classify::Method::Paper;
-    let paper = best(reps, || {
+    let skip_paper = std::env::var_os("ONLY_ROBUST").is_some();
+    let paper = best(if skip_paper { 0 } else { reps }, || {
         let mut a = Analyzer::new("bench", &paper_config, false);
         for p in &poses {
             a.push_object(p);
