@@ -321,6 +321,8 @@ fn quasi_static_topples_give_the_edge() {
         );
         eprintln!("seed {seed}: {:?}, {angle:.3} deg, {dist:.2} mm", c.kind);
         assert_eq!(c.kind, Kind::Topple);
+        // Every frame is labelled exactly once.
+        assert_eq!(c.labels.iter().map(|r| r.frames).sum::<u64>(), c.frames);
         assert!(angle < 1.0 && dist < 3.0, "{angle} deg, {dist} mm");
     }
 }

@@ -389,14 +389,6 @@ impl Core {
                     self.recent = RestAcc::default();
                 }
                 self.recent.add(&f, rot, min_rest);
-                // Rests belong to the segment they follow (None before the first motion).
-                self.append(
-                    f.index,
-                    f.t,
-                    Phase::Rest,
-                    self.segments.len().checked_sub(1),
-                    |_| {},
-                );
                 if self.is_slow_motion() {
                     self.slow = Some(Slow {
                         span_s: full,
@@ -404,6 +396,15 @@ impl Core {
                     });
                     self.in_motion = false;
                     self.moving(f, true);
+                } else {
+                    // Rests belong to the segment they follow (None before the first motion).
+                    self.append(
+                        f.index,
+                        f.t,
+                        Phase::Rest,
+                        self.segments.len().checked_sub(1),
+                        |_| {},
+                    );
                 }
             }
             Item::Frame(f) => self.moving(f, false),
