@@ -82,10 +82,16 @@ impl PaperCore {
         let xi = Twist::log_quat(&(q0_inv * f.q), &(q0_inv * (f.p - p0)));
         let omega = xi.omega;
         let screw = Screw::from_twist(&xi);
-        let normal =
-            plane_normal(&xi, self.previous.as_ref().map(|p| &p.0)).map(|n| n.into_inner());
-        let theta = omega.norm();
-        let moving = theta > th.motion_rotation || xi.v.norm() > th.motion_translation;
+        // For a rotation the plane normal (eq. 5) is the screw's direction and θ its magnitude.
+        let (theta, normal) = match &screw {
+            Some(s) if s.is_rotation() => (s.magnitude, Some(s.direction.into_inner())),
+            _ => (
+                omega.norm(),
+                plane_normal(&xi, self.previous.as_ref().map(|p| &p.0)).map(|n| n.into_inner()),
+            ),
+        };
+        let moving = theta > th.motion_rotation
+            || xi.v.norm_squared() > th.motion_translation * th.motion_translation;
         let label = match (&self.previous, &screw) {
             (Some((_, prev_screw, prev_normal)), Some(s)) => {
                 if s.pitch.abs() < th.pitch {
@@ -95,7 +101,7 @@ impl PaperCore {
                     });
                     let same_normal = matches!((prev_normal, &normal),
                         (Some(a), Some(b)) if a.dot(b).abs() > self.cos_normal);
-                    if same_axis && s.point.norm() < th.r_palm {
+                    if same_axis && s.point.norm_squared() < th.r_palm * th.r_palm {
                         Label::Topple
                     } else if same_normal {
                         Label::Slide
