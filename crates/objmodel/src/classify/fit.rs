@@ -7,7 +7,6 @@ use crate::edge::EdgeObservation;
 use crate::face::{FaceObservation, FaceSource};
 use crate::geometry::{Line, LineStats, PlaneStats};
 use nalgebra::Vector3;
-use std::collections::HashMap;
 
 /// Candidates tried by MSAC: the blocks with the most information.
 const MSAC_CANDIDATES: usize = 48;
@@ -19,20 +18,30 @@ const MIN_KEPT_BLOCKS: usize = 3;
 /// only a third of the frames in which it turns, and fly or slide for the rest.
 const MIN_KEPT_FRACTION: f64 = 0.2;
 
-/// χ² thresholds by degrees of freedom, cached.
+/// χ² thresholds by (integer) degrees of freedom, cached in a table indexed by them.
 struct Thresholds {
     alpha: f64,
-    cache: HashMap<u64, f64>,
+    cache: Vec<f64>,
 }
 
 impl Thresholds {
+    fn new(alpha: f64) -> Self {
+        Self {
+            alpha,
+            cache: Vec::new(),
+        }
+    }
+
+    #[inline]
     fn get(&mut self, dof: f64) -> f64 {
-        let k = dof.round().max(1.0) as u64;
-        let alpha = self.alpha;
-        *self
-            .cache
-            .entry(k)
-            .or_insert_with(|| crate::stats::chi2_threshold(k as f64, alpha))
+        let k = dof.round().max(1.0) as usize;
+        if k >= self.cache.len() {
+            self.cache.resize(k + 1, f64::NAN);
+        }
+        if self.cache[k].is_nan() {
+            self.cache[k] = crate::stats::chi2_threshold(k as f64, self.alpha);
+        }
+        self.cache[k]
     }
 }
 
@@ -316,10 +325,7 @@ pub(super) fn analyse_segment(
         l.point.norm() <= r_palm && up.is_none_or(|u| l.direction.dot(&u).abs() <= sin_tilt)
     };
     let valid_plane = |n: &Vector3<f64>| up.is_none_or(|u| n.dot(&u).abs() >= cos_tilt);
-    let mut th = Thresholds {
-        alpha,
-        cache: HashMap::new(),
-    };
+    let mut th = Thresholds::new(alpha);
     let mut line = fit_line(blocks, &idx, valid_line, &mut th);
     let plane = fit_plane(blocks, &idx, valid_plane, &mut th);
     // Blocks cut off as "after (or before) the pure rotation": labelled general.
