@@ -69,8 +69,20 @@ fn main() {
         }
         std::hint::black_box(a.finish().expect("classify").kind);
     });
+    let mut split_kind = String::new();
+    let split = best(if only_clean { 0 } else { reps }, || {
+        let mut a = Analyzer::new("bench", &config, false);
+        let mut front = a.take_object_front().expect("robust, no palm");
+        for p in &poses {
+            front.push(p, &mut |j| a.push_judged(j));
+        }
+        front.finish(&mut |j| a.push_judged(j));
+        split_kind = a.finish().expect("classify").kind.as_str().to_string();
+    });
+    assert_eq!(kind, split_kind);
     println!("{} poses ({}), kind {kind}", poses.len(), path.display());
     println!("paper (Algorithm 1): cpu {paper:.3} s = {:.0} ns/pose", paper / n * 1e9);
     println!("clean only:          cpu {clean:.3} s = {:.0} ns/pose", clean / n * 1e9);
     println!("clean + analysis:    cpu {all:.3} s = {:.0} ns/pose", all / n * 1e9);
+    println!("same, split front:   cpu {split:.3} s = {:.0} ns/pose", split / n * 1e9);
 }

@@ -326,3 +326,26 @@ fn quasi_static_topples_give_the_edge() {
         assert!(angle < 1.0 && dist < 3.0, "{angle} deg, {dist} mm");
     }
 }
+
+/// Running the cleaner and rest detection apart from the segments and blocks (as `learn` does,
+/// on another thread) gives exactly the same classification as the sequential analyser.
+#[test]
+fn split_front_end_gives_the_same_classification() {
+    use objmodel::classify::Analyzer;
+    for kind in 0..4 {
+        for d in demos(kind, 3, &SynthNoise::REAL) {
+            if d.demo.palm.is_some() {
+                continue; // The palm merge comes before the rest test: no split front end.
+            }
+            let config = Config::default();
+            let sequential = classify(&d.demo, &config).unwrap();
+            let mut a = Analyzer::new(&d.demo.name, &config, false);
+            let mut front = a.take_object_front().expect("robust, no palm");
+            for p in &d.demo.object {
+                front.push(p, &mut |j| a.push_judged(j));
+            }
+            front.finish(&mut |j| a.push_judged(j));
+            assert_eq!(a.finish().unwrap(), sequential);
+        }
+    }
+}

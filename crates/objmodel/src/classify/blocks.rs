@@ -9,11 +9,11 @@
 //! frames and memory stays flat.
 
 use super::fit;
-use super::rest::{Item, RestDetector};
+use super::rest::{Item, Judged, RestFront};
 use super::{Classification, Config, Label, LabelRun, Method, Votes};
 use crate::clean::RawFrame;
 use crate::geometry::{Line, LineStats, PlaneStats};
-use crate::noise::{self, NoiseModel};
+use crate::noise::NoiseModel;
 use crate::se3::Twist;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3, Vector4};
 
@@ -240,13 +240,50 @@ struct FrameModel {
     rotated: f64,
 }
 
-/// The robust core: noise warm-up, rest detection, segments and blocks.
+/// The robust core: the rest front end ([`RestFront`]: noise warm-up, rest detection), unless
+/// it runs elsewhere, and the segments and blocks fed by it ([`Segmenter`]).
 pub(super) struct Core {
+    /// `None` when the front end was taken to run on another thread.
+    pub(super) front: Option<RestFront>,
+    pub(super) seg: Segmenter,
+}
+
+impl Core {
+    pub(super) fn new(config: &Config) -> Self {
+        Self {
+            front: Some(RestFront::new(config)),
+            seg: Segmenter::new(config),
+        }
+    }
+
+    /// Push the next item; `down` is the unit "down" in the frame the poses are relative to.
+    pub(super) fn push(&mut self, item: Item, down: Option<Vector3<f64>>) {
+        self.seg.down = down;
+        let Self { front, seg } = self;
+        if let Some(front) = front {
+            front.push(item, &mut |j| seg.judged(j));
+        }
+    }
+
+    pub(super) fn finish(
+        self,
+        name: &str,
+        instrumented: bool,
+        frames: u64,
+    ) -> crate::Result<Classification> {
+        let Self { front, mut seg } = self;
+        if let Some(front) = front {
+            front.finish(&mut |j| seg.judged(j));
+        }
+        seg.finish(name, instrumented, frames)
+    }
+}
+
+/// Segments and blocks: consumes the rest front end's output ([`Judged`]).
+pub(super) struct Segmenter {
     config: Config,
-    warm: Vec<Item>,
     noise: Option<NoiseModel>,
     model: Option<FrameModel>,
-    rest: Option<RestDetector>,
     blocks: Vec<Block>,
     block_size: u64,
     segments: Vec<SegState>,
@@ -254,9 +291,7 @@ pub(super) struct Core {
     in_motion: bool,
     outliers: u64,
     /// Unit "down" in the frame the poses are relative to, if known.
-    down: Option<Vector3<f64>>,
-    /// Items judged by the rest detector, not yet handled.
-    judged_buf: Vec<(Item, bool, Vector3<f64>)>,
+    pub(super) down: Option<Vector3<f64>>,
     /// The latest part (a quarter to a half) of the current rest, to tell a persistent drift
     /// (a slow motion) from a transient one (contacts settling after a landing).
     recent: RestAcc,
@@ -276,14 +311,12 @@ struct Slow {
     probe: RestAcc,
 }
 
-impl Core {
+impl Segmenter {
     pub(super) fn new(config: &Config) -> Self {
         Self {
             config: *config,
-            warm: Vec::new(),
-            noise: config.robust.noise.map(NoiseModel::floored),
+            noise: None,
             model: None,
-            rest: None,
             blocks: Vec::new(),
             block_size: 1,
             segments: Vec::new(),
@@ -291,28 +324,14 @@ impl Core {
             in_motion: false,
             outliers: 0,
             down: None,
-            judged_buf: Vec::new(),
             recent: RestAcc::default(),
             slow: None,
         }
     }
 
-    fn start(&mut self) {
-        if self.noise.is_none() {
-            let samples: Vec<noise::PoseSample> = self
-                .warm
-                .iter()
-                .filter_map(|i| match i {
-                    Item::Frame(f) => Some((f.t, f.q, f.p)),
-                    Item::Outlier(..) => None,
-                })
-                .collect();
-            self.noise = Some(noise::estimate(&samples).unwrap_or(NoiseModel {
-                sigma_position: noise::MIN_SIGMA_POSITION_M,
-                sigma_rotation: noise::MIN_SIGMA_ROTATION_RAD,
-            }));
-        }
-        let n = self.noise.unwrap();
+    /// The noise model in force: per-frame variances and thresholds follow from it.
+    fn set_noise(&mut self, n: NoiseModel) {
+        self.noise = Some(n);
         let r = &self.config.robust;
         self.model = Some(FrameModel {
             var_p: n.sigma_position.powi(2),
@@ -322,45 +341,17 @@ impl Core {
             displaced: crate::stats::chi2_threshold(6.0, r.alpha),
             rotated: crate::stats::chi2_threshold(3.0, r.alpha),
         });
-        self.rest = Some(RestDetector::new(
-            r.rest_window_s,
-            n.sigma_position,
-            n.sigma_rotation,
-            r.alpha,
-        ));
-        for item in std::mem::take(&mut self.warm) {
-            self.feed_rest(item);
+    }
+
+    /// Take the next output of the rest front end.
+    pub(super) fn judged(&mut self, j: Judged) {
+        match j {
+            Judged::Noise(n) => self.set_noise(n),
+            Judged::Item(item, moving, rot) => self.item(item, moving, &rot),
         }
     }
 
-    /// Push the next item; `down` is the unit "down" in the frame the poses are relative to.
-    pub(super) fn push(&mut self, item: Item, down: Option<Vector3<f64>>) {
-        self.down = down;
-        if self.rest.is_none() {
-            self.warm.push(item);
-            if self.warm.len() >= self.config.robust.warmup_frames.max(3) {
-                self.start();
-            }
-        } else {
-            self.feed_rest(item);
-        }
-    }
-
-    fn feed_rest(&mut self, item: Item) {
-        // Judged items go through a reused buffer: the detector stays in place (moving it out
-        // of `self` and back for every frame cost more than the detection itself).
-        let mut judged = std::mem::take(&mut self.judged_buf);
-        let Some(rest) = self.rest.as_mut() else {
-            return;
-        };
-        rest.push(item, &mut |i, m, r| judged.push((i, m, *r)));
-        for (i, m, r) in judged.drain(..) {
-            self.judged(i, m, &r);
-        }
-        self.judged_buf = judged;
-    }
-
-    fn judged(&mut self, item: Item, moving: bool, rot: &Vector3<f64>) {
+    fn item(&mut self, item: Item, moving: bool, rot: &Vector3<f64>) {
         match item {
             Item::Outlier(index, t) => {
                 self.outliers += 1;
@@ -611,11 +602,6 @@ impl Core {
         instrumented: bool,
         frames: u64,
     ) -> crate::Result<Classification> {
-        if self.rest.is_none() {
-            self.start();
-        }
-        let rest = self.rest.take().unwrap();
-        rest.finish(&mut |i, m, r| self.judged(i, m, r));
         if !self.in_motion {
             let rest_down = self.rest_acc.down(self.down);
             if let Some(prev) = self.segments.last_mut() {

@@ -33,7 +33,8 @@ mod rest;
 mod stream;
 
 pub use files::classify_files;
-pub use stream::{Analyzer, ObjectCleaner};
+pub use rest::{Item, Judged};
+pub use stream::{Analyzer, ObjectCleaner, ObjectFront};
 
 use crate::edge::EdgeObservation;
 use crate::face::FaceObservation;

@@ -19,7 +19,9 @@
 //! [`REBASE_EVERY`] frames (or every window's worth of frames, if more, so that re-basing costs
 //! O(1) per frame) so that long files do not lose precision to cancellation.
 
+use super::Config;
 use crate::clean::RawFrame;
+use crate::noise::{self, NoiseModel};
 use crate::se3::so3_log;
 use nalgebra::Vector3;
 use std::collections::VecDeque;
@@ -245,6 +247,93 @@ impl RestDetector {
             let rot = Vector3::new(e.x[0], e.x[1], e.x[2]);
             out(self.items[self.center], moving, &rot);
             self.center += 1;
+        }
+    }
+}
+
+/// What the rest front end passes on: first the noise model in force (once, before any item),
+/// then every item in order with its verdict.
+#[derive(Clone, Copy, Debug)]
+pub enum Judged {
+    /// The tracking noise, given or estimated from the first frames.
+    Noise(NoiseModel),
+    /// An item, `moving` or not, with its accumulated rotation (see [`RestDetector::push`]).
+    Item(Item, bool, Vector3<f64>),
+}
+
+/// The robust classifier's front end: the noise warm-up (the first
+/// [`super::RobustConfig::warmup_frames`] items, unless the noise is given) and the
+/// [`RestDetector`]. It only looks at the cleaned stream, so it can run on another thread than
+/// the segments and blocks that consume its output.
+#[derive(Debug)]
+pub struct RestFront {
+    config: Config,
+    warm: Vec<Item>,
+    noise: Option<NoiseModel>,
+    rest: Option<RestDetector>,
+}
+
+impl RestFront {
+    /// A front end for `config`.
+    pub fn new(config: &Config) -> Self {
+        Self {
+            config: *config,
+            warm: Vec::new(),
+            noise: config.robust.noise.map(NoiseModel::floored),
+            rest: None,
+        }
+    }
+
+    fn start(&mut self, out: &mut impl FnMut(Judged)) {
+        let noise = self.noise.unwrap_or_else(|| {
+            let samples: Vec<noise::PoseSample> = self
+                .warm
+                .iter()
+                .filter_map(|i| match i {
+                    Item::Frame(f) => Some((f.t, f.q, f.p)),
+                    Item::Outlier(..) => None,
+                })
+                .collect();
+            noise::estimate(&samples).unwrap_or(NoiseModel {
+                sigma_position: noise::MIN_SIGMA_POSITION_M,
+                sigma_rotation: noise::MIN_SIGMA_ROTATION_RAD,
+            })
+        });
+        self.noise = Some(noise);
+        out(Judged::Noise(noise));
+        let r = &self.config.robust;
+        let mut rest = RestDetector::new(
+            r.rest_window_s,
+            noise.sigma_position,
+            noise.sigma_rotation,
+            r.alpha,
+        );
+        for item in std::mem::take(&mut self.warm) {
+            rest.push(item, &mut |i, m, r| out(Judged::Item(i, m, *r)));
+        }
+        self.rest = Some(rest);
+    }
+
+    /// Push the next item; what is judged goes to `out`.
+    pub fn push(&mut self, item: Item, out: &mut impl FnMut(Judged)) {
+        match self.rest.as_mut() {
+            Some(rest) => rest.push(item, &mut |i, m, r| out(Judged::Item(i, m, *r))),
+            None => {
+                self.warm.push(item);
+                if self.warm.len() >= self.config.robust.warmup_frames.max(3) {
+                    self.start(out);
+                }
+            }
+        }
+    }
+
+    /// Flush the remaining items at the end of the stream.
+    pub fn finish(mut self, out: &mut impl FnMut(Judged)) {
+        if self.rest.is_none() {
+            self.start(out);
+        }
+        if let Some(rest) = self.rest.take() {
+            rest.finish(&mut |i, m, r| out(Judged::Item(i, m, *r)));
         }
     }
 }

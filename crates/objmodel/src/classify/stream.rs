@@ -4,7 +4,7 @@
 
 use super::blocks::Core;
 use super::paper::PaperCore;
-use super::rest::Item;
+use super::rest::{Item, Judged, RestFront};
 use super::{Classification, Config, Method};
 use crate::clean::{Cleaner, RawFrame};
 use crate::noise::{self, NoiseModel};
@@ -91,6 +91,50 @@ impl ObjectCleaner {
     /// Flush the last frames.
     pub fn finish(self, out: &mut impl FnMut(RawFrame, bool)) {
         self.cleaner.finish(out);
+    }
+}
+
+/// The object stream's cleaner *and* the robust classifier's rest front end, detached from
+/// their [`Analyzer`] so that they can run on another thread (parsing, cleaning and rest
+/// detection there; segments and blocks in [`Analyzer::push_judged`]). For demonstrations
+/// without a palm.
+pub struct ObjectFront {
+    cleaner: StreamCleaner,
+    front: RestFront,
+    frames: usize,
+}
+
+impl ObjectFront {
+    /// Push the next object pose; what is judged goes to `out`.
+    pub fn push(&mut self, p: &StampedPose, out: &mut impl FnMut(Judged)) {
+        let f = RawFrame {
+            index: self.frames,
+            t: p.t,
+            q: p.pose.rotation,
+            p: p.pose.translation.vector,
+        };
+        self.frames += 1;
+        let front = &mut self.front;
+        self.cleaner
+            .push(f, &mut |f, outlier| front.push(item(f, outlier), out));
+    }
+
+    /// Flush the last frames.
+    pub fn finish(self, out: &mut impl FnMut(Judged)) {
+        let Self {
+            cleaner, mut front, ..
+        } = self;
+        cleaner.finish(&mut |f, outlier| front.push(item(f, outlier), out));
+        front.finish(out);
+    }
+}
+
+/// A cleaned frame as an item of the robust back end.
+fn item(f: RawFrame, outlier: bool) -> Item {
+    if outlier {
+        Item::Outlier(f.index, f.t)
+    } else {
+        Item::Frame(f)
     }
 }
 
@@ -314,6 +358,39 @@ impl Analyzer {
             cleaner: self.object.take()?,
             frames: 0,
         })
+    }
+
+    /// Take the object stream's cleaner and rest front end, to run them elsewhere (e.g. on the
+    /// parsing thread): feed them with [`ObjectFront::push`] and pass what they emit to
+    /// [`Analyzer::push_judged`]. `None` for the paper method, for an instrumented
+    /// demonstration (its palm merge comes before the rest test), or if already taken.
+    pub fn take_object_front(&mut self) -> Option<ObjectFront> {
+        let Back::Robust(core) = &mut self.back else {
+            return None;
+        };
+        if self.instrumented || self.object.is_none() || core.front.is_none() {
+            return None;
+        }
+        core.seg.down = self.down_world;
+        Some(ObjectFront {
+            cleaner: self.object.take()?,
+            front: core.front.take()?,
+            frames: 0,
+        })
+    }
+
+    /// Take what an [`ObjectFront`] emits.
+    pub fn push_judged(&mut self, j: Judged) {
+        if let Judged::Item(i, _, _) = &j {
+            self.frames += 1;
+            self.last_t = Some(match i {
+                Item::Frame(f) => f.t,
+                Item::Outlier(_, t) => *t,
+            });
+        }
+        if let Back::Robust(core) = &mut self.back {
+            core.seg.judged(j);
+        }
     }
 
     /// Push an object frame judged by an [`ObjectCleaner`] (`outlier` = rejected).
