@@ -16,30 +16,32 @@ mkdir -p "$DATA"
 cargo build --release -q -p objmodel-cli
 BIN=target/release/objmodel
 
-measure() { # prints "wall_s rss_mb" (median wall of $REPS runs, max RSS)
-  local walls=() rss=0 out
+measure() { # prints "wall_s cpu_s rss_mb" (medians of $REPS runs; CPU = user + sys; max RSS)
+  local walls=() cpus=() rss=0 w u s r
   for _ in $(seq "$REPS"); do
-    /usr/bin/time -o "$DATA/.time" -f "%e %M" "$@" >/dev/null 2>&1
-    out=$(tail -1 "$DATA/.time")
-    walls+=("${out% *}")
-    local r=${out#* }; (( r > rss )) && rss=$r
+    /usr/bin/time -o "$DATA/.time" -f "%e %U %S %M" "$@" >/dev/null 2>&1
+    read -r w u s r < <(tail -1 "$DATA/.time")
+    walls+=("$w")
+    cpus+=("$(echo "$u + $s" | bc -l | xargs printf "%.2f")")
+    (( r > rss )) && rss=$r
   done
-  local med; med=$(printf '%s\n' "${walls[@]}" | sort -g | awk '{a[NR]=$1} END{print a[int((NR+1)/2)]}')
-  echo "$med $((rss / 1024))"
+  median() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END{print a[int((NR+1)/2)]}'; }
+  echo "$(median "${walls[@]}") $(median "${cpus[@]}") $((rss / 1024))"
 }
 
 {
-  echo "| poses | file MB | program | wall s | peak RSS MB | speed-up vs numpy |"
-  echo "|---|---|---|---|---|---|"
+  echo "| poses | file MB | program | wall s | CPU s | peak RSS MB | speed-up vs numpy (wall) |"
+  echo "|---|---|---|---|---|---|---|"
   for n in $SIZES; do
     f="$DATA/box_$n.tum"
     [ -f "$f" ] || python3 "$SHARED/gen_tum.py" "$n" "$f"
     mb=$(du -m "$f" | cut -f1)
-    read -r np_w np_m < <(measure python3 "$SHARED/screw_numpy.py" "$f" --json)
-    read -r pa_w pa_m < <(measure "$BIN" learn "$f" --method paper --json)
-    read -r ro_w ro_m < <(measure "$BIN" learn "$f" --json)
-    echo "| $n | $mb | numpy baseline (screw_numpy.py) | $np_w | $np_m | 1.0 |"
-    echo "| $n | $mb | objmodel learn --method paper | $pa_w | $pa_m | $(echo "$np_w / $pa_w" | bc -l | xargs printf '%.1f') |"
-    echo "| $n | $mb | objmodel learn (robust, default) | $ro_w | $ro_m | $(echo "$np_w / $ro_w" | bc -l | xargs printf '%.1f') |"
+    read -r np_w np_c np_m < <(measure python3 "$SHARED/screw_numpy.py" "$f" --json)
+    read -r pa_w pa_c pa_m < <(measure "$BIN" learn "$f" --method paper --json)
+    read -r ro_w ro_c ro_m < <(measure "$BIN" learn "$f" --json)
+    ratio() { echo "$np_w / $1" | bc -l | xargs printf '%.1f'; }
+    echo "| $n | $mb | numpy baseline (screw_numpy.py) | $np_w | $np_c | $np_m | 1.0 |"
+    echo "| $n | $mb | objmodel learn --method paper | $pa_w | $pa_c | $pa_m | $(ratio "$pa_w") |"
+    echo "| $n | $mb | objmodel learn (robust, default) | $ro_w | $ro_c | $ro_m | $(ratio "$ro_w") |"
   done
 } | tee bench/results.md
