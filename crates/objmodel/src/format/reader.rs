@@ -344,9 +344,19 @@ fn step<R: BufRead>(
     None
 }
 
+/// Lines [`tum_run`] scans before it checks them.
+const AHEAD: usize = 8;
+
 /// Decode the common TUM lines at the start of `s` (see [`scan_tum_fast`]) straight into `out`
 /// (at most `max`), until a line that is not common or fails a check: that one is left to the
 /// general path, which makes its error. Returns the bytes consumed and the poses pushed.
+///
+/// Lines are scanned in groups of [`AHEAD`] and then checked and built in order. A line's
+/// checks and pose end in a long chain of floating-point latencies (divisions, the square
+/// root of the norm); right after its own scan they would hold up the CPU's in-order
+/// retirement, while after the scan of a whole group the values are long ready and the chains
+/// of several lines overlap. (Scanning ahead is free of effects: a line after a failed one is
+/// simply scanned again by whoever reads on.)
 #[inline(always)]
 fn tum_run(
     st: &mut State,
@@ -357,23 +367,39 @@ fn tum_run(
 ) -> (usize, usize) {
     let mut off = 0;
     let mut n = 0;
-    while n < max {
-        let Some((v, len)) = scan_tum_fast(&s[off..]) else {
-            break;
-        };
-        st.line_no += 1;
-        let Some(p) = st.accept(&v) else {
-            st.line_no -= 1;
-            break;
-        };
-        out.push(p);
-        if let Some(l) = lines.as_deref_mut() {
-            l.push(st.line_no);
+    let mut vals = [[0.0; 8]; AHEAD];
+    let mut lens = [0; AHEAD];
+    loop {
+        // Scan a group of lines first ...
+        let mut k = 0;
+        let mut at = off;
+        while k < AHEAD && n + k < max {
+            let Some((v, len)) = scan_tum_fast(&s[at..]) else {
+                break;
+            };
+            vals[k] = v;
+            lens[k] = len;
+            at += len + 1;
+            k += 1;
         }
-        off += len + 1;
-        n += 1;
+        // ... then check them, in order.
+        for q in 0..k {
+            st.line_no += 1;
+            let Some(p) = st.accept(&vals[q]) else {
+                st.line_no -= 1;
+                return (off, n);
+            };
+            out.push(p);
+            if let Some(l) = lines.as_deref_mut() {
+                l.push(st.line_no);
+            }
+            off += lens[q] + 1;
+            n += 1;
+        }
+        if k < AHEAD {
+            return (off, n);
+        }
     }
-    (off, n)
 }
 
 /// Outcome of one data line.
