@@ -385,7 +385,8 @@ fn tum_run(
         // ... then check them, in order.
         for q in 0..k {
             st.line_no += 1;
-            let Some(p) = st.accept(&vals[q]) else {
+            // Finite by construction: m / 10^k with m <= 2^53 (see `scan_field`).
+            let Some(p) = st.accept(&vals[q], true) else {
                 st.line_no -= 1;
                 return (off, n);
             };
