@@ -13,20 +13,31 @@ impl State {
     /// Check values (finite, unit quaternion, increasing time) and build the pose.
     #[inline]
     pub(super) fn pose(&mut self, v: &[f64; 8], line: &[u8]) -> Result<StampedPose> {
+        match self.accept(v, false) {
+            Some(p) => Ok(p),
+            None => Err(self.bad_values(v, line)),
+        }
+    }
+
+    /// [`State::pose`] without the error: the pose, or `None` (and no change) if a check
+    /// fails. `finite`: the caller knows that all values are finite, which skips that test.
+    #[inline(always)]
+    pub(super) fn accept(&mut self, v: &[f64; 8], finite: bool) -> Option<StampedPose> {
         let [t, tx, ty, tz, qx, qy, qz, qw] = *v;
+        debug_assert!(!finite || v.iter().all(|x| x.is_finite()));
         // x * 0 is 0 for a finite x and NaN otherwise: one test for all eight values.
-        let probe = v.iter().fold(0.0, |a, &x| a + x * 0.0);
+        let finite = finite || v.iter().fold(0.0, |a, &x| a + x * 0.0) == 0.0;
         let norm = (qx * qx + qy * qy + qz * qz + qw * qw).sqrt();
-        let ok = probe == 0.0 && (norm - 1.0).abs() <= QUAT_NORM_TOLERANCE && t > self.prev_t;
+        let ok = finite && (norm - 1.0).abs() <= QUAT_NORM_TOLERANCE && t > self.prev_t;
         if !ok {
-            return Err(self.bad_values(v, line));
+            return None;
         }
         self.prev_t = t;
         self.prev_line = self.line_no;
         self.pose_line = self.line_no;
         // Normalise without touching the sign: q and -q stay distinct here.
         let rot = UnitQuaternion::new_unchecked(Quaternion::new(qw, qx, qy, qz) / norm);
-        Ok(StampedPose::new(
+        Some(StampedPose::new(
             t,
             Isometry3::from_parts(Translation3::new(tx, ty, tz), rot),
         ))

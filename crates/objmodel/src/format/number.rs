@@ -1,5 +1,6 @@
 //! Byte-level helpers for the pose readers: a correctly rounded fast path for plain decimals
-//! (falling back to `fast_float2` for everything else) and a word-at-a-time newline search.
+//! (falling back to `fast_float2` for everything else), a faster one still for the fields of
+//! the common TUM line ([`scan_field`]) and a word-at-a-time newline search.
 
 /// Exact powers of ten representable as `f64` (10^0 ..= 10^22).
 const POW10: [f64; 23] = [
@@ -68,7 +69,7 @@ fn digits(s: &[u8], mut i: usize, mut m: u64) -> (u64, usize) {
         }
         m = m
             .wrapping_mul(100_000_000)
-            .wrapping_add(parse_8digit_values(w - 0x3030_3030_3030_3030));
+            .wrapping_add(parse_8digit_values(w - ZEROS));
         i += 8;
     }
     while i < n {
@@ -93,11 +94,13 @@ fn digit_run(w: u64) -> usize {
     (mask.trailing_zeros() / 8) as usize // 64 / 8 = 8 when there is none
 }
 
-/// Eight bytes of `s` from `i` as a little-endian word.
+/// Eight bytes of `s` from `i` as a little-endian word (one load).
 #[inline(always)]
 fn load8(s: &[u8], i: usize) -> u64 {
-    let c = &s[i..i + 8];
-    u64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]])
+    match s[i..].first_chunk::<8>() {
+        Some(c) => u64::from_le_bytes(*c),
+        None => panic!("load8: fewer than 8 bytes from {i}"),
+    }
 }
 
 /// The value of eight decimal digits given as byte values 0..=9 (first digit in the lowest
@@ -111,6 +114,153 @@ fn parse_8digit_values(w: u64) -> u64 {
     let v1 = (w & MASK).wrapping_mul(MUL1);
     let v2 = ((w >> 16) & MASK).wrapping_mul(MUL2);
     u64::from(((v1.wrapping_add(v2)) >> 32) as u32)
+}
+
+/// `'0'` in every byte of a word.
+const ZEROS: u64 = 0x3030_3030_3030_3030;
+
+/// True if all eight bytes of `w` are ASCII digits.
+///
+/// A byte below `'0'` sets its high bit in `w - ZEROS`, a byte above `'9'` in `w + 0x46..`
+/// (`'9' + 0x46 = 0x7F`), and a byte `>= 0x80` in one of the two. Carries and borrows start
+/// only at non-digit bytes and only move upwards, so the lowest non-digit byte is always
+/// flagged itself: no flag at all means eight digits.
+#[inline(always)]
+fn all_digits(w: u64) -> bool {
+    (w.wrapping_add(0x4646_4646_4646_4646) | w.wrapping_sub(ZEROS)) & 0x8080_8080_8080_8080 == 0
+}
+
+/// [`all_digits`] for four bytes.
+#[inline(always)]
+fn all_digits4(w: u32) -> bool {
+    (w.wrapping_add(0x4646_4646) | w.wrapping_sub(0x3030_3030)) & 0x8080_8080 == 0
+}
+
+/// The value of four ASCII digits (first digit in the lowest byte), SWAR as in
+/// [`parse_8digit_values`]: pairs `10 * d0 + d1` and `10 * d2 + d3` land in bytes 0 and 2, one
+/// multiplication by `(100 << 16) + 1` adds `100 * pair0 + pair1` into bits 16..32.
+#[inline(always)]
+fn parse_4digits(w: u32) -> u64 {
+    let w = w.wrapping_sub(0x3030_3030);
+    let w = w.wrapping_mul(10).wrapping_add(w >> 8);
+    u64::from((w & 0x00FF_00FF).wrapping_mul((100 << 16) + 1) >> 16)
+}
+
+/// Bytes [`scan_field`] is given. It reads at most 36 (a sign or digit, 17 more integer
+/// digits, the point, 16 fraction digits and the byte after them).
+pub(crate) const FIELD_WINDOW: usize = 64;
+
+/// Longest field [`scan_field`] takes: up to 19 bytes hold up to 19 digits, which cannot
+/// overflow a `u64`.
+const MAX_FIELD: usize = 19;
+
+/// A plain decimal found by [`scan_field`]: its value is `mantissa / scale`, and that one IEEE
+/// division is correctly rounded (both are exact doubles, see [`scan_decimal`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Decimal {
+    /// The digits as an integer, with the sign (`-0.0` for `-0`).
+    pub(crate) mantissa: f64,
+    /// `10^k` for `k` fraction digits.
+    pub(crate) scale: f64,
+    /// Length of the number in bytes.
+    pub(crate) len: usize,
+}
+
+/// The plain decimal (`[+-]digits[.digits]`, at least one digit) at the start of `b`, for the
+/// fields of a TUM line: the same number, length and value as [`scan_decimal`] when that says
+/// `exact`, or `None` (then the caller takes the general path): for a number of more than
+/// [`MAX_FIELD`] bytes, above `2^53`, or starting with the point (`.5`; `-.5` is taken).
+///
+/// `len` may stop short of the field (`1e5`, `1x`, more than 18 integer or 16 fraction
+/// digits): the caller must check that a separator follows. This is the hot loop of reading a
+/// TUM file, and written for an out-of-order CPU:
+///
+/// * Positions move only under branches, never by arithmetic on loaded bytes: the runs of
+///   digits have the same lengths from line to line in a pose file, so the branches are
+///   predicted and the CPU runs ahead to the next fields while the values are still being
+///   computed. (Run lengths counted branch-free, e.g. from a bit mask, put a load and a few
+///   operations between each field and the next, and that chain is slower.)
+/// * For the same reason the first byte, a digit or a sign, is taken either way: the sign
+///   changes the value, not where the digits are.
+/// * Runs of eight (then four) digits are checked and converted with one load each
+///   ([`all_digits`], [`parse_8digit_values`]); only the ends of runs and the integer part,
+///   usually one digit, go byte by byte.
+///
+/// The division is left to the caller, which does eight at once.
+#[inline(always)]
+pub(crate) fn scan_field(b: &[u8; FIELD_WINDOW]) -> Option<Decimal> {
+    let c = b[0];
+    let neg = c == b'-';
+    let d = c.wrapping_sub(b'0');
+    let mut m = u64::from(d);
+    if d > 9 {
+        // A sign, followed by a digit (before or after the point).
+        let digit_next =
+            b[1].wrapping_sub(b'0') <= 9 || (b[1] == b'.' && b[2].wrapping_sub(b'0') <= 9);
+        if !(neg || c == b'+') || !digit_next {
+            return None;
+        }
+        m = 0;
+    }
+    // `b[0]` (a digit or the sign) is done; more integer digits follow from `b[1]`. Whether
+    // `b[0]` was a sign only changes the value, not where the digits are.
+    let mut j = 1;
+    let d = b[1].wrapping_sub(b'0');
+    if d <= 9 {
+        m = m * 10 + u64::from(d);
+        j = 2;
+        let w = load8(b, j);
+        if all_digits(w) {
+            m = m
+                .wrapping_mul(100_000_000)
+                .wrapping_add(parse_8digit_values(w - ZEROS));
+            j += 8;
+        }
+        for _ in 0..8 {
+            let d = u64::from(b[j]).wrapping_sub(u64::from(b'0'));
+            if d > 9 {
+                break;
+            }
+            m = m.wrapping_mul(10).wrapping_add(d);
+            j += 1;
+        }
+    }
+    let mut frac = 0;
+    if b[j] == b'.' {
+        j += 1;
+        let f0 = j;
+        let w = load8(b, j);
+        if all_digits(w) {
+            m = m
+                .wrapping_mul(100_000_000)
+                .wrapping_add(parse_8digit_values(w - ZEROS));
+            j += 8;
+        } else if all_digits4(w as u32) {
+            m = m.wrapping_mul(10_000).wrapping_add(parse_4digits(w as u32));
+            j += 4;
+        }
+        for _ in 0..8 {
+            let d = u64::from(b[j]).wrapping_sub(u64::from(b'0'));
+            if d > 9 {
+                break;
+            }
+            m = m.wrapping_mul(10).wrapping_add(d);
+            j += 1;
+        }
+        frac = j - f0;
+    }
+    // At most 19 bytes: at most 19 digits, so `m` did not wrap, and `frac <= 22`. Up to 15
+    // bytes, `m < 10^15 < 2^53` needs no test.
+    if j > 15 && (j > MAX_FIELD || m > MAX_EXACT) {
+        return None;
+    }
+    // `m as i64` is exact (m <= 2^53) and converts faster than from u64.
+    let v = (m as i64) as f64;
+    Some(Decimal {
+        mantissa: if neg { -v } else { v },
+        scale: POW10[frac],
+        len: j,
+    })
 }
 
 /// Parse a whole field as an `f64`, correctly rounded (the same result as
@@ -151,6 +301,175 @@ pub(crate) fn find_newline(s: &[u8]) -> Option<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// xorshift64*: deterministic test randomness.
+    struct Rng(u64);
+
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+        }
+
+        fn below(&mut self, n: u64) -> u64 {
+            self.next() % n
+        }
+
+        fn digits(&mut self, n: usize, out: &mut String) {
+            for _ in 0..n {
+                out.push(char::from(b'0' + self.below(10) as u8));
+            }
+        }
+    }
+
+    /// A random decimal: sign or not, 0..=20 digits on each side of the point (or no point),
+    /// leading zeros, and values next to 2^53.
+    fn random_decimal(rng: &mut Rng) -> String {
+        let mut s = String::new();
+        match rng.below(8) {
+            0..=2 => s.push('-'),
+            3 => s.push('+'),
+            _ => {}
+        }
+        if rng.below(8) == 0 {
+            // Around 2^53 = 9007199254740992, with the point anywhere.
+            let m = (1u64 << 53) - 3 + rng.below(7);
+            let digits = m.to_string();
+            let point = rng.below(digits.len() as u64 + 1) as usize;
+            s.push_str(&digits[..point]);
+            if point < digits.len() || rng.below(2) == 0 {
+                s.push('.');
+            }
+            s.push_str(&digits[point..]);
+            return s;
+        }
+        let int_len = [0, 1, 1, 1, 2, 3, 6, 10, 15, 16, 19, 20][rng.below(12) as usize];
+        if rng.below(6) == 0 {
+            let zeros = 1 + rng.below(8) as usize;
+            s.push_str(&"0".repeat(zeros));
+        }
+        rng.digits(int_len, &mut s);
+        if rng.below(6) != 0 {
+            s.push('.');
+            let frac_len = rng.below(21) as usize;
+            rng.digits(frac_len, &mut s);
+        }
+        s
+    }
+
+    /// `parse_f64` (a buffer that ends right after the number, the general fast path or
+    /// `fast_float2`) and `scan_field` (the TUM fast path, the number followed by other bytes)
+    /// against `str::parse::<f64>`, bit for bit.
+    #[test]
+    fn fast_paths_match_std_bit_for_bit() {
+        let mut rng = Rng(0x853c_49e6_748f_ea9b);
+        let followers = [
+            b' ', b'\t', b'\r', b'\n', b'#', b'e', b'x', b'.', b'-', b'7', 0, 0xff,
+        ];
+        let (mut fast, mut general) = (0, 0);
+        for _ in 0..300_000 {
+            let s = random_decimal(&mut rng);
+            let std = s.parse::<f64>().ok();
+            assert_eq!(
+                parse_f64(s.as_bytes()).map(f64::to_bits),
+                std.map(f64::to_bits),
+                "{s:?}"
+            );
+            let (v, end, exact) = scan_decimal(s.as_bytes(), 0);
+            if exact && end == s.len() {
+                assert_eq!(Some(v.to_bits()), std.map(f64::to_bits), "{s:?}");
+                general += 1;
+            }
+
+            // In a window, followed by a random byte and random filler.
+            let mut b = [0u8; FIELD_WINDOW];
+            for x in b.iter_mut() {
+                *x = b" 0123456789.-+e\n"[rng.below(16) as usize];
+            }
+            if s.len() >= FIELD_WINDOW {
+                continue;
+            }
+            b[..s.len()].copy_from_slice(s.as_bytes());
+            let follower = followers[rng.below(followers.len() as u64) as usize];
+            b[s.len()] = follower;
+            let Some(d) = scan_field(&b) else { continue };
+            // What it took is a number, with the value `str::parse` gives for it ...
+            let taken = std::str::from_utf8(&b[..d.len]).unwrap();
+            let value = d.mantissa / d.scale;
+            assert_eq!(
+                Some(value.to_bits()),
+                taken.parse::<f64>().ok().map(f64::to_bits),
+                "{s:?} took {taken:?}"
+            );
+            // ... and the whole number when a separator follows it (what the caller checks),
+            // just as the general path scans it.
+            if matches!(b[d.len], b' ' | b'\t' | b'\r' | b'\n' | b'#') {
+                let (v, end, exact) = scan_decimal(&b, 0);
+                assert!(exact, "{s:?} took {taken:?}");
+                assert_eq!((d.len, value.to_bits()), (end, v.to_bits()), "{s:?}");
+                if d.len == s.len() {
+                    assert_eq!(Some(value.to_bits()), std.map(f64::to_bits), "{s:?}");
+                    fast += 1;
+                }
+            }
+        }
+        // Both paths were exercised.
+        assert!(fast > 30_000 && general > 100_000, "{fast} {general}");
+    }
+
+    #[test]
+    fn scan_field_edges() {
+        // As the caller uses it: the number must end at the separator.
+        let field = |s: &str| {
+            let mut b = [b' '; FIELD_WINDOW];
+            b[..s.len()].copy_from_slice(s.as_bytes());
+            scan_field(&b)
+                .filter(|d| b[d.len] == b' ')
+                .map(|d| (d.len, (d.mantissa / d.scale).to_bits()))
+        };
+        for s in [
+            "0",
+            "-0",
+            "+0.5",
+            "-.5",
+            "5.",
+            "-5.",
+            "0.511458838",
+            "-0.000067813",
+            "1700000000.008333",
+            "9007199254740992",
+            "900719925474099.2",
+            "-90071992547409.92",
+            "-0.0000000000000001",
+            "000000000000000001",
+        ] {
+            let std = s.parse::<f64>().unwrap().to_bits();
+            assert_eq!(field(s), Some((s.len(), std)), "{s}");
+        }
+        // Beyond 2^53, more than 18 digits before or 16 after the point, more than 19 bytes,
+        // no digit, a leading point, not a number: the general path.
+        for s in [
+            "9007199254740993",
+            "90071992547409.93",
+            "1234567890123456789",
+            "0.00000000000000001",
+            "0000000000000000001",
+            "-",
+            "+",
+            "-.",
+            ".5",
+            ".",
+            "nan",
+            "inf",
+            "e5",
+            "1e5",
+            "0x1",
+        ] {
+            assert_eq!(field(s), None, "{s}");
+        }
+    }
 
     #[test]
     fn newline_search() {

@@ -48,3 +48,101 @@ fn random_input_never_panics() {
         }
     }
 }
+
+/// The fast path for common TUM lines gives just what the general path gives: the same poses
+/// (bit for bit), line numbers and errors. With a 1-byte buffer every line straddles buffer
+/// fills and takes the general path; larger buffers take the fast one, except near their ends.
+#[test]
+fn fast_and_general_paths_agree() {
+    let mut s = 11u64;
+    let unit = |s: &mut u64| {
+        let q: Vec<f64> = (0..4)
+            .map(|_| (next(s) % 2_000_001) as f64 / 1e6 - 1.0)
+            .collect();
+        let n = q.iter().map(|x| x * x).sum::<f64>().sqrt().max(1e-3);
+        q.iter().map(|x| x / n).collect::<Vec<f64>>()
+    };
+    for round in 0..400 {
+        let mut text = String::from("# timestamp tx ty tz qx qy qz qw\n");
+        let mut t = 1.7e9;
+        for _ in 0..next(&mut s) % 300 {
+            t += 0.008333;
+            let q = unit(&mut s);
+            let x = (next(&mut s) % 2_000_000) as f64 / 1e6 - 1.0;
+            let mut f: Vec<String> = vec![format!("{t:.6}")];
+            f.extend([x, -x, x / 3.0].iter().map(|v| format!("{v:.9}")));
+            f.extend(q.iter().map(|v| format!("{v:.9}")));
+            let mut sep = " ";
+            let mut end = "\n";
+            match next(&mut s) % 200 {
+                0 => f[7] = format!("{:.9}", q[3] * 1.5 + 0.1), // norm
+                1 => f[0] = format!("{:.6}", t - 1.0),          // time goes back
+                2 => {
+                    f.pop(); // 7 columns
+                }
+                3 => f[2] = "nan".into(),
+                4 => f[5] = "abc".into(),
+                5 => f[3] = format!("{x:e}"),
+                6..=9 => sep = "\t",
+                10..=13 => sep = "  ",
+                14..=17 => end = "\r\n",
+                18..=20 => end = " # comment\n",
+                21..=23 => text.push_str("\n# a comment\n"),
+                _ => {}
+            }
+            text.push_str(&f.join(sep));
+            text.push_str(end);
+        }
+        if next(&mut s) % 4 == 1 {
+            text.pop(); // no `\n` at the end
+        }
+        let bytes = text.into_bytes();
+        let show = |r: crate::Result<crate::trajectory::StampedPose>, line: usize| match r {
+            Ok(p) => {
+                let (v, q) = (p.pose.translation.vector, p.pose.rotation.coords);
+                let bits: Vec<u64> = [p.t, v.x, v.y, v.z, q.x, q.y, q.z, q.w]
+                    .iter()
+                    .map(|x| x.to_bits())
+                    .collect();
+                format!("{line} {bits:x?}")
+            }
+            Err(e) => format!("{line} {e}"),
+        };
+        let read = |cap: usize| {
+            let src = BufReader::with_capacity(cap, &bytes[..]);
+            let mut r = PoseReader::new(src, "f.tum".into(), Format::Tum);
+            let mut items = Vec::new();
+            while let Some(x) = r.next() {
+                items.push(show(x, r.line()));
+            }
+            items.push(format!("{} lines", r.lines_read()));
+            items
+        };
+        let general = read(1);
+        for cap in [7, 300, 4096, 1 << 20] {
+            assert_eq!(read(cap), general, "round {round}, buffer {cap}");
+        }
+        // Also the bulk path behind `read_trajectory`.
+        let mut poses = Vec::new();
+        let r = PoseReader::new(&bytes[..], "f.tum".into(), Format::Tum).read_into(&mut poses);
+        let mut bulk: Vec<String> = poses.into_iter().map(|p| show(Ok(p), 0)).collect();
+        let mut iter: Vec<String> = general
+            .iter()
+            .filter(|s| s.contains('['))
+            .cloned()
+            .collect();
+        for x in iter.iter_mut() {
+            *x = format!("0 {}", x.split_once(' ').unwrap().1);
+        }
+        if let Err(e) = r {
+            bulk.push(e.to_string());
+            let last = general[general.len() - 2]
+                .split_once(' ')
+                .unwrap()
+                .1
+                .to_string();
+            iter.push(last);
+        }
+        assert_eq!(bulk, iter, "round {round}, read_into");
+    }
+}
