@@ -1,7 +1,6 @@
 //! Classifying demonstrations straight from their files, streaming.
 
-use super::{Analyzer, Classification, Config, ObjectCleaner};
-use crate::clean::RawFrame;
+use super::{Analyzer, Classification, Config, Judged, ObjectFront};
 use crate::format;
 use crate::trajectory::StampedPose;
 use crate::Result;
@@ -22,12 +21,11 @@ pub fn classify_files(
     let mut a = Analyzer::new(&name, config, palm.is_some());
     match palm {
         None => {
-            match a.take_object_cleaner() {
-                // Robust: parse and clean on the background thread.
-                Some(cleaner) => {
-                    for item in CleanedFrames::spawn(format::open(object)?, cleaner) {
-                        let (f, outlier) = item?;
-                        a.push_cleaned_object(f, outlier);
+            match a.take_object_front() {
+                // Robust: parse, clean and detect rest on the background thread.
+                Some(front) => {
+                    for j in CleanedFrames::spawn(format::open(object)?, front) {
+                        a.push_judged(j?);
                     }
                 }
                 None => {
@@ -140,22 +138,22 @@ impl Iterator for ThreadedPoses {
 /// Object frames parsed *and cleaned* on a background thread (the cleaner's tag-flip tests are
 /// the costliest per-frame step after parsing), handed over in bounded chunks.
 struct CleanedFrames {
-    rx: std::sync::mpsc::Receiver<(Vec<(RawFrame, bool)>, Option<crate::Error>)>,
-    chunk: std::vec::IntoIter<(RawFrame, bool)>,
+    rx: std::sync::mpsc::Receiver<(Vec<Judged>, Option<crate::Error>)>,
+    chunk: std::vec::IntoIter<Judged>,
     error: Option<crate::Error>,
 }
 
 impl CleanedFrames {
     fn spawn<I: Iterator<Item = Result<StampedPose>> + Send + 'static>(
         poses: I,
-        mut cleaner: ObjectCleaner,
+        mut cleaner: ObjectFront,
     ) -> Self {
         let (tx, rx) = std::sync::mpsc::sync_channel(CHANNEL_CHUNKS);
         std::thread::spawn(move || {
             let mut chunk = Vec::with_capacity(CHUNK_POSES);
             for p in poses {
                 match p {
-                    Ok(p) => cleaner.push(&p, &mut |f, o| chunk.push((f, o))),
+                    Ok(p) => cleaner.push(&p, &mut |j| chunk.push(j)),
                     Err(e) => {
                         let _ = tx.send((std::mem::take(&mut chunk), Some(e)));
                         return;
@@ -172,7 +170,7 @@ impl CleanedFrames {
                     return;
                 }
             }
-            cleaner.finish(&mut |f, o| chunk.push((f, o)));
+            cleaner.finish(&mut |j| chunk.push(j));
             let _ = tx.send((chunk, None));
         });
         Self {
@@ -184,7 +182,7 @@ impl CleanedFrames {
 }
 
 impl Iterator for CleanedFrames {
-    type Item = Result<(RawFrame, bool)>;
+    type Item = Result<Judged>;
 
     fn next(&mut self) -> Option<Self::Item> {
         loop {
