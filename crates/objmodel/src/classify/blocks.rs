@@ -18,7 +18,7 @@ use crate::se3::Twist;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3, Vector4};
 
 /// Largest number of blocks kept per demonstration.
-pub const MAX_BLOCKS: usize = 1 << 14;
+pub const MAX_BLOCKS: usize = 1 << 12;
 /// Smallest rotation, in units of the rotation noise σ_r, from which a frame's screw axis is
 /// used: the axis estimate's bias is of order (σ_r/θ)² relative, 1% at 10 σ_r.
 pub const MIN_AXIS_SNR: f64 = 10.0;
