@@ -139,7 +139,10 @@ impl Iterator for ThreadedPoses {
 /// the costliest per-frame step after parsing), handed over in bounded chunks.
 struct CleanedFrames {
     rx: std::sync::mpsc::Receiver<(Vec<Judged>, Option<crate::Error>)>,
-    chunk: std::vec::IntoIter<Judged>,
+    /// Emptied chunks go back to the producer for reuse (fresh ones would cost page faults).
+    recycle: std::sync::mpsc::Sender<Vec<Judged>>,
+    chunk: Vec<Judged>,
+    pos: usize,
     error: Option<crate::Error>,
 }
 
@@ -149,8 +152,14 @@ impl CleanedFrames {
         mut cleaner: ObjectFront,
     ) -> Self {
         let (tx, rx) = std::sync::mpsc::sync_channel(CHANNEL_CHUNKS);
+        let (recycle, recycled) = std::sync::mpsc::channel::<Vec<Judged>>();
         std::thread::spawn(move || {
-            let mut chunk = Vec::with_capacity(CHUNK_POSES);
+            let fresh = || {
+                recycled
+                    .try_recv()
+                    .unwrap_or_else(|_| Vec::with_capacity(CHUNK_POSES))
+            };
+            let mut chunk = fresh();
             for p in poses {
                 match p {
                     Ok(p) => cleaner.push(&p, &mut |j| chunk.push(j)),
@@ -161,10 +170,7 @@ impl CleanedFrames {
                 }
                 if chunk.len() >= CHUNK_POSES
                     && tx
-                        .send((
-                            std::mem::replace(&mut chunk, Vec::with_capacity(CHUNK_POSES)),
-                            None,
-                        ))
+                        .send((std::mem::replace(&mut chunk, fresh()), None))
                         .is_err()
                 {
                     return;
@@ -175,7 +181,9 @@ impl CleanedFrames {
         });
         Self {
             rx,
-            chunk: Vec::new().into_iter(),
+            recycle,
+            chunk: Vec::new(),
+            pos: 0,
             error: None,
         }
     }
@@ -186,14 +194,18 @@ impl Iterator for CleanedFrames {
 
     fn next(&mut self) -> Option<Self::Item> {
         loop {
-            if let Some(f) = self.chunk.next() {
-                return Some(Ok(f));
+            if let Some(j) = self.chunk.get(self.pos) {
+                self.pos += 1;
+                return Some(Ok(*j));
             }
             if let Some(e) = self.error.take() {
                 return Some(Err(e));
             }
             let (chunk, error) = self.rx.recv().ok()?;
-            self.chunk = chunk.into_iter();
+            let mut done = std::mem::replace(&mut self.chunk, chunk);
+            done.clear();
+            let _ = self.recycle.send(done);
+            self.pos = 0;
             self.error = error;
         }
     }
