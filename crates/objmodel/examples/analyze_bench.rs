@@ -36,7 +36,10 @@ fn main() {
     let poses = objmodel::format::read_trajectory(&path).expect("the benchmark file");
     let n = poses.len() as f64;
     let mut config = Config::default();
-    if let Some(w) = std::env::var("REST_WINDOW").ok().and_then(|w| w.parse().ok()) {
+    if let Some(w) = std::env::var("REST_WINDOW")
+        .ok()
+        .and_then(|w| w.parse().ok())
+    {
         config.robust.rest_window_s = w; // e.g. 30 for gen_tum.py's 2.3-hour topple
     }
     let clean = best(reps, || {
@@ -81,8 +84,20 @@ fn main() {
     });
     assert_eq!(kind, split_kind);
     println!("{} poses ({}), kind {kind}", poses.len(), path.display());
-    println!("paper (Algorithm 1): cpu {paper:.3} s = {:.0} ns/pose", paper / n * 1e9);
-    println!("clean only:          cpu {clean:.3} s = {:.0} ns/pose", clean / n * 1e9);
-    println!("clean + analysis:    cpu {all:.3} s = {:.0} ns/pose", all / n * 1e9);
-    println!("same, split front:   cpu {split:.3} s = {:.0} ns/pose", split / n * 1e9);
+    println!(
+        "paper (Algorithm 1): cpu {paper:.3} s = {:.0} ns/pose",
+        paper / n * 1e9
+    );
+    println!(
+        "clean only:          cpu {clean:.3} s = {:.0} ns/pose",
+        clean / n * 1e9
+    );
+    println!(
+        "clean + analysis:    cpu {all:.3} s = {:.0} ns/pose",
+        all / n * 1e9
+    );
+    println!(
+        "same, split front:   cpu {split:.3} s = {:.0} ns/pose",
+        split / n * 1e9
+    );
 }

@@ -159,7 +159,7 @@ impl RestAcc {
     }
 
     /// Add a frame; `rot` is its accumulated rotation (sum of the logs of the frame-to-frame
-    /// rotations, from [`RestDetector`]): over a rest it differs from the log of the rotation
+    /// rotations, from [`super::rest::RestDetector`]): over a rest it differs from the log of the rotation
     /// from the first frame only at second order in the (small) angles, and it stays linear in
     /// time for a slow turn about a fixed axis, which the drift test is about.
     fn add(&mut self, f: &RawFrame, rot: &Vector3<f64>, head_s: f64) {

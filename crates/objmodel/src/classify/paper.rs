@@ -96,9 +96,8 @@ impl PaperCore {
             (Some((_, prev_screw, prev_normal)), Some(s)) => {
                 if s.pitch.abs() < th.pitch {
                     // angle(a, b) < th as |a·b| > cos th for unit a, b (no atan2 per frame).
-                    let same_axis = prev_screw.is_some_and(|p| {
-                        p.direction.dot(&s.direction).abs() > self.cos_axis
-                    });
+                    let same_axis = prev_screw
+                        .is_some_and(|p| p.direction.dot(&s.direction).abs() > self.cos_axis);
                     let same_normal = matches!((prev_normal, &normal),
                         (Some(a), Some(b)) if a.dot(b).abs() > self.cos_normal);
                     if same_axis && s.point.norm_squared() < th.r_palm * th.r_palm {

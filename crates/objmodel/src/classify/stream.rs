@@ -399,7 +399,8 @@ impl Analyzer {
         self.last_t = Some(f.t);
         if self.instrumented {
             let back = &mut self.back;
-            self.merger.push_object(f, outlier, &mut |i, d| back.push(i, d));
+            self.merger
+                .push_object(f, outlier, &mut |i, d| back.push(i, d));
         } else if outlier {
             self.back.push(Item::Outlier(f.index, f.t), self.down_world);
         } else {
