@@ -3,7 +3,11 @@
 //! `cargo run --release --example analyze_bench -p objmodel [FILE.tum] [REPS]`
 //!
 //! Prints the best of REPS runs of: cleaning alone, cleaning + rest detection + blocks (the
-//! whole robust analysis after parsing), and the paper's Algorithm 1, as thread CPU time.
+//! whole robust analysis after parsing; also with the front end split off as `learn` runs it),
+//! and the paper's Algorithm 1, as thread CPU time.
+//!
+//! Environment: `ONLY_CLEAN=1` times the cleaning alone, `ONLY_ROBUST=1` skips Algorithm 1
+//! (both handy under `perf record`), `REST_WINDOW=30` sets the rest window \[s\].
 
 use objmodel::classify::{Analyzer, Config};
 use std::path::PathBuf;
