@@ -53,6 +53,22 @@ fn with_suffix(base: &Path, ext: &str) -> PathBuf {
     PathBuf::from(s)
 }
 
+/// Draws `fig` on a white `root` and flushes it; errors name `path`, the file it is for.
+fn paint<F: Figure, DB: DrawingBackend>(
+    fig: &F,
+    root: DrawingArea<DB, Shift>,
+    path: &Path,
+) -> Result<(), PlotError> {
+    root.fill(&WHITE)
+        .map_err(de)
+        .and_then(|()| fig.draw(&root))
+        .and_then(|()| root.present().map_err(de))
+        .map_err(|reason| PlotError::Draw {
+            path: path.to_path_buf(),
+            reason,
+        })
+}
+
 /// Renders `fig` to SVG and PNG and writes both atomically next to `base`.
 pub(crate) fn render<F: Figure>(base: &Path, fig: &F) -> Result<(PathBuf, PathBuf), PlotError> {
     let svg_path = with_suffix(base, "svg");
@@ -63,32 +79,17 @@ pub(crate) fn render<F: Figure>(base: &Path, fig: &F) -> Result<(PathBuf, PathBu
     let (w, h) = fig.size();
 
     let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
-        let drawn = root
-            .fill(&WHITE)
-            .map_err(de)
-            .and_then(|()| fig.draw(&root))
-            .and_then(|()| root.present().map_err(de));
-        drawn.map_err(|reason| PlotError::Draw {
-            path: svg_path.clone(),
-            reason,
-        })?;
-    }
-
+    paint(
+        fig,
+        SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area(),
+        &svg_path,
+    )?;
     let mut rgb = vec![255u8; w as usize * h as usize * 3];
-    {
-        let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
-        let drawn = root
-            .fill(&WHITE)
-            .map_err(de)
-            .and_then(|()| fig.draw(&root))
-            .and_then(|()| root.present().map_err(de));
-        drawn.map_err(|reason| PlotError::Draw {
-            path: png_path.clone(),
-            reason,
-        })?;
-    }
+    paint(
+        fig,
+        BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area(),
+        &png_path,
+    )?;
     let png_bytes = encode_png(&rgb, w, h).map_err(|e| PlotError::Encode {
         path: png_path.clone(),
         reason: e.to_string(),
