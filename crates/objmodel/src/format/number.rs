@@ -302,15 +302,12 @@ pub(crate) fn find_newline(s: &[u8]) -> Option<usize> {
 mod tests {
     use super::*;
 
-    /// xorshift64*: deterministic test randomness.
+    /// Deterministic test randomness ([`crate::format::tests::next`]).
     struct Rng(u64);
 
     impl Rng {
         fn next(&mut self) -> u64 {
-            self.0 ^= self.0 >> 12;
-            self.0 ^= self.0 << 25;
-            self.0 ^= self.0 >> 27;
-            self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+            crate::format::tests::next(&mut self.0)
         }
 
         fn below(&mut self, n: u64) -> u64 {

@@ -3,8 +3,8 @@
 use super::{Format, PoseReader};
 use std::io::BufReader;
 
-/// xorshift64*: deterministic test randomness.
-fn next(state: &mut u64) -> u64 {
+/// xorshift64*: deterministic test randomness (shared by the format module's tests).
+pub(crate) fn next(state: &mut u64) -> u64 {
     *state ^= *state >> 12;
     *state ^= *state << 25;
     *state ^= *state >> 27;

@@ -202,13 +202,7 @@ pub(super) fn tum_field(s: &[u8], k: usize) -> Option<(usize, usize)> {
 mod tests {
     use super::*;
 
-    /// xorshift64*: deterministic test randomness.
-    fn next(state: &mut u64) -> u64 {
-        *state ^= *state >> 12;
-        *state ^= *state << 25;
-        *state ^= *state >> 27;
-        state.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
+    use crate::format::tests::next;
 
     /// A field: what pose files hold (`%.6f`, `%.9f`, signs, ...), or with `any` also other
     /// numbers and things that are no number. True for a plain decimal of at most 15 bytes.
