@@ -113,24 +113,7 @@ pub fn simulate_clean(
         SceneKind::Compound => scenes::compound::run(spec, p, &mut rng)?,
     };
     let truth = truth_of(kind, spec, seed, &out, opts)?;
-    let box_from_tag = spec.box_from_tag();
-    let mut object = Vec::new();
-    let mut palm = Vec::new();
-    let n_out =
-        (out.samples.last().map(|s| s.t).unwrap_or(0.0) * opts.rate_hz).floor() as usize + 1;
-    for k in 0..n_out {
-        let t = k as f64 / opts.rate_hz;
-        let i = ((t * out.step_hz).round() as usize).min(out.samples.len() - 1);
-        let s = &out.samples[i];
-        object.push(StampedPose {
-            t,
-            pose: s.world_from_box * box_from_tag,
-        });
-        palm.push(StampedPose {
-            t,
-            pose: s.world_from_support,
-        });
-    }
+    let (object, palm) = tracked(&out, spec, opts.rate_hz);
     let palm = out.script.palm.then_some(palm);
     Ok(CleanDemo {
         kind,
@@ -138,6 +121,34 @@ pub fn simulate_clean(
         palm,
         truth,
     })
+}
+
+/// What a tracker at `rate_hz` sees of a finished scene: the tag's pose (`world_from_tag`) and
+/// the support's (the palm's), at the physics sample nearest each tracker frame.
+pub fn tracked(
+    out: &SceneOutput,
+    spec: &BoxSpec,
+    rate_hz: f64,
+) -> (Vec<StampedPose>, Vec<StampedPose>) {
+    let box_from_tag = spec.box_from_tag();
+    let n_out = (out.samples.last().map_or(0.0, |s| s.t) * rate_hz).floor() as usize + 1;
+    (0..n_out)
+        .map(|k| {
+            let t = k as f64 / rate_hz;
+            let i = ((t * out.step_hz).round() as usize).min(out.samples.len() - 1);
+            let s = &out.samples[i];
+            (
+                StampedPose {
+                    t,
+                    pose: s.world_from_box * box_from_tag,
+                },
+                StampedPose {
+                    t,
+                    pose: s.world_from_support,
+                },
+            )
+        })
+        .unzip()
 }
 
 /// The truth of a finished scene.

@@ -39,7 +39,7 @@ use nalgebra::Vector3;
 use objmodel::classify::{classify, Config};
 use objmodel::skill::{plan, Plan, PlanRequest};
 use objmodel::tree::Tree;
-use objmodel::{Demonstration, StampedPose};
+use objmodel::Demonstration;
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use serde::{Deserialize, Serialize};
@@ -198,23 +198,7 @@ pub fn demonstrate(
     };
     let out = instrumented::run_with(spec, spec.friction, &tilt, &opts.physics, &mut rng)?;
     let truth = truth_of(SceneKind::InstrumentedTopple, spec, seed, &out, &opts)?;
-    let box_from_tag = spec.box_from_tag();
-    let mut object = Vec::new();
-    let mut palm = Vec::new();
-    let n_out = (out.samples.last().map_or(0.0, |s| s.t) * opts.rate_hz).floor() as usize + 1;
-    for k in 0..n_out {
-        let t = k as f64 / opts.rate_hz;
-        let i = ((t * out.step_hz).round() as usize).min(out.samples.len() - 1);
-        let s = &out.samples[i];
-        object.push(StampedPose {
-            t,
-            pose: s.world_from_box * box_from_tag,
-        });
-        palm.push(StampedPose {
-            t,
-            pose: s.world_from_support,
-        });
-    }
+    let (object, palm) = crate::demo::tracked(&out, spec, opts.rate_hz);
     let clean = CleanDemo {
         kind: SceneKind::InstrumentedTopple,
         object,
