@@ -99,37 +99,27 @@ impl ObjectCleaner {
 /// detection there; segments and blocks in [`Analyzer::push_judged`]). For demonstrations
 /// without a palm.
 pub struct ObjectFront {
-    cleaner: StreamCleaner,
+    cleaner: ObjectCleaner,
     front: RestFront,
-    frames: usize,
 }
 
 impl ObjectFront {
     /// Push the next object pose; what is judged goes to `out`.
     pub fn push(&mut self, p: &StampedPose, out: &mut impl FnMut(Judged)) {
-        let f = RawFrame {
-            index: self.frames,
-            t: p.t,
-            q: p.pose.rotation,
-            p: p.pose.translation.vector,
-        };
-        self.frames += 1;
         let front = &mut self.front;
         self.cleaner
-            .push(f, &mut |f, outlier| front.push(item(f, outlier), out));
+            .push(p, &mut |f, outlier| front.push(item(f, outlier), out));
     }
 
     /// Flush the last frames.
     pub fn finish(self, out: &mut impl FnMut(Judged)) {
-        let Self {
-            cleaner, mut front, ..
-        } = self;
+        let Self { cleaner, mut front } = self;
         cleaner.finish(&mut |f, outlier| front.push(item(f, outlier), out));
         front.finish(out);
     }
 }
 
-/// A cleaned frame as an item of the robust back end.
+/// A cleaned frame as an item for a back end (an outlier keeps only its index and time).
 fn item(f: RawFrame, outlier: bool) -> Item {
     if outlier {
         Item::Outlier(f.index, f.t)
@@ -334,10 +324,8 @@ impl Analyzer {
         let mut to_back = |f: RawFrame, outlier: bool| {
             if *instrumented {
                 merger.push_object(f, outlier, &mut |i, d| back.push(i, d));
-            } else if outlier {
-                back.push(Item::Outlier(f.index, f.t), down_world);
             } else {
-                back.push(Item::Frame(f), down_world);
+                back.push(item(f, outlier), down_world);
             }
         };
         match object {
@@ -373,9 +361,11 @@ impl Analyzer {
         }
         core.seg.down = self.down_world;
         Some(ObjectFront {
-            cleaner: self.object.take()?,
+            cleaner: ObjectCleaner {
+                cleaner: self.object.take()?,
+                frames: 0,
+            },
             front: core.front.take()?,
-            frames: 0,
         })
     }
 
@@ -401,10 +391,8 @@ impl Analyzer {
             let back = &mut self.back;
             self.merger
                 .push_object(f, outlier, &mut |i, d| back.push(i, d));
-        } else if outlier {
-            self.back.push(Item::Outlier(f.index, f.t), self.down_world);
         } else {
-            self.back.push(Item::Frame(f), self.down_world);
+            self.back.push(item(f, outlier), self.down_world);
         }
     }
 
@@ -461,10 +449,8 @@ impl Analyzer {
                 o.finish(&mut |f, outlier| {
                     if instrumented {
                         merger.push_object(f, outlier, &mut |i, d| back.push(i, d));
-                    } else if outlier {
-                        back.push(Item::Outlier(f.index, f.t), down_world);
                     } else {
-                        back.push(Item::Frame(f), down_world);
+                        back.push(item(f, outlier), down_world);
                     }
                 })
             });
