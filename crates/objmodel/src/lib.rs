@@ -16,6 +16,7 @@
 //! * [`trajectory`]: time-stamped poses, demonstrations (optionally with a palm).
 //! * [`clean`]: quaternion sign continuity and rejection of single-frame tag flips.
 //! * [`noise`]: tracking-noise estimation from the data itself.
+//! * [`numeric`]: small numeric kernels of the per-frame loops (a first-quadrant `atan2`).
 //! * [`stats`]: the few distributions the tests need (chi-square quantiles).
 //! * [`classify`]: Algorithm 1, the paper-literal version and the robust one.
 //! * [`edge`], [`face`]: Algorithm 2 and eq. 5 estimates with covariances.
@@ -36,6 +37,7 @@ pub mod face;
 pub mod format;
 pub mod geometry;
 pub mod noise;
+pub mod numeric;
 pub mod pendulum;
 pub mod screw;
 pub mod se3;

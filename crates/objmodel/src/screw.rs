@@ -36,11 +36,13 @@ impl Screw {
     pub fn from_twist(xi: &Twist) -> Option<Self> {
         let theta = xi.omega.norm();
         if theta > ZERO_ROTATION_RAD {
-            let t2 = theta * theta;
+            // One division; the rest are products with 1/θ and 1/θ².
+            let inv = 1.0 / theta;
+            let inv2 = inv * inv;
             Some(Self {
-                direction: Unit::new_unchecked(xi.omega / theta),
-                point: xi.omega.cross(&xi.v) / t2,
-                pitch: xi.omega.dot(&xi.v) / t2,
+                direction: Unit::new_unchecked(xi.omega * inv),
+                point: xi.omega.cross(&xi.v) * inv2,
+                pitch: xi.omega.dot(&xi.v) * inv2,
                 magnitude: theta,
             })
         } else {

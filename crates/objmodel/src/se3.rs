@@ -51,12 +51,18 @@ fn coef_c(theta: f64) -> f64 {
 /// `c(θ) = (1 - (θ/2) cot(θ/2))/θ²`, the Ω² coefficient of `V⁻¹`.
 fn coef_vinv(theta: f64) -> f64 {
     if theta < SERIES_THRESHOLD_RAD {
-        let t2 = theta * theta;
-        1.0 / 12.0 + t2 / 720.0 + t2 * t2 / 30240.0 + t2 * t2 * t2 / 1_209_600.0
+        coef_vinv_series(theta * theta)
     } else {
         let h = 0.5 * theta;
         (1.0 - h * h.cos() / h.sin()) / (theta * theta)
     }
+}
+
+/// The Taylor series of `c(θ)` in `θ²` (see [`coef_vinv`]), exact to 2e-16 below
+/// [`SERIES_THRESHOLD_RAD`].
+#[inline(always)]
+fn coef_vinv_series(t2: f64) -> f64 {
+    1.0 / 12.0 + t2 / 720.0 + t2 * t2 / 30240.0 + t2 * t2 * t2 / 1_209_600.0
 }
 
 /// Exponential of SO(3): the rotation by `|omega|` \[rad\] about `omega`.
@@ -83,6 +89,13 @@ pub fn so3_exp(omega: &Vector3<f64>) -> UnitQuaternion<f64> {
 /// where the axis sign is arbitrary).
 #[inline]
 pub fn so3_log(q: &UnitQuaternion<f64>) -> Vector3<f64> {
+    so3_log_parts(q).0
+}
+
+/// [`so3_log`] with the parts the SE(3) logarithm reuses: `(ω, θ/|q_v|, |w|)` for the
+/// quaternion taken with `w ≥ 0` (`θ/|q_v|` is `2` at the identity).
+#[inline(always)]
+fn so3_log_parts(q: &UnitQuaternion<f64>) -> (Vector3<f64>, f64, f64) {
     let q = q.quaternion();
     let (w, v) = if q.w < 0.0 {
         (-q.w, -q.imag())
@@ -92,16 +105,16 @@ pub fn so3_log(q: &UnitQuaternion<f64>) -> Vector3<f64> {
     let s2 = v.norm_squared();
     // θ/s = 2·atan2(s, w)/s = (2/w)·atan(x)/x with x = s/w. For x < 1e-2 (rotations below
     // 1.15°, the common case between consecutive frames) the series
-    // atan(x)/x = 1 - x²/3 + x⁴/5 - x⁶/7 is exact to 1.2e-17 and spares the atan2.
+    // atan(x)/x = 1 - x²/3 + x⁴/5 - x⁶/7 is exact to 1.2e-17 and spares the arctangent.
     let k = if s2 < 1e-4 * (w * w) {
         let inv_w = 1.0 / w; // One division; w > 0.99995 here.
         let x2 = s2 * inv_w * inv_w;
         2.0 * inv_w * (1.0 - x2 * (1.0 / 3.0 - x2 * (1.0 / 5.0 - x2 / 7.0)))
     } else {
         let s = s2.sqrt();
-        2.0 * s.atan2(w) / s
+        2.0 * crate::numeric::atan2_nonneg(s, w) / s
     };
-    v * k
+    (v * k, k, w)
 }
 
 /// A twist ξ = (v, ω) ∈ se(3): `omega` \[rad\] is the rotation vector, `v` \[m\] the linear part.
@@ -144,15 +157,13 @@ impl Twist {
     /// result as [`Twist::log`]; the fast path of the classifiers' per-frame loops.
     #[inline]
     pub fn log_quat(q: &UnitQuaternion<f64>, t: &Vector3<f64>) -> Self {
-        let omega = so3_log(q);
+        let (omega, k, w) = so3_log_parts(q);
         let theta2 = omega.norm_squared();
+        // c(θ) = (1 - (θ/2) cot(θ/2))/θ² with (θ/2) cot(θ/2) = (θ/2) w/|v| = k w / 2.
         let c = if theta2 < SERIES_THRESHOLD_RAD * SERIES_THRESHOLD_RAD {
-            coef_vinv(theta2.sqrt())
+            coef_vinv_series(theta2)
         } else {
-            let qq = q.quaternion();
-            let (w, s) = (qq.w.abs(), qq.imag().norm());
-            let theta = theta2.sqrt();
-            (1.0 - 0.5 * theta * w / s) / theta2
+            (1.0 - 0.5 * k * w) / theta2
         };
         let wxt = omega.cross(t);
         Self {
@@ -190,7 +201,7 @@ pub fn rotation_angle_between(a: &UnitQuaternion<f64>, b: &UnitQuaternion<f64>) 
     // 2·atan2(|a⁻¹b|_v, |w|), accurate for small angles unlike 2·acos(d).
     let rel = a.inverse() * b;
     let s = rel.quaternion().imag().norm();
-    2.0 * s.atan2(d)
+    2.0 * crate::numeric::atan2_nonneg(s, d)
 }
 
 #[cfg(test)]

@@ -73,11 +73,16 @@ pub fn classify_files(
 /// poses before the first error, then that error.
 struct ThreadedPoses {
     rx: std::sync::mpsc::Receiver<(Vec<StampedPose>, Option<crate::Error>)>,
-    chunk: std::vec::IntoIter<StampedPose>,
+    /// Emptied chunks go back to the producer for reuse (see [`CleanedFrames`]).
+    recycle: std::sync::mpsc::Sender<Vec<StampedPose>>,
+    chunk: Vec<StampedPose>,
+    pos: usize,
     error: Option<crate::Error>,
 }
 
-/// Poses per chunk handed from the parsing thread.
+/// Poses per chunk handed from the parsing thread: small enough that the chunks in flight stay
+/// in the processor's caches (a chunk of poses is 64 KiB) and large enough that the hand-over
+/// is rare.
 const CHUNK_POSES: usize = 8192;
 /// Chunks in flight between the threads.
 const CHANNEL_CHUNKS: usize = 4;
@@ -85,10 +90,13 @@ const CHANNEL_CHUNKS: usize = 4;
 impl ThreadedPoses {
     fn spawn<I: Iterator<Item = Result<StampedPose>> + Send + 'static>(poses: I) -> Self {
         let (tx, rx) = std::sync::mpsc::sync_channel(CHANNEL_CHUNKS);
+        let (recycle, recycled) = std::sync::mpsc::channel::<Vec<StampedPose>>();
         std::thread::spawn(move || {
             let mut poses = poses;
             loop {
-                let mut chunk = Vec::with_capacity(CHUNK_POSES);
+                let mut chunk = recycled
+                    .try_recv()
+                    .unwrap_or_else(|_| Vec::with_capacity(CHUNK_POSES));
                 let mut error = None;
                 for p in poses.by_ref() {
                     match p {
@@ -111,7 +119,9 @@ impl ThreadedPoses {
         });
         Self {
             rx,
-            chunk: Vec::new().into_iter(),
+            recycle,
+            chunk: Vec::new(),
+            pos: 0,
             error: None,
         }
     }
@@ -122,14 +132,18 @@ impl Iterator for ThreadedPoses {
 
     fn next(&mut self) -> Option<Self::Item> {
         loop {
-            if let Some(p) = self.chunk.next() {
-                return Some(Ok(p));
+            if let Some(p) = self.chunk.get(self.pos) {
+                self.pos += 1;
+                return Some(Ok(*p));
             }
             if let Some(e) = self.error.take() {
                 return Some(Err(e));
             }
             let (chunk, error) = self.rx.recv().ok()?;
-            self.chunk = chunk.into_iter();
+            let mut done = std::mem::replace(&mut self.chunk, chunk);
+            done.clear();
+            let _ = self.recycle.send(done);
+            self.pos = 0;
             self.error = error;
         }
     }

@@ -16,6 +16,7 @@
 
 mod check;
 mod csv;
+mod mapped;
 mod number;
 mod reader;
 #[cfg(test)]
@@ -62,14 +63,25 @@ pub fn detect_format(path: &Path, first_line: &str) -> Format {
 }
 
 /// Open a pose file for streaming (`-` is standard input). The format is [`Format::Csv`] for a
-/// `.csv` name, else decided by [`detect_format`] at the first non-comment line.
+/// `.csv` name, else decided by [`detect_format`] at the first non-comment line. Regular files
+/// of at least [`mapped::MIN_MAPPED_BYTES`] are read through memory-mapped windows (no copy
+/// out of the page cache; see the caveat there), others through a buffer.
 pub fn open(path: &Path) -> Result<PoseReader<Box<dyn BufRead + Send>>> {
     if path.as_os_str() == "-" {
         let stdin = BufReader::with_capacity(BUF_CAPACITY, std::io::stdin());
         return Ok(reader_for(Box::new(stdin), path, "<stdin>".into()));
     }
     let f = open_file(path)?;
-    Ok(reader_for(Box::new(f), path, path.to_path_buf()))
+    let mapped = f
+        .get_ref()
+        .metadata()
+        .is_ok_and(|m| m.is_file() && m.len() >= mapped::MIN_MAPPED_BYTES);
+    let source: Box<dyn BufRead + Send> = if mapped {
+        Box::new(mapped::MappedFile::new(f.into_inner()))
+    } else {
+        Box::new(f)
+    };
+    Ok(reader_for(source, path, path.to_path_buf()))
 }
 
 /// A buffered regular file.
