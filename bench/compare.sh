@@ -5,7 +5,8 @@
 #   bench/compare.sh [SIZES...]        default: 1000000 10000000
 #
 # Needs python3 with numpy, scipy (and pandas, which the baseline prefers for parsing).
-# Writes bench/results.md. Timings are wall clock and peak RSS from /usr/bin/time.
+# Writes bench/results.md. Wall clock from `date +%s%N` around each run (ms resolution), CPU
+# (user + sys) and peak RSS from /usr/bin/time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SHARED=${SHARED:-../shared/bench}
@@ -19,8 +20,13 @@ BIN=target/release/objmodel
 measure() { # prints "wall_s cpu_s rss_mb" (medians of $REPS runs; CPU = user + sys; max RSS)
   local walls=() cpus=() rss=0 w u s r
   for _ in $(seq "$REPS"); do
+    local t0 t1
+    t0=$(date +%s%N)
     /usr/bin/time -o "$DATA/.time" -f "%e %U %S %M" "$@" >/dev/null 2>&1
+    t1=$(date +%s%N)
     read -r w u s r < <(tail -1 "$DATA/.time")
+    # Wall clock to the millisecond (GNU time's %e has 10 ms steps).
+    w=$(echo "($t1 - $t0) / 1000000000" | bc -l | xargs printf "%.3f")
     walls+=("$w")
     cpus+=("$(echo "$u + $s" | bc -l | xargs printf "%.2f")")
     (( r > rss )) && rss=$r

@@ -33,6 +33,7 @@ pub struct Screw {
 
 impl Screw {
     /// The screw of a twist (eq. 1-3). `None` for the zero twist, which has no axis.
+    #[inline]
     pub fn from_twist(xi: &Twist) -> Option<Self> {
         let theta = xi.omega.norm();
         if theta > ZERO_ROTATION_RAD {

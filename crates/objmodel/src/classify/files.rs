@@ -88,33 +88,19 @@ const CHUNK_POSES: usize = 8192;
 const CHANNEL_CHUNKS: usize = 4;
 
 impl ThreadedPoses {
-    fn spawn<I: Iterator<Item = Result<StampedPose>> + Send + 'static>(poses: I) -> Self {
+    fn spawn<R: std::io::BufRead + Send + 'static>(mut poses: format::PoseReader<R>) -> Self {
         let (tx, rx) = std::sync::mpsc::sync_channel(CHANNEL_CHUNKS);
         let (recycle, recycled) = std::sync::mpsc::channel::<Vec<StampedPose>>();
-        std::thread::spawn(move || {
-            let mut poses = poses;
-            loop {
-                let mut chunk = recycled
-                    .try_recv()
-                    .unwrap_or_else(|_| Vec::with_capacity(CHUNK_POSES));
-                let mut error = None;
-                for p in poses.by_ref() {
-                    match p {
-                        Ok(p) => chunk.push(p),
-                        Err(e) => {
-                            error = Some(e);
-                            break;
-                        }
-                    }
-                    if chunk.len() == CHUNK_POSES {
-                        break;
-                    }
-                }
-                let done = chunk.len() < CHUNK_POSES || error.is_some();
-                if (chunk.is_empty() && error.is_none()) || tx.send((chunk, error)).is_err() || done
-                {
-                    break;
-                }
+        std::thread::spawn(move || loop {
+            let mut chunk = recycled
+                .try_recv()
+                .unwrap_or_else(|_| Vec::with_capacity(CHUNK_POSES));
+            let (more, error) = match poses.read_chunk(&mut chunk, CHUNK_POSES) {
+                Ok(more) => (more, None),
+                Err(e) => (false, Some(e)),
+            };
+            if (chunk.is_empty() && error.is_none()) || tx.send((chunk, error)).is_err() || !more {
+                break;
             }
         });
         Self {

@@ -20,10 +20,14 @@ use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 pub(super) struct PaperCore {
     config: Config,
     reference: Option<(UnitQuaternion<f64>, Vector3<f64>, Option<Vector3<f64>>)>,
+    /// `g(0)⁻¹`'s rotation, kept to form `g(0)⁻¹ g(t)` per frame.
+    reference_inv: UnitQuaternion<f64>,
     previous: Option<(Twist, Option<Screw>, Option<Vector3<f64>>)>,
     runs: Vec<LabelRun>,
     votes: Votes,
-    best: Option<(f64, Line, Vector3<f64>)>,
+    /// The screw of largest rotation so far: (θ, axis point, axis direction, ω); its line is
+    /// formed once, at the end.
+    best: Option<(f64, Vector3<f64>, Vector3<f64>, Vector3<f64>)>,
     normal_sum: Vector3<f64>,
     slide_frames: u64,
     t_range: Option<(f64, f64)>,
@@ -37,6 +41,7 @@ impl PaperCore {
         Self {
             config: *config,
             reference: None,
+            reference_inv: UnitQuaternion::identity(),
             previous: None,
             runs: Vec::new(),
             votes: Votes::default(),
@@ -73,12 +78,16 @@ impl PaperCore {
     pub(super) fn push(&mut self, item: Item, down: Option<Vector3<f64>>) {
         let Item::Frame(f) = item else { return };
         let th = self.config.paper;
-        let (q0, p0, _) =
-            *self
-                .reference
-                .get_or_insert((f.q, f.p, down.map(|d| f.q.inverse() * d)));
-        self.t_range = Some(self.t_range.map_or((f.t, f.t), |(a, _)| (a, f.t)));
-        let q0_inv = q0.inverse();
+        if self.reference.is_none() {
+            self.reference = Some((f.q, f.p, down.map(|d| f.q.inverse() * d)));
+            self.reference_inv = f.q.inverse();
+            self.t_range = Some((f.t, f.t));
+        }
+        let p0 = self.reference.map_or(f.p, |r| r.1);
+        if let Some(r) = self.t_range.as_mut() {
+            r.1 = f.t;
+        }
+        let q0_inv = self.reference_inv;
         let xi = Twist::log_quat(&(q0_inv * f.q), &(q0_inv * (f.p - p0)));
         let omega = xi.omega;
         let screw = Screw::from_twist(&xi);
@@ -126,11 +135,7 @@ impl PaperCore {
         }
         if let Some(s) = screw.filter(|s| s.is_rotation()) {
             if self.best.is_none_or(|b| theta > b.0) {
-                self.best = Some((
-                    theta,
-                    Line::through(s.point, s.direction.into_inner()),
-                    omega,
-                ));
+                self.best = Some((theta, s.point, s.direction.into_inner(), omega));
             }
         }
         self.label(f.index, f.t, label);
@@ -148,7 +153,8 @@ impl PaperCore {
         let edge = (kind == Kind::Topple)
             .then_some(self.best)
             .flatten()
-            .map(|(theta, line, _)| EdgeObservation {
+            .map(|(theta, point, direction, _)| (theta, Line::through(point, direction)))
+            .map(|(theta, line)| EdgeObservation {
                 demo: name.to_string(),
                 line,
                 point_cov: Matrix3::zeros(),

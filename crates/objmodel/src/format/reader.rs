@@ -215,6 +215,38 @@ impl<R: BufRead> PoseReader<R> {
         }
     }
 
+    /// Append up to `limit` more poses to `out` (`limit` ≥ 1), decoding straight into it:
+    /// the same poses as the iterator, without the per-pose hand-over. Returns `Ok(false)` once
+    /// the input is exhausted, `Ok(true)` if there may be more; after an error the poses before
+    /// it are in `out` and the error is returned (the next call returns `Ok(false)`).
+    pub fn read_chunk(&mut self, out: &mut Vec<StampedPose>, limit: usize) -> Result<bool> {
+        let goal = out.len() + limit.max(1);
+        while out.len() < goal {
+            if let Some(p) = self.next_if_batched() {
+                out.push(p);
+                continue;
+            }
+            if let Some(e) = self.pending_err.take() {
+                return Err(e);
+            }
+            let before = out.len();
+            let r = step(
+                &mut self.reader,
+                &mut self.st,
+                &mut self.pending_err,
+                out,
+                None,
+                goal - before,
+            );
+            match r {
+                Some(r) => out.push(r?),
+                None if out.len() == before => return Ok(false),
+                None => {}
+            }
+        }
+        Ok(true)
+    }
+
     /// The next pose of the batch, if there is one.
     fn next_if_batched(&mut self) -> Option<StampedPose> {
         let p = *self.batch.get(self.head)?;

@@ -146,3 +146,50 @@ fn fast_and_general_paths_agree() {
         assert_eq!(bulk, iter, "round {round}, read_into");
     }
 }
+
+#[test]
+fn read_chunk_gives_the_iterators_poses_and_error() {
+    // 300 lines with an error (a repeated timestamp) at line 201 (after the comment line).
+    let mut text = String::from("# t x y z qx qy qz qw\n");
+    for k in 0..300 {
+        let t = if k == 200 { 199.0 } else { k as f64 };
+        text.push_str(&format!("{t} {k}.5 0 0 0 0 0 1\n"));
+    }
+    let want: Vec<_> = PoseReader::new(&text.as_bytes()[..], "f".into(), Format::Tum).collect();
+    assert_eq!(want.len(), 201, "200 poses, then the error");
+    let want_err = want[200].as_ref().unwrap_err().to_string();
+    assert!(want_err.contains("line 202"), "{want_err}");
+    let mut s = 3u64;
+    for _ in 0..50 {
+        let cap = 1 + (next(&mut s) % 200) as usize;
+        let mut r = PoseReader::new(
+            BufReader::with_capacity(cap, text.as_bytes()),
+            "f".into(),
+            Format::Tum,
+        );
+        let mut got = Vec::new();
+        let err = loop {
+            let limit = 1 + (next(&mut s) % 40) as usize;
+            let before = got.len();
+            match r.read_chunk(&mut got, limit) {
+                Ok(more) => {
+                    // A full chunk while there may be more, at most `limit` at the end.
+                    if more {
+                        assert_eq!(got.len() - before, limit);
+                    } else {
+                        assert!(got.len() - before <= limit);
+                        break None;
+                    }
+                }
+                Err(e) => break Some(e.to_string()),
+            }
+        };
+        assert_eq!(err.as_deref(), Some(want_err.as_str()));
+        assert_eq!(got.len(), 200);
+        for (g, w) in got.iter().zip(&want) {
+            assert_eq!(g, w.as_ref().unwrap());
+        }
+        let mut rest = Vec::new();
+        assert!(!r.read_chunk(&mut rest, 10).unwrap() && rest.is_empty());
+    }
+}
