@@ -167,7 +167,7 @@ impl Cleaner {
     }
 
     /// Push the next frame; frames are passed to `out` with their verdict once judged.
-    #[inline]
+    #[inline(always)]
     pub fn push(&mut self, mut f: RawFrame, out: &mut impl FnMut(RawFrame, bool)) {
         if self.kept_count == 0 || self.pending_len != 1 {
             return self.push_start(f, out);
