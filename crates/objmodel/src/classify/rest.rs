@@ -15,9 +15,12 @@
 //! copies of one pose; with the two one-sided windows, a frame is at rest as soon as the pose is
 //! steady on either side of it.
 //!
-//! Sums over the windows are kept incrementally, re-based on a local time and pose origin every
+//! The sums over a window are differences of prefix sums: each item held carries the sums over
+//! the items before it, so a window's sums are one vector subtraction and a new item one vector
+//! addition. The prefix sums restart on a local time and pose origin (re-basing) every
 //! [`REBASE_EVERY`] frames (or every window's worth of frames, if more, so that re-basing costs
-//! O(1) per frame) so that long files do not lose precision to cancellation.
+//! O(1) per frame) so that long files do not lose precision to cancellation: they span a few
+//! windows at most.
 
 use super::Config;
 use crate::clean::RawFrame;
@@ -25,7 +28,7 @@ use crate::noise::{self, NoiseModel};
 use crate::se3::so3_log;
 use nalgebra::{UnitQuaternion, Vector3};
 
-/// Frames between two re-computations of the running sums from scratch.
+/// Frames between two re-computations of the prefix sums from scratch (re-basing).
 pub const REBASE_EVERY: usize = 256;
 
 /// An item flowing through the detector: a good frame or a rejected one (kept for ordering).
@@ -37,13 +40,39 @@ pub enum Item {
     Outlier(usize, f64),
 }
 
+/// `sin²(θ/2)` below which [`step_log`] uses its series (rotations below 1.15°).
+const STEP_SERIES_S2: f64 = 1e-4;
+
+/// The rotation vector ω \[rad\] of `q0⁻¹ q`, the rotation from one frame to the next: nearly
+/// always tiny, so computed without a division or `atan2`.
+///
+/// For a unit quaternion `(w, v)` with `w >= 0` and `s = |v| = sin(θ/2)`, `θ = 2 asin(s)`, so
+/// `ω = v · 2 asin(s)/s` with `asin(s)/s = 1 + s²/6 + 3s⁴/40 + 5s⁶/112 + 35s⁸/1152 + …`; for
+/// `s² <` [`STEP_SERIES_S2`] the series truncated after s⁸ is exact to 3e-22 (and `w < 0` only
+/// flips the sign). It equals [`so3_log`] up to rounding and the quaternion's norm (`|q|² = 1 + δ`
+/// changes ω by `δ/2` relative, ~1e-16 for normalised inputs); larger rotations go to
+/// [`so3_log`].
+#[inline(always)]
+fn step_log(q0: &UnitQuaternion<f64>, q: &UnitQuaternion<f64>) -> Vector3<f64> {
+    let d = q0.inverse() * q;
+    let v = d.imag();
+    let s2 = v.norm_squared();
+    if s2 < STEP_SERIES_S2 {
+        let half_k =
+            1.0 + s2 * (1.0 / 6.0 + s2 * (3.0 / 40.0 + s2 * (5.0 / 112.0 + s2 * (35.0 / 1152.0))));
+        let k = if d.w < 0.0 { -2.0 } else { 2.0 } * half_k;
+        v * k
+    } else {
+        so3_log(&d)
+    }
+}
+
 /// Number of running sums (padded to an even count for two-lane SIMD).
 const TERMS: usize = 16;
 
-/// Running least-squares sums of (t, x) over a window, about a local origin: with
-/// `dt = t - t₀` and `x = x - x₀`, the terms are `[1, dt, dt², 0, x₀..x₅, dt·x₀..dt·x₅]`, so
-/// adding or removing an item is one vector addition. (The padding lane 3 keeps each group
-/// on whole SIMD lanes: the terms are stored and read back as the same pairs.)
+/// Least-squares sums of (t, x) over a run of items, about a local origin: with `dt = t - t₀`
+/// and `x = x - x₀`, the terms of a frame are `[1, dt, dt², 0, x₀..x₅, dt·x₀..dt·x₅]`, so adding
+/// an item is one vector addition. (The padding lane 3 keeps each group on whole SIMD lanes.)
 #[derive(Clone, Copy, Debug)]
 struct Sums([f64; TERMS]);
 
@@ -75,9 +104,10 @@ fn terms(t: f64, x: &[f64; 6], origin: &(f64, [f64; 6])) -> [f64; TERMS] {
 }
 
 impl Sums {
-    // `add` and `sub` work on copies, written back whole: in place, the compiler cannot rule
-    // out that `terms` overlaps the sums, and adds lane by lane through memory.
+    // `add` and `minus` work on copies, written back whole: in place, the compiler cannot rule
+    // out that the operand overlaps the sums, and adds lane by lane through memory.
 
+    /// Add the terms of an item.
     #[inline(always)]
     fn add(&mut self, terms: &[f64; TERMS]) {
         let (mut s, v) = (self.0, *terms);
@@ -87,13 +117,14 @@ impl Sums {
         self.0 = s;
     }
 
+    /// `self - other`: the sums over the items in one run and not in the other.
     #[inline(always)]
-    fn sub(&mut self, terms: &[f64; TERMS]) {
-        let (mut s, v) = (self.0, *terms);
+    fn minus(&self, other: &Sums) -> Sums {
+        let (mut s, v) = (self.0, other.0);
         for j in 0..TERMS {
             s[j] -= v[j];
         }
-        self.0 = s;
+        Sums(s)
     }
 
     /// Whether the χ²₆ statistic of the slope exceeds `threshold` (never with fewer than 3
@@ -119,13 +150,14 @@ impl Sums {
     }
 }
 
-/// One item in the detector's window: its terms of the window sums about the current origin
-/// (see [`Sums`]; zero for outliers, so `terms[0]` is 1 for a frame and 0 for an outlier), and
-/// what it takes to hand the item on: time \[s\], index, and for frames the accumulated
-/// rotation \[rad\] and position \[m\] (`x`, the fitted coordinates) and the orientation.
+/// One item in the detector's window: the sums over the items before it since the last
+/// re-basing (see [`Sums`]), whether it is a frame (or an outlier), and what it takes to hand it
+/// on: time \[s\], index, and for frames the accumulated rotation \[rad\] and position \[m\]
+/// (`x`, the fitted coordinates) and the orientation.
 #[derive(Clone, Copy, Debug)]
 struct Slot {
-    terms: [f64; TERMS],
+    before: Sums,
+    frame: bool,
     t: f64,
     x: [f64; 6],
     q: UnitQuaternion<f64>,
@@ -134,7 +166,8 @@ struct Slot {
 
 impl Slot {
     const EMPTY: Slot = Slot {
-        terms: [0.0; TERMS],
+        before: Sums([0.0; TERMS]),
+        frame: false,
         t: 0.0,
         x: [0.0; 6],
         q: UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(1.0, 0.0, 0.0, 0.0)),
@@ -143,7 +176,7 @@ impl Slot {
 
     #[inline(always)]
     fn is_frame(&self) -> bool {
-        self.terms[0] != 0.0
+        self.frame
     }
 
     /// The item this slot holds.
@@ -182,8 +215,8 @@ pub struct RestDetector {
     hi: usize,
     /// Number of the next item pushed; items `head..tail` are held.
     tail: usize,
-    left: Sums,
-    right: Sums,
+    /// Sums over the items pushed since the last re-basing (the next item's `before`).
+    total: Sums,
     cum_rot: Vector3<f64>,
     last_q: Option<UnitQuaternion<f64>>,
     origin: (f64, [f64; 6]),
@@ -208,8 +241,7 @@ impl RestDetector {
             center: 0,
             hi: 0,
             tail: 0,
-            left: Sums::default(),
-            right: Sums::default(),
+            total: Sums::default(),
             cum_rot: Vector3::zeros(),
             last_q: None,
             origin: (0.0, [0.0; 6]),
@@ -235,59 +267,66 @@ impl RestDetector {
         self.mask = mask;
     }
 
-    /// Re-compute the terms of every held item about the centre item, and the sums.
+    /// Re-compute the prefix sums of every held item about the centre item.
     #[cold]
     #[inline(never)]
     fn rebase(&mut self) {
         let c = self.slot(self.center);
         let origin = (c.t, c.x);
         self.origin = origin;
-        self.left = Sums::default();
-        self.right = Sums::default();
+        let mut acc = Sums::default();
         for i in self.head..self.tail {
             let e = &mut self.slots[i & self.mask];
-            if e.is_frame() {
-                e.terms = terms(e.t, &e.x, &origin);
+            e.before = acc;
+            if e.frame {
+                acc.add(&terms(e.t, &e.x, &origin));
             }
         }
-        for i in self.head..=self.center {
-            self.left.add(&self.slots[i & self.mask].terms);
-        }
-        for i in self.center..self.hi {
-            self.right.add(&self.slots[i & self.mask].terms);
-        }
+        self.total = acc;
         self.since_rebase = 0;
     }
 
-    /// Hold `slot` as the newest item and judge what can be judged.
+    /// The sums of the items held before item `i` (since the last re-basing).
     #[inline(always)]
-    fn push_slot(&mut self, slot: Slot, out: &mut impl FnMut(Item, bool, &Vector3<f64>)) {
+    fn before(&self, i: usize) -> &Sums {
+        if i == self.tail {
+            &self.total
+        } else {
+            &self.slot(i).before
+        }
+    }
+
+    /// The slot for the next item, to be filled by the caller (the ring grows if full).
+    #[inline(always)]
+    fn next_slot(&mut self) -> &mut Slot {
         if self.tail - self.head == self.slots.len() {
             self.grow();
         }
-        let i = self.tail & self.mask;
-        self.slots[i] = slot;
-        self.tail += 1;
-        self.drain(false, out);
+        &mut self.slots[self.tail & self.mask]
     }
 
     /// Push the next frame (see [`RestDetector::push`]).
     #[inline(always)]
     pub fn push_frame(&mut self, f: &RawFrame, out: &mut impl FnMut(Item, bool, &Vector3<f64>)) {
         if let Some(q0) = self.last_q {
-            self.cum_rot += so3_log(&(q0.inverse() * f.q));
+            self.cum_rot += step_log(&q0, &f.q);
         }
         self.last_q = Some(f.q);
         let r = &self.cum_rot;
         let x = [r.x, r.y, r.z, f.p.x, f.p.y, f.p.z];
-        let slot = Slot {
-            terms: terms(f.t, &x, &self.origin),
-            t: f.t,
-            x,
-            q: f.q,
-            index: f.index,
-        };
-        self.push_slot(slot, out);
+        let origin = self.origin;
+        // Field by field, in place: a whole `Slot` value would be built aside and copied.
+        let total = self.total;
+        let slot = self.next_slot();
+        slot.before = total;
+        slot.frame = true;
+        slot.t = f.t;
+        slot.x = x;
+        slot.q = f.q;
+        slot.index = f.index;
+        self.total.add(&terms(f.t, &x, &origin));
+        self.tail += 1;
+        self.drain(false, out);
     }
 
     /// Push the next item, a frame rejected as an outlier (see [`RestDetector::push`]).
@@ -298,18 +337,21 @@ impl RestDetector {
         t: f64,
         out: &mut impl FnMut(Item, bool, &Vector3<f64>),
     ) {
-        let slot = Slot {
-            t,
-            index,
-            ..Slot::EMPTY
-        };
-        self.push_slot(slot, out);
+        let total = self.total;
+        let slot = self.next_slot();
+        slot.before = total;
+        slot.frame = false;
+        slot.t = t;
+        slot.x = [0.0; 6];
+        slot.index = index;
+        self.tail += 1;
+        self.drain(false, out);
     }
 
     /// Push the next item; judged items are passed to `out` with `moving` (false for outliers)
     /// and the accumulated rotation \[rad\] (the sum of the logs of the frame-to-frame
     /// rotations since the first frame; zero for outliers).
-    #[inline]
+    #[inline(always)]
     pub fn push(&mut self, item: Item, out: &mut impl FnMut(Item, bool, &Vector3<f64>)) {
         match &item {
             Item::Frame(f) => self.push_frame(f, out),
@@ -328,8 +370,6 @@ impl RestDetector {
             let tc = self.slot(self.center).t;
             // Extend the right window [tc, tc + w].
             while self.hi < self.tail && self.slot(self.hi).t <= tc + self.window {
-                let i = self.hi & self.mask;
-                self.right.add(&self.slots[i].terms);
                 self.hi += 1;
             }
             if self.hi == self.tail && !at_end {
@@ -337,25 +377,25 @@ impl RestDetector {
             }
             // Drop frames older than tc - w from the left window [tc - w, tc].
             while self.center > self.head && self.slot(self.head).t < tc - self.window {
-                let i = self.head & self.mask;
-                self.left.sub(&self.slots[i].terms);
                 self.head += 1;
             }
             if self.since_rebase == 0
                 || self.since_rebase >= REBASE_EVERY.max(self.tail - self.head)
             {
                 self.rebase();
-            } else {
-                let i = self.center & self.mask;
-                self.left.add(&self.slots[i].terms);
             }
             self.since_rebase += 1;
-            let e = &self.slots[self.center & self.mask];
+            let c = self.center;
+            let e = self.slot(c);
             let moving = e.is_frame()
-                && self.left.exceeds(&self.inv_var, self.threshold)
-                && self.right.exceeds(&self.inv_var, self.threshold);
-            // The centre leaves the right window (it stays in the left one).
-            self.right.sub(&e.terms);
+                && self
+                    .before(c + 1)
+                    .minus(self.before(self.head))
+                    .exceeds(&self.inv_var, self.threshold)
+                && self
+                    .before(self.hi)
+                    .minus(&e.before)
+                    .exceeds(&self.inv_var, self.threshold);
             let rot = Vector3::new(e.x[0], e.x[1], e.x[2]);
             out(e.item(), moving, &rot);
             self.center += 1;
@@ -427,6 +467,7 @@ impl RestFront {
     }
 
     /// Push the next item; what is judged goes to `out`.
+    #[inline(never)]
     pub fn push(&mut self, item: Item, out: &mut impl FnMut(Judged)) {
         match self.rest.as_mut() {
             Some(rest) => rest.push(item, &mut |i, m, r| out(Judged::Item(i, m, *r))),
@@ -465,8 +506,10 @@ mod tests {
         }
     }
 
-    /// The detector as first written (queues of window entries and of items), as a reference
-    /// for the ring buffer.
+    /// The detector as first written (queues of window entries and of items, running sums
+    /// updated item by item), as a reference for the ring buffer of prefix sums. The sums are
+    /// formed in another order, so they agree to rounding, and the verdicts unless a statistic
+    /// is within rounding of its threshold (which these data do not have).
     fn reference(d: &RestDetector, items: &[Item]) -> Vec<(Key, bool, [f64; 3])> {
         let (window, threshold, inv_var) = (d.window, d.threshold, d.inv_var);
         // (t, is_frame, x, terms), and the items.
@@ -482,7 +525,7 @@ mod tests {
             buf.push_back(match item {
                 Item::Frame(f) => {
                     if let Some(q0) = last_q {
-                        cum_rot += so3_log(&(q0.inverse() * f.q));
+                        cum_rot += step_log(&q0, &f.q);
                     }
                     last_q = Some(f.q);
                     let x = [cum_rot.x, cum_rot.y, cum_rot.z, f.p.x, f.p.y, f.p.z];
@@ -502,7 +545,7 @@ mod tests {
                         break;
                     }
                     while center > 0 && buf[0].0 < tc - window {
-                        left.sub(&buf.pop_front().unwrap().3);
+                        left = left.minus(&Sums(buf.pop_front().unwrap().3));
                         queued.pop_front();
                         center -= 1;
                         hi -= 1;
@@ -524,13 +567,36 @@ mod tests {
                     let moving = e.1
                         && left.exceeds(&inv_var, threshold)
                         && right.exceeds(&inv_var, threshold);
-                    right.sub(&e.3);
+                    right = right.minus(&Sums(e.3));
                     out.push((key(&queued[center]), moving, [e.2[0], e.2[1], e.2[2]]));
                     center += 1;
                 }
             }
         }
         out
+    }
+
+    #[test]
+    fn step_log_is_the_log() {
+        let mut seed = 0x1234_5678_9abc_def1_u64;
+        let mut rnd = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for k in 0..20000 {
+            let scale = [1e-9, 1e-5, 1e-3, 0.019, 0.021, 0.3, 3.0][k % 7];
+            let q0 = UnitQuaternion::from_scaled_axis(Vector3::new(rnd(), rnd(), rnd()) * 6.0);
+            let w = Vector3::new(rnd(), rnd(), rnd()) * scale;
+            let mut q = q0 * UnitQuaternion::from_scaled_axis(w);
+            if k % 3 == 0 {
+                q = UnitQuaternion::new_unchecked(-q.into_inner());
+            }
+            let exact = so3_log(&(q0.inverse() * q));
+            let err = (step_log(&q0, &q) - exact).norm();
+            assert!(err <= 2e-15 * exact.norm(), "{w} {exact} {err:e}");
+        }
     }
 
     #[test]
