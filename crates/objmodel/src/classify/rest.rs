@@ -467,6 +467,8 @@ impl RestFront {
     }
 
     /// Push the next item; what is judged goes to `out`.
+    // Not inlined into the cleaner's loop: measured faster (register pressure), 44 against
+    // 45-52 ns/pose for clean + rest front when left to the compiler, 60 when forced inline.
     #[inline(never)]
     pub fn push(&mut self, item: Item, out: &mut impl FnMut(Judged)) {
         match self.rest.as_mut() {
