@@ -35,9 +35,9 @@ pub struct RawFrame {
 /// Streaming cleaner: push frames in time order, receive `(frame, is_outlier)` a frame or two
 /// late (the first frame needs two frames after it, every other frame one).
 ///
-/// Layout for speed: a frame once the first one is kept is judged as soon as the frame after it
-/// arrives, so the stream needs one pending frame and the last two kept ones, held in fixed slots
-/// (no queue); the common verdict "no flip" is decided by an exact pretest (see
+/// Layout for speed: once the first frame is kept, each frame is judged as soon as the next one
+/// arrives, so the stream needs only one pending frame and the last two kept frames, held in
+/// fixed slots (no queue); the common verdict "no flip" is decided by an exact pretest (see
 /// [`Cleaner::is_flip`]) without trigonometry.
 #[derive(Debug)]
 pub struct Cleaner {
@@ -346,8 +346,7 @@ mod tests {
                         let mut f = frame(i, 0.0);
                         f.q = UnitQuaternion::from_scaled_axis(angle);
                         if rnd() < 0.15 {
-                            f.q =
-                                f.q * UnitQuaternion::from_scaled_axis(Vector3::new(0.8, 0.0, 0.0));
+                            f.q *= UnitQuaternion::from_scaled_axis(Vector3::new(0.8, 0.0, 0.0));
                         }
                         if rnd() < 0.3 {
                             f.q = UnitQuaternion::new_unchecked(-f.q.into_inner());

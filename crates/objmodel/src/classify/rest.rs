@@ -625,7 +625,7 @@ mod tests {
                             * (!still as u8 as f64);
                         v = w * 0.1;
                     }
-                    q = q * UnitQuaternion::from_scaled_axis(w / 120.0);
+                    q *= UnitQuaternion::from_scaled_axis(w / 120.0);
                     p += v / 120.0;
                     let noise = |r: &mut dyn FnMut() -> f64, s: f64| {
                         Vector3::new(r() - 0.5, r() - 0.5, r() - 0.5) * s
