@@ -37,8 +37,8 @@ pub struct RawFrame {
 ///
 /// Layout for speed: once the first frame is kept, each frame is judged as soon as the next one
 /// arrives, so the stream needs only one pending frame and the last two kept frames, held in
-/// fixed slots (no queue); the common verdict "no flip" is decided by an exact pretest (see
-/// [`Cleaner::is_flip`]) without trigonometry.
+/// fixed slots (no queue); the common verdict "no flip" is decided by an exact pretest without
+/// trigonometry (in `is_flip`).
 #[derive(Debug)]
 pub struct Cleaner {
     threshold_sq: f64,
