@@ -2,11 +2,13 @@
 //!
 //! `cargo run --release --example analyze_bench -p objmodel [FILE.tum] [REPS]`
 //!
-//! Prints the best of REPS runs of: cleaning alone, cleaning + rest detection + blocks (the
+//! Prints the best of REPS runs of: cleaning alone, cleaning + the rest front end (the
+//! background thread's work after parsing, up to its output chunks), cleaning + rest detection + blocks (the
 //! whole robust analysis after parsing; also with the front end split off as `learn` runs it),
 //! and the paper's Algorithm 1, as thread CPU time.
 //!
-//! Environment: `ONLY_CLEAN=1` times the cleaning alone, `ONLY_ROBUST=1` skips Algorithm 1
+//! Environment: `ONLY_CLEAN=1` times the cleaning alone, `ONLY_FRONT=1` the cleaning alone and
+//! with the rest front end, `ONLY_ROBUST=1` skips Algorithm 1
 //! (both handy under `perf record`), `REST_WINDOW=30` sets the rest window \[s\].
 
 use objmodel::classify::{Analyzer, Config};
@@ -55,8 +57,35 @@ fn main() {
         }
         std::hint::black_box(k);
     });
+    let only_front = std::env::var_os("ONLY_FRONT").is_some();
+    let front = best(
+        if only_front || std::env::var_os("ONLY_CLEAN").is_none() {
+            reps
+        } else {
+            0
+        },
+        || {
+            let mut a = Analyzer::new("bench", &config, false);
+            let mut front = a.take_object_front().expect("robust, no palm");
+            // What `learn`'s parsing thread does with the output: chunks of 8192 for hand-over.
+            let mut chunk = Vec::with_capacity(8192);
+            let mut k = 0usize;
+            let mut keep = |j: objmodel::classify::Judged| {
+                chunk.push(j);
+                if chunk.len() == 8192 {
+                    k += std::hint::black_box(&chunk).len();
+                    chunk.clear();
+                }
+            };
+            for p in &poses {
+                front.push(p, &mut keep);
+            }
+            front.finish(&mut keep);
+            std::hint::black_box(k);
+        },
+    );
     let mut kind = String::new();
-    let only_clean = std::env::var_os("ONLY_CLEAN").is_some();
+    let only_clean = std::env::var_os("ONLY_CLEAN").is_some() || only_front;
     let all = best(if only_clean { 0 } else { reps }, || {
         let mut a = Analyzer::new("bench", &config, false);
         let mut c = a.take_object_cleaner().expect("robust");
@@ -68,7 +97,7 @@ fn main() {
     });
     let mut paper_config = Config::default();
     paper_config.method = objmodel::classify::Method::Paper;
-    let skip_paper = std::env::var_os("ONLY_ROBUST").is_some();
+    let skip_paper = std::env::var_os("ONLY_ROBUST").is_some() || only_clean;
     let paper = best(if skip_paper { 0 } else { reps }, || {
         let mut a = Analyzer::new("bench", &paper_config, false);
         for p in &poses {
@@ -86,7 +115,9 @@ fn main() {
         front.finish(&mut |j| a.push_judged(j));
         split_kind = a.finish().expect("classify").kind.as_str().to_string();
     });
-    assert_eq!(kind, split_kind);
+    if !only_clean {
+        assert_eq!(kind, split_kind);
+    }
     println!("{} poses ({}), kind {kind}", poses.len(), path.display());
     println!(
         "paper (Algorithm 1): cpu {paper:.3} s = {:.0} ns/pose",
@@ -95,6 +126,10 @@ fn main() {
     println!(
         "clean only:          cpu {clean:.3} s = {:.0} ns/pose",
         clean / n * 1e9
+    );
+    println!(
+        "clean + rest front:  cpu {front:.3} s = {:.0} ns/pose",
+        front / n * 1e9
     );
     println!(
         "clean + analysis:    cpu {all:.3} s = {:.0} ns/pose",

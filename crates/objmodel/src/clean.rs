@@ -34,15 +34,32 @@ pub struct RawFrame {
 
 /// Streaming cleaner: push frames in time order, receive `(frame, is_outlier)` a frame or two
 /// late (the first frame needs two frames after it, every other frame one).
+///
+/// Layout for speed: once the first frame is kept, each frame is judged as soon as the next one
+/// arrives, so the stream needs only one pending frame and the last two kept frames, held in
+/// fixed slots (no queue); the common verdict "no flip" is decided by an exact pretest without
+/// trigonometry (in `is_flip`).
 #[derive(Debug)]
 pub struct Cleaner {
     threshold_sq: f64,
     var_rot: f64,
-    kept_prev: Option<RawFrame>,
-    kept: Option<RawFrame>,
-    buffer: std::collections::VecDeque<RawFrame>,
+    /// `threshold_sq · var_rot · 1.5` \[rad²\]: a squared residual bound at or below it is never
+    /// significant (1.5 is the least variance factor, see [`Cleaner::is_flip`]).
+    floor: f64,
+    /// The last two kept frames: `kept[latest]` the latest, `kept[latest ^ 1]` the one before
+    /// (`kept_count` of them are valid, at most 2).
+    kept: [RawFrame; 2],
+    latest: usize,
+    kept_count: usize,
+    /// Frames pushed and not judged yet, oldest first: `pending[..pending_len]`. One once the
+    /// first frame is kept (after a push: two, and the older one is judged at once); up to
+    /// three before.
+    pending: [RawFrame; 3],
+    pending_len: usize,
 }
 
+/// `q` or `-q`, whichever is closer to `to` (non-negative dot product). Negation is exact.
+#[inline(always)]
 fn align(q: UnitQuaternion<f64>, to: &UnitQuaternion<f64>) -> UnitQuaternion<f64> {
     if q.quaternion().dot(to.quaternion()) < 0.0 {
         UnitQuaternion::new_unchecked(-q.into_inner())
@@ -61,29 +78,44 @@ fn residual(a: &RawFrame, b: &RawFrame, f: &RawFrame) -> (f64, f64) {
     (r, 1.0 + s * s + (1.0 - s) * (1.0 - s))
 }
 
+/// A placeholder for an empty slot (never read).
+const EMPTY: RawFrame = RawFrame {
+    index: 0,
+    t: 0.0,
+    q: UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(1.0, 0.0, 0.0, 0.0)),
+    p: Vector3::new(0.0, 0.0, 0.0),
+};
+
 impl Cleaner {
     /// A cleaner for orientation noise `sigma_rotation` \[rad\] per axis, testing at level `alpha`.
     pub fn new(sigma_rotation: f64, alpha: f64) -> Self {
+        let threshold_sq = crate::stats::chi2_threshold(3.0, alpha);
+        let var_rot = sigma_rotation * sigma_rotation;
         Self {
-            threshold_sq: crate::stats::chi2_threshold(3.0, alpha),
-            var_rot: sigma_rotation * sigma_rotation,
-            kept_prev: None,
-            kept: None,
-            buffer: std::collections::VecDeque::with_capacity(4),
+            threshold_sq,
+            var_rot,
+            floor: threshold_sq * var_rot * 1.5,
+            kept: [EMPTY; 2],
+            latest: 0,
+            kept_count: 0,
+            pending: [EMPTY; 3],
+            pending_len: 0,
         }
     }
 
+    /// Whether `f` is a tag flip with respect to the geodesic through `a` and `b` (see the
+    /// module documentation).
+    ///
+    /// Fast rejection, exact: the residual r from the geodesic point at fraction s obeys
+    /// `r <= |s| d(a,b) + d(a,f)` (triangle inequality), so a flip needs both
+    /// `|s| d(a,b) + d(a,f) > d(a,b)` and `(|s| d(a,b) + d(a,f))² > threshold`; the variance
+    /// factor `1 + s² + (1-s)²` is at least 1.5. Cheapest first, without a square root,
+    /// division or atan2: the squared chord `c² = 4|imag(x⁻¹y)|²` of the angle θ between x and y
+    /// (`c = 2 sin(θ/2)`) bounds θ² from above by `u = c² (1 + c²/20)²` for `c <= 1`
+    /// (`2 asin(c/2) = c + c³/24 + ...`), and `(|s| √u_ab + √u_af)² <= 2 (s² u_ab + u_af)`;
+    /// `s = Δt_af / Δt_ab` is cleared of its denominator.
+    #[inline(always)]
     fn is_flip(&self, a: &RawFrame, b: &RawFrame, f: &RawFrame) -> bool {
-        // Fast rejection, exact: the residual r from the geodesic point at fraction s obeys
-        // r <= |s| d(a,b) + d(a,f) (triangle inequality), so a flip needs both
-        // |s| d(a,b) + d(a,f) > d(a,b) and (|s| d(a,b) + d(a,f))² > threshold.
-        // The variance factor 1 + s² + (1-s)² is at least 1.5.
-        let floor = self.threshold_sq * self.var_rot * 1.5;
-        // Cheapest first, without a square root, division or atan2: the squared chord
-        // c² = 4|imag(x⁻¹y)|² of the angle θ between x and y (c = 2 sin(θ/2)) bounds θ² from
-        // above by u = c² (1 + c²/20)² for c <= 1 (2 asin(c/2) = c + c³/24 + ...), and
-        // (|s| √u_ab + √u_af)² <= 2 (s² u_ab + u_af); s = Δt_af / Δt_ab is cleared of its
-        // denominator.
         let chord2 = |x: &UnitQuaternion<f64>, y: &UnitQuaternion<f64>| {
             4.0 * (x.quaternion().conjugate() * y.quaternion())
                 .imag()
@@ -94,62 +126,106 @@ impl Cleaner {
             let u = |c2: f64| c2 * (1.0 + c2 / 20.0) * (1.0 + c2 / 20.0);
             let (t_ab, t_af) = (b.t - a.t, f.t - a.t);
             let d2 = t_ab * t_ab;
-            if 2.0 * (t_af * t_af * u(c_ab) + d2 * u(c_af)) <= floor * d2 {
+            if 2.0 * (t_af * t_af * u(c_ab) + d2 * u(c_af)) <= self.floor * d2 {
                 return false;
             }
         }
+        self.is_flip_exact(a, b, f)
+    }
+
+    /// [`Cleaner::is_flip`] past its pretest: the triangle bound with the angles themselves,
+    /// then the residual test.
+    #[cold]
+    #[inline(never)]
+    fn is_flip_exact(&self, a: &RawFrame, b: &RawFrame, f: &RawFrame) -> bool {
         let s = ((f.t - a.t) / (b.t - a.t)).abs();
         let dab = rotation_angle_between(&a.q, &b.q);
         let daf = rotation_angle_between(&a.q, &f.q);
         let bound = s * dab + daf;
-        if bound <= dab || bound * bound <= floor {
+        if bound <= dab || bound * bound <= self.floor {
             return false;
         }
         let (r, k) = residual(a, b, f);
         r * r > self.threshold_sq * self.var_rot * k && r > dab
     }
 
+    /// The latest kept frame, if any.
+    #[inline(always)]
+    fn last_kept(&self) -> Option<&RawFrame> {
+        (self.kept_count > 0).then(|| &self.kept[self.latest])
+    }
+
+    /// Pass `f` on with its verdict; a kept frame becomes the latest kept one.
+    #[inline(always)]
     fn emit(&mut self, f: RawFrame, outlier: bool, out: &mut impl FnMut(RawFrame, bool)) {
         if !outlier {
-            self.kept_prev = self.kept.replace(f);
+            self.latest ^= 1;
+            self.kept[self.latest] = f;
+            self.kept_count = (self.kept_count + 1).min(2);
         }
         out(f, outlier);
     }
 
     /// Push the next frame; frames are passed to `out` with their verdict once judged.
+    #[inline(always)]
     pub fn push(&mut self, mut f: RawFrame, out: &mut impl FnMut(RawFrame, bool)) {
-        if let Some(last) = self.buffer.back().or(self.kept.as_ref()) {
+        if self.kept_count == 0 || self.pending_len != 1 {
+            return self.push_start(f, out);
+        }
+        // The common case: the pending frame is judged against the latest kept frame and `f`.
+        let k = &self.kept[self.latest];
+        f.q = align(f.q, &self.pending[0].q);
+        let bad = self.is_flip(k, &f, &self.pending[0]);
+        let mut next = std::mem::replace(&mut self.pending[0], f);
+        if !bad {
+            next.q = align(next.q, &k.q);
+        }
+        self.emit(next, bad, out);
+    }
+
+    /// [`Cleaner::push`] until the first frame is kept: each frame is judged against the two
+    /// after it.
+    #[cold]
+    #[inline(never)]
+    fn push_start(&mut self, mut f: RawFrame, out: &mut impl FnMut(RawFrame, bool)) {
+        let last = match self.pending_len {
+            0 => self.last_kept(),
+            n => Some(&self.pending[n - 1]),
+        };
+        if let Some(last) = last {
             f.q = align(f.q, &last.q);
         }
-        self.buffer.push_back(f);
+        self.pending[self.pending_len] = f;
+        self.pending_len += 1;
         loop {
-            match self.kept {
-                None if self.buffer.len() >= 3 => {
-                    let bad = self.is_flip(&self.buffer[1], &self.buffer[2], &self.buffer[0]);
-                    let first = self.buffer.pop_front().unwrap();
-                    self.emit(first, bad, out);
-                }
-                Some(k) if self.buffer.len() >= 2 => {
-                    let bad = self.is_flip(&k, &self.buffer[1], &self.buffer[0]);
-                    let mut next = self.buffer.pop_front().unwrap();
+            let (bad, next) = match self.last_kept() {
+                None if self.pending_len >= 3 => (
+                    self.is_flip(&self.pending[1], &self.pending[2], &self.pending[0]),
+                    self.pending[0],
+                ),
+                Some(k) if self.pending_len >= 2 => {
+                    let bad = self.is_flip(k, &self.pending[1], &self.pending[0]);
+                    let mut next = self.pending[0];
                     if !bad {
                         next.q = align(next.q, &k.q);
                     }
-                    self.emit(next, bad, out);
+                    (bad, next)
                 }
                 _ => break,
-            }
+            };
+            self.pending.copy_within(1..self.pending_len, 0);
+            self.pending_len -= 1;
+            self.emit(next, bad, out);
         }
     }
 
     /// Flush the last frames at the end of the stream (the last one is judged by extrapolation
     /// from the two kept frames before it).
     pub fn finish(mut self, out: &mut impl FnMut(RawFrame, bool)) {
-        for f in std::mem::take(&mut self.buffer) {
-            let bad = match (&self.kept_prev, &self.kept) {
-                (Some(a), Some(b)) => self.is_flip(a, b, &f),
-                _ => false,
-            };
+        for i in 0..self.pending_len {
+            let f = self.pending[i];
+            let bad = self.kept_count >= 2
+                && self.is_flip(&self.kept[self.latest ^ 1], &self.kept[self.latest], &f);
             self.emit(f, bad, out);
         }
     }
@@ -200,6 +276,90 @@ mod tests {
         for w in out.windows(2) {
             assert!(w[0].0.q.quaternion().dot(w[1].0.q.quaternion()) > 0.0 || w[0].1 || w[1].1);
         }
+    }
+
+    /// The cleaner as first written (a queue of frames), as a reference for the slotted one.
+    fn reference(frames: &[RawFrame]) -> Vec<(RawFrame, bool)> {
+        let c = Cleaner::new(0.0087, 1e-6);
+        let (mut kept_prev, mut kept) = (None::<RawFrame>, None::<RawFrame>);
+        let mut buffer = std::collections::VecDeque::new();
+        let mut out = Vec::new();
+        let mut emit =
+            |f: RawFrame, bad: bool, kp: &mut Option<RawFrame>, k: &mut Option<RawFrame>| {
+                if !bad {
+                    *kp = k.replace(f);
+                }
+                out.push((f, bad));
+            };
+        for &f in frames {
+            let mut f = f;
+            if let Some(last) = buffer.back().or(kept.as_ref()) {
+                f.q = align(f.q, &last.q);
+            }
+            buffer.push_back(f);
+            loop {
+                match kept {
+                    None if buffer.len() >= 3 => {
+                        let bad = c.is_flip(&buffer[1], &buffer[2], &buffer[0]);
+                        let first = buffer.pop_front().unwrap();
+                        emit(first, bad, &mut kept_prev, &mut kept);
+                    }
+                    Some(k) if buffer.len() >= 2 => {
+                        let bad = c.is_flip(&k, &buffer[1], &buffer[0]);
+                        let mut next = buffer.pop_front().unwrap();
+                        if !bad {
+                            next.q = align(next.q, &k.q);
+                        }
+                        emit(next, bad, &mut kept_prev, &mut kept);
+                    }
+                    _ => break,
+                }
+            }
+        }
+        for f in buffer {
+            let bad = match (&kept_prev, &kept) {
+                (Some(a), Some(b)) => c.is_flip(a, b, &f),
+                _ => false,
+            };
+            emit(f, bad, &mut kept_prev, &mut kept);
+        }
+        out
+    }
+
+    #[test]
+    fn matches_the_queue_based_reference() {
+        // Random walks with flips (single, consecutive, at the ends) and sign changes.
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut rnd = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut flagged = 0;
+        for n in [1usize, 2, 3, 4, 5, 8, 40, 200] {
+            for _ in 0..50 {
+                let mut angle = Vector3::zeros();
+                let frames: Vec<RawFrame> = (0..n)
+                    .map(|i| {
+                        angle += Vector3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5) * 0.05;
+                        let mut f = frame(i, 0.0);
+                        f.q = UnitQuaternion::from_scaled_axis(angle);
+                        if rnd() < 0.15 {
+                            f.q *= UnitQuaternion::from_scaled_axis(Vector3::new(0.8, 0.0, 0.0));
+                        }
+                        if rnd() < 0.3 {
+                            f.q = UnitQuaternion::new_unchecked(-f.q.into_inner());
+                        }
+                        f
+                    })
+                    .collect();
+                let out = run(frames.clone());
+                flagged += out.iter().filter(|(_, o)| *o).count();
+                assert_eq!(out, reference(&frames));
+            }
+        }
+        assert!(flagged > 500, "{flagged}");
     }
 
     #[test]
