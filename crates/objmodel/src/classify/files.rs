@@ -86,6 +86,9 @@ struct ThreadedPoses {
 const CHUNK_POSES: usize = 8192;
 /// Chunks in flight between the threads.
 const CHANNEL_CHUNKS: usize = 4;
+/// Poses decoded at a time on the parsing thread before they are cleaned (small enough to stay
+/// in the first-level cache: 16 KiB).
+const PARSE_BATCH: usize = 256;
 
 impl ThreadedPoses {
     fn spawn<R: std::io::BufRead + Send + 'static>(mut poses: format::PoseReader<R>) -> Self {
@@ -147,8 +150,8 @@ struct CleanedFrames {
 }
 
 impl CleanedFrames {
-    fn spawn<I: Iterator<Item = Result<StampedPose>> + Send + 'static>(
-        poses: I,
+    fn spawn<R: std::io::BufRead + Send + 'static>(
+        mut poses: format::PoseReader<R>,
         mut cleaner: ObjectFront,
     ) -> Self {
         let (tx, rx) = std::sync::mpsc::sync_channel(CHANNEL_CHUNKS);
@@ -160,13 +163,23 @@ impl CleanedFrames {
                     .unwrap_or_else(|_| Vec::with_capacity(CHUNK_POSES))
             };
             let mut chunk = fresh();
-            for p in poses {
-                match p {
-                    Ok(p) => cleaner.push(&p, &mut |j| chunk.push(j)),
-                    Err(e) => {
-                        let _ = tx.send((std::mem::take(&mut chunk), Some(e)));
-                        return;
-                    }
+            // Poses are decoded a batch at a time, then cleaned.
+            let mut batch = Vec::with_capacity(PARSE_BATCH);
+            loop {
+                batch.clear();
+                let (more, error) = match poses.read_chunk(&mut batch, PARSE_BATCH) {
+                    Ok(more) => (more, None),
+                    Err(e) => (false, Some(e)),
+                };
+                for p in &batch {
+                    cleaner.push(p, &mut |j| chunk.push(j));
+                }
+                if let Some(e) = error {
+                    let _ = tx.send((std::mem::take(&mut chunk), Some(e)));
+                    return;
+                }
+                if !more {
+                    break;
                 }
                 if chunk.len() >= CHUNK_POSES
                     && tx
