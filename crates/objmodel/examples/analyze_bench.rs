@@ -4,6 +4,7 @@
 //!
 //! Prints the best of REPS runs of: cleaning alone, cleaning + rest detection + blocks (the
 //! whole robust analysis after parsing; also with the front end split off as `learn` runs it),
+//! the back end alone (segments and blocks, fed the front end's output collected beforehand),
 //! and the paper's Algorithm 1, as thread CPU time.
 //!
 //! Environment: `ONLY_CLEAN=1` times the cleaning alone, `ONLY_ROBUST=1` skips Algorithm 1
@@ -87,6 +88,28 @@ fn main() {
         split_kind = a.finish().expect("classify").kind.as_str().to_string();
     });
     assert_eq!(kind, split_kind);
+    // The back end alone (segments and blocks): the front end's output collected first.
+    let mut judged = Vec::with_capacity(poses.len() + 1);
+    {
+        let mut a = Analyzer::new("bench", &config, false);
+        let mut front = a.take_object_front().expect("robust, no palm");
+        for p in &poses {
+            front.push(p, &mut |j| judged.push(j));
+        }
+        front.finish(&mut |j| judged.push(j));
+    }
+    let mut back_kind = String::new();
+    let back = best(if only_clean { 0 } else { reps }, || {
+        let mut a = Analyzer::new("bench", &config, false);
+        let _front = a.take_object_front().expect("robust, no palm");
+        for j in &judged {
+            a.push_judged(*j);
+        }
+        back_kind = a.finish().expect("classify").kind.as_str().to_string();
+    });
+    if !only_clean {
+        assert_eq!(kind, back_kind);
+    }
     println!("{} poses ({}), kind {kind}", poses.len(), path.display());
     println!(
         "paper (Algorithm 1): cpu {paper:.3} s = {:.0} ns/pose",
@@ -103,5 +126,9 @@ fn main() {
     println!(
         "same, split front:   cpu {split:.3} s = {:.0} ns/pose",
         split / n * 1e9
+    );
+    println!(
+        "back end alone:      cpu {back:.3} s = {:.1} ns/pose",
+        back / n * 1e9
     );
 }
