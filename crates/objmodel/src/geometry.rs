@@ -58,6 +58,15 @@ pub fn angle_about(axis: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> f
     axis.dot(&pa.cross(&pb)).atan2(pa.dot(&pb))
 }
 
+/// The symmetric outer product `x xᵀ s`, each of its 6 distinct entries computed once and
+/// rounded as `(x_i x_j) s`, exactly as the entries of `x * x.transpose() * s`.
+#[inline]
+fn sym_outer(x: &Vector3<f64>, s: f64) -> Matrix3<f64> {
+    let (xx, xy, xz) = (x.x * x.x * s, x.x * x.y * s, x.x * x.z * s);
+    let (yy, yz, zz) = (x.y * x.y * s, x.y * x.z * s, x.z * x.z * s);
+    Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz)
+}
+
 /// Eigen-decomposition of a symmetric 3×3 matrix, eigenvalues ascending.
 pub fn sym_eigen(m: &Matrix3<f64>) -> ([f64; 3], [Vector3<f64>; 3]) {
     let e = SymmetricEigen::new(0.5 * (m + m.transpose()));
@@ -125,10 +134,10 @@ impl LineStats {
         self.sw += w;
         self.sww += w * w;
         self.swr += r * w;
-        self.swrr += r * r.transpose() * w;
+        self.swrr += sym_outer(r, w);
         self.sa += a;
         self.saa += a * a;
-        self.sauu += u * u.transpose() * a;
+        self.sauu += sym_outer(u, a);
         self.pitch_chi2 += pitch_chi2;
     }
 
@@ -205,12 +214,20 @@ pub struct PlaneStats {
 }
 
 impl PlaneStats {
-    /// Add one frame.
+    /// Add one frame: rotation vector `omega` \[rad\] with variance `var_omega` \[rad²\] per
+    /// axis, translation `t` \[m\] with variance `var_t` \[m²\] per axis.
     #[inline]
     pub fn add(&mut self, omega: &Vector3<f64>, t: &Vector3<f64>, var_omega: f64, var_t: f64) {
+        self.add_weighted(omega, t, 1.0 / var_omega, 1.0 / var_t);
+    }
+
+    /// [`PlaneStats::add`] with the weights (inverse variances) given: `w_omega` = 1/σ_ω²
+    /// \[1/rad²\], `w_t` = 1/σ_t² \[1/m²\] (no division per frame).
+    #[inline]
+    pub fn add_weighted(&mut self, omega: &Vector3<f64>, t: &Vector3<f64>, w_omega: f64, w_t: f64) {
         self.n += 1.0;
-        self.sww += omega * omega.transpose() / var_omega;
-        self.stt += t * t.transpose() / var_t;
+        self.sww += sym_outer(omega, w_omega);
+        self.stt += sym_outer(t, w_t);
     }
 
     /// Merge another set of statistics into this one.

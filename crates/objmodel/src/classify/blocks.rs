@@ -15,7 +15,7 @@ use crate::clean::RawFrame;
 use crate::geometry::{Line, LineStats, PlaneStats};
 use crate::noise::NoiseModel;
 use crate::se3::Twist;
-use nalgebra::{Quaternion, UnitQuaternion, Vector3, Vector4};
+use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3, Vector4};
 
 /// Largest number of blocks kept per demonstration.
 pub const MAX_BLOCKS: usize = 1 << 12;
@@ -217,7 +217,11 @@ impl RestAcc {
 }
 
 pub(super) struct SegState {
-    pub ref_q: UnitQuaternion<f64>,
+    /// The reference pose's inverse rotation, as a quaternion (for the relative rotation) and
+    /// as a matrix (for the relative translation, cheaper than rotating by the quaternion).
+    pub ref_q_inv: UnitQuaternion<f64>,
+    pub ref_r_inv: Matrix3<f64>,
+    /// The reference pose's position \[m\].
     pub ref_p: Vector3<f64>,
     pub t_start: f64,
     pub t_end: f64,
@@ -229,15 +233,57 @@ pub(super) struct SegState {
     pub rest_after: Option<Vector3<f64>>,
 }
 
-/// Per-frame variances and the χ² level, shared by the block statistics.
+/// Per-frame variances and the χ² levels, shared by the block statistics; with the derived
+/// weights (inverse variances) the per-frame work uses, so that it multiplies instead of
+/// dividing.
 #[derive(Clone, Copy, Debug)]
 struct FrameModel {
+    /// Position noise variance σ_p² \[m²\].
     var_p: f64,
+    /// Rotation noise variance σ_r² \[rad²\].
     var_r: f64,
+    /// Squared model tolerances \[m²\], \[rad²\].
     tol_p2: f64,
     tol_r2: f64,
+    /// χ²₆ level of a pose displaced from the reference.
     displaced: f64,
-    rotated: f64,
+    /// 1/σ_p² \[1/m²\] and 1/σ_r² \[1/rad²\] (significance test).
+    inv_var_p: f64,
+    inv_var_r: f64,
+    /// 1/(σ_p² + tol_p²) \[1/m²\] and 1/(σ_r² + tol_r²) \[1/rad²\]: plane weights, pitch χ².
+    w_p: f64,
+    w_r: f64,
+    /// Smallest θ²/σ_r² from which a frame's screw axis is used: the larger of the χ²₃ level
+    /// of a rotation and [`MIN_AXIS_SNR`]².
+    axis_chi2: f64,
+    /// Variances of the reference pose, noise plus settling: σ_p² + s_p² \[m²\],
+    /// σ_r² + s_r² \[rad²\] (see [`REFERENCE_SETTLING_M`], [`REFERENCE_SETTLING_RAD`]).
+    ref_var_p: f64,
+    ref_var_r: f64,
+}
+
+impl FrameModel {
+    fn new(n: &NoiseModel, r: &super::RobustConfig) -> Self {
+        let var_p = n.sigma_position.powi(2);
+        let var_r = n.sigma_rotation.powi(2);
+        let tol_p2 = r.edge_tolerance_m.powi(2);
+        let tol_r2 = r.edge_tolerance_rad.powi(2);
+        let rotated = crate::stats::chi2_threshold(3.0, r.alpha);
+        Self {
+            var_p,
+            var_r,
+            tol_p2,
+            tol_r2,
+            displaced: crate::stats::chi2_threshold(6.0, r.alpha),
+            inv_var_p: 1.0 / var_p,
+            inv_var_r: 1.0 / var_r,
+            w_p: 1.0 / (var_p + tol_p2),
+            w_r: 1.0 / (var_r + tol_r2),
+            axis_chi2: rotated.max(MIN_AXIS_SNR * MIN_AXIS_SNR),
+            ref_var_p: var_p + REFERENCE_SETTLING_M * REFERENCE_SETTLING_M,
+            ref_var_r: var_r + REFERENCE_SETTLING_RAD * REFERENCE_SETTLING_RAD,
+        }
+    }
 }
 
 /// The robust core: the rest front end ([`RestFront`]: noise warm-up, rest detection), unless
@@ -332,15 +378,7 @@ impl Segmenter {
     /// The noise model in force: per-frame variances and thresholds follow from it.
     fn set_noise(&mut self, n: NoiseModel) {
         self.noise = Some(n);
-        let r = &self.config.robust;
-        self.model = Some(FrameModel {
-            var_p: n.sigma_position.powi(2),
-            var_r: n.sigma_rotation.powi(2),
-            tol_p2: r.edge_tolerance_m.powi(2),
-            tol_r2: r.edge_tolerance_rad.powi(2),
-            displaced: crate::stats::chi2_threshold(6.0, r.alpha),
-            rotated: crate::stats::chi2_threshold(3.0, r.alpha),
-        });
+        self.model = Some(FrameModel::new(&n, &self.config.robust));
     }
 
     /// Take the next output of the rest front end.
@@ -355,13 +393,8 @@ impl Segmenter {
         match item {
             Item::Outlier(index, t) => {
                 self.outliers += 1;
-                self.append(
-                    index,
-                    t,
-                    Phase::Outlier,
-                    self.segments.len().checked_sub(1),
-                    |_| {},
-                );
+                let segment = self.segments.len().checked_sub(1);
+                self.block(index, t, Phase::Outlier, segment);
             }
             Item::Frame(f) if self.slow.is_some() => {
                 self.moving(f, false);
@@ -389,13 +422,8 @@ impl Segmenter {
                     self.moving(f, true);
                 } else {
                     // Rests belong to the segment they follow (None before the first motion).
-                    self.append(
-                        f.index,
-                        f.t,
-                        Phase::Rest,
-                        self.segments.len().checked_sub(1),
-                        |_| {},
-                    );
+                    let segment = self.segments.len().checked_sub(1);
+                    self.block(f.index, f.t, Phase::Rest, segment);
                 }
             }
             Item::Frame(f) => self.moving(f, false),
@@ -445,132 +473,150 @@ impl Segmenter {
     }
 
     /// A moving frame; `slow_start` when it reveals that the rest before it was a slow motion.
+    ///
+    /// Relative to the segment reference `(R_ref, p_ref)` the frame is
+    /// `q_rel = q_ref⁻¹ q`, `t = R_refᵀ (p - p_ref)`, with twist `(v, ω) = log(q_rel, t)` and
+    /// θ² = |ω|². It is significant (it votes) when `θ²/σ_r² + |t|²/σ_p²` exceeds the χ²₆
+    /// level; then it enters the plane statistics, and, when `θ²/σ_r²` also exceeds
+    /// [`FrameModel::axis_chi2`], the line statistics with its screw axis: direction `u = ω/θ`,
+    /// point `r = ω × v / θ²` (closest to the origin), chord `c² = (2 sin(θ/2))² = 4|imag(q_rel)|²`,
+    /// weights
+    ///
+    /// * point: `1/σ²_point`, `σ²_point = (σ_p² + s_p² + (σ_r² + s_r²) d²)/c² + tol_p²`, with
+    ///   `d = min(|r|, MAX_AXIS_DISTANCE_M)` and `s_p`, `s_r` the reference settling,
+    /// * direction: `1/σ²_dir`, `σ²_dir = (σ_r² + s_r²)/θ² + tol_r²`,
+    /// * pitch χ²: `(u·t)²/(σ_p² + tol_p²)`.
+    ///
+    /// The divider is the bottleneck here (with the logarithm's divisions and square roots), so
+    /// the weights are computed with one division each, as `c²/(σ_p² + s_p² + (σ_r² + s_r²) d²
+    /// + tol_p² c²)` and `θ²/(σ_r² + s_r² + tol_r² θ²)`, `d²` without a square root, the constant
+    /// ones are kept in [`FrameModel`], and r is ω × v times 1/θ². The direction u stays ω/θ by
+    /// division: u is the one quantity whose rounding, changed, moved a result of the golden
+    /// test set (the pendulum φ of an ill-conditioned fall fit, through the edge).
     fn moving(&mut self, f: RawFrame, slow_start: bool) {
         if !self.in_motion {
             self.in_motion = true;
-            // A new segment starts after a rest that is long enough and over which the pose did
-            // not drift measurably (a slow motion can pass the windowed test as rest), and where
-            // a slow motion is found; it starts from the pose at the slow motion's start.
-            let m = self.model.unwrap();
-            let long_rest = self.rest_acc.n > 0.0
-                && self.rest_acc.t1 - self.rest_acc.t0 >= self.config.robust.min_rest_s
-                && self.rest_acc.drift_chi2(&m) <= m.displaced;
-            if self.segments.is_empty()
-                || ((long_rest || slow_start) && self.segments.len() < MAX_SEGMENTS)
-            {
-                let start = if slow_start {
-                    self.rest_acc.start()
-                } else {
-                    self.rest_acc.mean().map(|(q, p)| (q, p, self.rest_acc.n))
-                };
-                let rest_down = start
-                    .zip(self.down)
-                    .map(|((q, _, _), d)| (q.inverse() * d).normalize());
-                if let Some(prev) = self.segments.last_mut() {
-                    prev.rest_after = rest_down;
-                }
-                let (ref_q, ref_p, n_ref) = start.unwrap_or((f.q, f.p, 1.0));
-                let down_ref =
-                    rest_down.or_else(|| self.down.map(|d| (f.q.inverse() * d).normalize()));
-                self.segments.push(SegState {
-                    ref_q,
-                    ref_p,
-                    t_start: f.t,
-                    t_end: f.t,
-                    down_ref,
-                    n_ref: n_ref.max(1.0),
-                    rest_before: rest_down,
-                    rest_after: None,
-                });
-            }
+            self.start_motion(&f, slow_start);
         }
+        let m = self.model.unwrap();
         let seg_index = self.segments.len() - 1;
         let seg = &mut self.segments[seg_index];
         seg.t_end = f.t;
-        let m = self.model.unwrap();
-        let ref_inv = seg.ref_q.inverse();
-        let t_rel = ref_inv * (f.p - seg.ref_p);
-        let q_rel = ref_inv * f.q;
+        let t_rel = seg.ref_r_inv * (f.p - seg.ref_p);
+        let q_rel = seg.ref_q_inv * f.q;
         let xi = Twist::log_quat(&q_rel, &t_rel);
         let omega = xi.omega;
         let theta2 = omega.norm_squared();
-        let significant = theta2 / m.var_r + t_rel.norm_squared() / m.var_p > m.displaced;
-        self.append(f.index, f.t, Phase::Moving, Some(seg_index), |b| {
-            if !significant {
-                return;
-            }
-            b.significant += 1;
-            b.plane
-                .add(&omega, &t_rel, m.var_r + m.tol_r2, m.var_p + m.tol_p2);
-            // An axis only from a rotation well above the noise: the axis point's bias is of
-            // order (σ_r/θ)² relative, kept below 1% by θ >= 10 σ_r (MIN_AXIS_SNR).
-            if theta2 / m.var_r <= m.rotated.max(MIN_AXIS_SNR * MIN_AXIS_SNR) {
-                return;
-            }
-            let theta = theta2.sqrt();
-            let u = omega / theta;
-            let r = omega.cross(&xi.v) / theta2;
-            let dist = r.norm().min(MAX_AXIS_DISTANCE_M);
-            // Chord 2 sin(θ/2) = 2 |imag(q_rel)|, from the quaternion (no sine).
-            let chord2 = 4.0 * q_rel.quaternion().imag().norm_squared();
-            // The pose from which the rotation starts is uncertain by the noise and by the
-            // contacts settling as the load moves onto the edge (REFERENCE_SETTLING_*); its
-            // effect on the axis shrinks as 1/θ. The tolerance adds a constant wander.
-            let (settle_p2, settle_r2) = (
-                REFERENCE_SETTLING_M * REFERENCE_SETTLING_M,
-                REFERENCE_SETTLING_RAD * REFERENCE_SETTLING_RAD,
-            );
-            let var_point =
-                (m.var_p + settle_p2 + (m.var_r + settle_r2) * dist * dist) / chord2 + m.tol_p2;
-            let var_dir = (m.var_r + settle_r2) / theta2 + m.tol_r2;
-            let h = u.dot(&t_rel);
-            b.line.add_with_chord(
-                &r,
-                &u,
-                1.0 / var_point,
-                1.0 / var_dir,
-                h * h / (m.var_p + m.tol_p2),
-                1.0 / chord2.sqrt(),
-            );
-            if theta > b.max_angle {
-                b.max_angle = theta;
-                // r is already the point of the line closest to the origin (r ⊥ u).
-                b.max_line = Some((
-                    Line {
-                        point: r,
-                        direction: u,
-                    },
-                    omega,
-                ));
-            }
+        let chi2_r = theta2 * m.inv_var_r;
+        let significant = chi2_r + t_rel.norm_squared() * m.inv_var_p > m.displaced;
+        let b = self.block(f.index, f.t, Phase::Moving, Some(seg_index));
+        if !significant {
+            return;
+        }
+        b.significant += 1;
+        b.plane.add_weighted(&omega, &t_rel, m.w_r, m.w_p);
+        // An axis only from a rotation well above the noise: the axis point's bias is of
+        // order (σ_r/θ)² relative, kept below 1% by θ >= 10 σ_r (MIN_AXIS_SNR).
+        if chi2_r <= m.axis_chi2 {
+            return;
+        }
+        let theta = theta2.sqrt();
+        // u by division, not by 1/θ: see the note on `moving`.
+        let u = omega / theta;
+        let inv_theta2 = 1.0 / theta2;
+        let r = omega.cross(&xi.v) * inv_theta2;
+        let dist2 = r
+            .norm_squared()
+            .min(MAX_AXIS_DISTANCE_M * MAX_AXIS_DISTANCE_M);
+        // Chord 2 sin(θ/2) = 2 |imag(q_rel)|, from the quaternion (no sine).
+        let chord2 = 4.0 * q_rel.quaternion().imag().norm_squared();
+        // The pose from which the rotation starts is uncertain by the noise and by the
+        // contacts settling as the load moves onto the edge (REFERENCE_SETTLING_*); its
+        // effect on the axis shrinks as 1/θ. The tolerance adds a constant wander.
+        let w_point = chord2 / (m.ref_var_p + m.ref_var_r * dist2 + m.tol_p2 * chord2);
+        let w_dir = theta2 / (m.ref_var_r + m.tol_r2 * theta2);
+        let h = u.dot(&t_rel);
+        b.line
+            .add_with_chord(&r, &u, w_point, w_dir, h * h * m.w_p, 1.0 / chord2.sqrt());
+        if theta > b.max_angle {
+            b.max_angle = theta;
+            // r is already the point of the line closest to the origin (r ⊥ u).
+            b.max_line = Some((
+                Line {
+                    point: r,
+                    direction: u,
+                },
+                omega,
+            ));
+        }
+    }
+
+    /// The first moving frame `f` after a rest: a new segment starts after a rest that is long
+    /// enough and over which the pose did not drift measurably (a slow motion can pass the
+    /// windowed test as rest), and where a slow motion is found (`slow_start`); it starts from
+    /// the pose at the slow motion's start.
+    #[inline(never)]
+    fn start_motion(&mut self, f: &RawFrame, slow_start: bool) {
+        let m = self.model.unwrap();
+        let long_rest = self.rest_acc.n > 0.0
+            && self.rest_acc.t1 - self.rest_acc.t0 >= self.config.robust.min_rest_s
+            && self.rest_acc.drift_chi2(&m) <= m.displaced;
+        if !(self.segments.is_empty()
+            || ((long_rest || slow_start) && self.segments.len() < MAX_SEGMENTS))
+        {
+            return;
+        }
+        let start = if slow_start {
+            self.rest_acc.start()
+        } else {
+            self.rest_acc.mean().map(|(q, p)| (q, p, self.rest_acc.n))
+        };
+        let rest_down = start
+            .zip(self.down)
+            .map(|((q, _, _), d)| (q.inverse() * d).normalize());
+        if let Some(prev) = self.segments.last_mut() {
+            prev.rest_after = rest_down;
+        }
+        let (ref_q, ref_p, n_ref) = start.unwrap_or((f.q, f.p, 1.0));
+        let down_ref = rest_down.or_else(|| self.down.map(|d| (f.q.inverse() * d).normalize()));
+        let ref_q_inv = ref_q.inverse();
+        self.segments.push(SegState {
+            ref_q_inv,
+            ref_r_inv: ref_q_inv.to_rotation_matrix().into_inner(),
+            ref_p,
+            t_start: f.t,
+            t_end: f.t,
+            down_ref,
+            n_ref: n_ref.max(1.0),
+            rest_before: rest_down,
+            rest_after: None,
         });
     }
 
-    /// Add one frame to the current block (or a new one) and update it with `update`.
-    fn append(
-        &mut self,
-        index: usize,
-        t: f64,
-        phase: Phase,
-        segment: Option<usize>,
-        update: impl FnOnce(&mut Block),
-    ) {
-        let fits = self
-            .blocks
-            .last()
-            .map(|b| b.phase == phase && b.segment == segment && b.frames < self.block_size)
-            .unwrap_or(false);
+    /// The block a frame goes to, in place: the current block if it has the frame's phase and
+    /// segment and room left, else a new one; its range is extended to the frame.
+    #[inline]
+    fn block(&mut self, index: usize, t: f64, phase: Phase, segment: Option<usize>) -> &mut Block {
+        let fits = self.blocks.last().is_some_and(|b| {
+            b.phase == phase && b.segment == segment && b.frames < self.block_size
+        });
         if !fits {
-            if self.blocks.len() >= MAX_BLOCKS {
-                self.compact();
-            }
-            self.blocks.push(Block::new(index, t, phase, segment));
+            self.new_block(index, t, phase, segment);
         }
         let b = self.blocks.last_mut().unwrap();
         b.last = index;
         b.t1 = t;
         b.frames += 1;
-        update(b);
+        b
+    }
+
+    /// Start a new block (compacting first if there are [`MAX_BLOCKS`]).
+    #[inline(never)]
+    fn new_block(&mut self, index: usize, t: f64, phase: Phase, segment: Option<usize>) {
+        if self.blocks.len() >= MAX_BLOCKS {
+            self.compact();
+        }
+        self.blocks.push(Block::new(index, t, phase, segment));
     }
 
     /// Merge adjacent pairs of blocks and double the block size: first pairs of one phase and
