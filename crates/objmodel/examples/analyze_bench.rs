@@ -8,8 +8,8 @@
 //! and the paper's Algorithm 1, as thread CPU time.
 //!
 //! Environment: `ONLY_CLEAN=1` times the cleaning alone, `ONLY_ROBUST=1` skips Algorithm 1
-//! (both handy under `perf record`), `ONLY_BACK=1` times the back end alone,
-//! `REST_WINDOW=30` sets the rest window \[s\].
+//! (both handy under `perf record`), `ONLY_BACK=1` times the back end alone (`BACK_PASSES=10`
+//! passes per timing), `REST_WINDOW=30` sets the rest window \[s\].
 
 use objmodel::classify::{Analyzer, Config};
 use std::path::PathBuf;
@@ -103,9 +103,12 @@ fn main() {
     }
     let mut back_kind = String::new();
     // Several passes per timing: the thread CPU clock may tick as coarsely as 4 ms.
-    const BACK_PASSES: usize = 10;
+    let passes: usize = std::env::var("BACK_PASSES")
+        .ok()
+        .and_then(|p| p.parse().ok())
+        .unwrap_or(10);
     let back = best(if only_clean { 0 } else { reps }, || {
-        for _ in 0..BACK_PASSES {
+        for _ in 0..passes {
             let mut a = Analyzer::new("bench", &config, false);
             let _front = a.take_object_front().expect("robust, no palm");
             for j in &judged {
@@ -113,7 +116,7 @@ fn main() {
             }
             back_kind = a.finish().expect("classify").kind.as_str().to_string();
         }
-    }) / BACK_PASSES as f64;
+    }) / passes as f64;
     if only_back {
         kind = back_kind;
     } else if !only_clean {

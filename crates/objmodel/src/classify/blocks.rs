@@ -12,7 +12,7 @@ use super::fit;
 use super::rest::{Item, Judged, RestFront};
 use super::{Classification, Config, Label, LabelRun, Method, Votes};
 use crate::clean::RawFrame;
-use crate::geometry::{Line, LineStats, PlaneStats};
+use crate::geometry::{Line, LineStats, PlaneStats, Sym3};
 use crate::noise::NoiseModel;
 use crate::se3::Twist;
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3, Vector4};
@@ -46,7 +46,7 @@ pub(super) enum Phase {
 }
 
 /// Sufficient statistics of a run of consecutive frames of one phase and segment.
-#[derive(Clone, Debug)]
+#[derive(Clone, Copy, Debug)]
 pub(super) struct Block {
     pub first: usize,
     pub last: usize,
@@ -109,6 +109,76 @@ impl Block {
             self.max_angle = o.max_angle;
             self.max_line = o.max_line;
         }
+    }
+}
+
+/// The moving-frame statistics of the last block while it takes frames, in compact form
+/// (symmetric matrices by their 6 distinct entries, see [`Sym3`]), added to the block when it
+/// is closed ([`OpenSums::close_into`]).
+///
+/// The plane sums are kept unweighted (`Σ ω ωᵀ`, `Σ t tᵀ`: the weights 1/σ² are the same for
+/// every frame and are applied on closing) and `Σ a u uᵀ` is taken as `Σ ω ωᵀ/D` with
+/// `D = θ²/a` (see [`Segmenter::moving`]), so that `ω ωᵀ` serves both; the axis of the largest
+/// rotation is kept as its twist and made a [`Line`] on closing.
+#[derive(Clone, Copy, Debug, Default)]
+struct OpenSums {
+    /// Frames measurably displaced from the segment reference.
+    significant: u64,
+    /// Σ ω ωᵀ \[rad²\] and Σ t tᵀ \[m²\] over those frames.
+    sum_ww: Sym3,
+    sum_tt: Sym3,
+    /// [`LineStats`]: n, Σ w, Σ w², Σ w r, Σ w r rᵀ, Σ a, Σ a², Σ a u uᵀ, Σ pitch χ², Σ w / c.
+    line_n: f64,
+    sw: f64,
+    sww: f64,
+    swr: Vector3<f64>,
+    swrr: Sym3,
+    sa: f64,
+    saa: f64,
+    sauu: Sym3,
+    pitch_chi2: f64,
+    sw_inv_chord: f64,
+    /// Largest rotation \[rad\] among the frames with an axis, and the twist of that frame.
+    max_angle: f64,
+    max_twist: Option<Twist>,
+}
+
+impl OpenSums {
+    /// Add the sums to `b` (the block they were taken for; `m` the frame model they were
+    /// taken with) and start afresh.
+    fn close_into(&mut self, b: &mut Block, m: &FrameModel) {
+        if self.significant == 0 {
+            return; // nothing was added
+        }
+        b.significant += self.significant;
+        b.plane.merge(&PlaneStats {
+            n: self.significant as f64,
+            sww: self.sum_ww.to_matrix() * m.w_r,
+            stt: self.sum_tt.to_matrix() * m.w_p,
+        });
+        b.line.merge(&LineStats {
+            n: self.line_n,
+            sw: self.sw,
+            sww: self.sww,
+            swr: self.swr,
+            swrr: self.swrr.to_matrix(),
+            sa: self.sa,
+            saa: self.saa,
+            sauu: self.sauu.to_matrix(),
+            pitch_chi2: self.pitch_chi2,
+            sw_inv_chord: self.sw_inv_chord,
+        });
+        if let Some(xi) = self.max_twist.filter(|_| self.max_angle > b.max_angle) {
+            let theta = self.max_angle;
+            b.max_angle = theta;
+            // The screw axis: r = ω × v / θ² is its point closest to the origin (r ⊥ u).
+            let line = Line {
+                point: xi.omega.cross(&xi.v) * (1.0 / (theta * theta)),
+                direction: xi.omega / theta,
+            };
+            b.max_line = Some((line, xi.omega));
+        }
+        *self = Self::default();
     }
 }
 
@@ -331,6 +401,8 @@ pub(super) struct Segmenter {
     noise: Option<NoiseModel>,
     model: Option<FrameModel>,
     blocks: Vec<Block>,
+    /// The last block's moving-frame statistics, until it is closed.
+    open: OpenSums,
     block_size: u64,
     segments: Vec<SegState>,
     rest_acc: RestAcc,
@@ -364,6 +436,7 @@ impl Segmenter {
             noise: None,
             model: None,
             blocks: Vec::new(),
+            open: OpenSums::default(),
             block_size: 1,
             segments: Vec::new(),
             rest_acc: RestAcc::default(),
@@ -397,7 +470,7 @@ impl Segmenter {
                 self.block(index, t, Phase::Outlier, segment);
             }
             Item::Frame(f) if self.slow.is_some() => {
-                self.moving(f, false);
+                self.moving(&f, false);
                 self.probe_slow(&f, rot, moving);
             }
             Item::Frame(f) if !moving => {
@@ -419,14 +492,14 @@ impl Segmenter {
                         probe: RestAcc::default(),
                     });
                     self.in_motion = false;
-                    self.moving(f, true);
+                    self.moving(&f, true);
                 } else {
                     // Rests belong to the segment they follow (None before the first motion).
                     let segment = self.segments.len().checked_sub(1);
                     self.block(f.index, f.t, Phase::Rest, segment);
                 }
             }
-            Item::Frame(f) => self.moving(f, false),
+            Item::Frame(f) => self.moving(&f, false),
         }
     }
 
@@ -452,12 +525,14 @@ impl Segmenter {
             return;
         };
         if moving {
-            slow.probe = RestAcc::default();
+            if slow.probe.n > 0.0 {
+                slow.probe = RestAcc::default();
+            }
             return;
         }
         slow.probe.add(f, rot, self.config.robust.min_rest_s);
         let p = &slow.probe;
-        if !(p.n as u64).is_multiple_of(SLOW_CHECK_FRAMES) || p.t1 - p.t0 < slow.span_s {
+        if p.t1 - p.t0 < slow.span_s || !(p.n as u64).is_multiple_of(SLOW_CHECK_FRAMES) {
             return;
         }
         let m = self.model.unwrap();
@@ -482,24 +557,29 @@ impl Segmenter {
     /// point `r = ω × v / θ²` (closest to the origin), chord `c² = (2 sin(θ/2))² = 4|imag(q_rel)|²`,
     /// weights
     ///
-    /// * point: `1/σ²_point`, `σ²_point = (σ_p² + s_p² + (σ_r² + s_r²) d²)/c² + tol_p²`, with
-    ///   `d = min(|r|, MAX_AXIS_DISTANCE_M)` and `s_p`, `s_r` the reference settling,
-    /// * direction: `1/σ²_dir`, `σ²_dir = (σ_r² + s_r²)/θ² + tol_r²`,
+    /// * point: `w = 1/σ²_point`, `σ²_point = (σ_p² + s_p² + (σ_r² + s_r²) d²)/c² + tol_p²`,
+    ///   with `d = min(|r|, MAX_AXIS_DISTANCE_M)` and `s_p`, `s_r` the reference settling,
+    /// * direction: `a = 1/σ²_dir`, `σ²_dir = (σ_r² + s_r²)/θ² + tol_r²`,
     /// * pitch χ²: `(u·t)²/(σ_p² + tol_p²)`.
     ///
-    /// The divider is the bottleneck here (with the logarithm's divisions and square roots), so
-    /// the weights are computed with one division each, as `c²/(σ_p² + s_p² + (σ_r² + s_r²) d²
-    /// + tol_p² c²)` and `θ²/(σ_r² + s_r² + tol_r² θ²)`, `d²` without a square root, the constant
-    /// ones are kept in [`FrameModel`], and r is ω × v times 1/θ². The direction u stays ω/θ by
-    /// division: u is the one quantity whose rounding, changed, moved a result of the golden
-    /// test set (the pendulum φ of an ill-conditioned fall fit, through the edge).
-    fn moving(&mut self, f: RawFrame, slow_start: bool) {
+    /// The same quantities, computed with three divisions and two square roots (the divider
+    /// is the bottleneck, with the logarithm's):
+    ///
+    /// * `w = c²/E` with `E = σ_p² + s_p² + (σ_r² + s_r²) d² + tol_p² c²` (`d²` without a root),
+    ///   and `w/c = c/E`,
+    /// * `a = θ²/D` with `D = σ_r² + s_r² + tol_r² θ²`, so `a u uᵀ = ω ωᵀ/D`,
+    /// * `(u·t)² = (ω·t)²/θ²`, and r by one reciprocal 1/θ²;
+    ///
+    /// u itself is only formed for the block's largest rotation.
+    fn moving(&mut self, f: &RawFrame, slow_start: bool) {
         if !self.in_motion {
             self.in_motion = true;
-            self.start_motion(&f, slow_start);
+            self.start_motion(f, slow_start);
         }
-        let m = self.model.unwrap();
         let seg_index = self.segments.len() - 1;
+        // The block first: nothing computed below is live across its (rare) call.
+        self.block(f.index, f.t, Phase::Moving, Some(seg_index));
+        let m = self.model.as_ref().unwrap();
         let seg = &mut self.segments[seg_index];
         seg.t_end = f.t;
         let t_rel = seg.ref_r_inv * (f.p - seg.ref_p);
@@ -509,20 +589,19 @@ impl Segmenter {
         let theta2 = omega.norm_squared();
         let chi2_r = theta2 * m.inv_var_r;
         let significant = chi2_r + t_rel.norm_squared() * m.inv_var_p > m.displaced;
-        let b = self.block(f.index, f.t, Phase::Moving, Some(seg_index));
         if !significant {
             return;
         }
-        b.significant += 1;
-        b.plane.add_weighted(&omega, &t_rel, m.w_r, m.w_p);
+        let o = &mut self.open;
+        o.significant += 1;
+        let ww = Sym3::square(&omega);
+        o.sum_ww.add(&ww);
+        o.sum_tt.add_product(&t_rel, &t_rel);
         // An axis only from a rotation well above the noise: the axis point's bias is of
         // order (σ_r/θ)² relative, kept below 1% by θ >= 10 σ_r (MIN_AXIS_SNR).
         if chi2_r <= m.axis_chi2 {
             return;
         }
-        let theta = theta2.sqrt();
-        // u by division, not by 1/θ: see the note on `moving`.
-        let u = omega / theta;
         let inv_theta2 = 1.0 / theta2;
         let r = omega.cross(&xi.v) * inv_theta2;
         let dist2 = r
@@ -533,21 +612,26 @@ impl Segmenter {
         // The pose from which the rotation starts is uncertain by the noise and by the
         // contacts settling as the load moves onto the edge (REFERENCE_SETTLING_*); its
         // effect on the axis shrinks as 1/θ. The tolerance adds a constant wander.
-        let w_point = chord2 / (m.ref_var_p + m.ref_var_r * dist2 + m.tol_p2 * chord2);
-        let w_dir = theta2 / (m.ref_var_r + m.tol_r2 * theta2);
-        let h = u.dot(&t_rel);
-        b.line
-            .add_with_chord(&r, &u, w_point, w_dir, h * h * m.w_p, 1.0 / chord2.sqrt());
-        if theta > b.max_angle {
-            b.max_angle = theta;
-            // r is already the point of the line closest to the origin (r ⊥ u).
-            b.max_line = Some((
-                Line {
-                    point: r,
-                    direction: u,
-                },
-                omega,
-            ));
+        let inv_e = 1.0 / (m.ref_var_p + m.ref_var_r * dist2 + m.tol_p2 * chord2);
+        let inv_d = 1.0 / (m.ref_var_r + m.tol_r2 * theta2);
+        let w = chord2 * inv_e;
+        let a = theta2 * inv_d;
+        let wr = r * w;
+        let wt = omega.dot(&t_rel);
+        o.line_n += 1.0;
+        o.sw += w;
+        o.sww += w * w;
+        o.swr += wr;
+        o.swrr.add_product(&wr, &r);
+        o.sa += a;
+        o.saa += a * a;
+        o.sauu.add_scaled(&ww, inv_d);
+        o.pitch_chi2 += wt * wt * inv_theta2 * m.w_p;
+        o.sw_inv_chord += chord2.sqrt() * inv_e;
+        let theta = theta2.sqrt();
+        if theta > o.max_angle {
+            o.max_angle = theta;
+            o.max_twist = Some(xi);
         }
     }
 
@@ -593,10 +677,11 @@ impl Segmenter {
         });
     }
 
-    /// The block a frame goes to, in place: the current block if it has the frame's phase and
-    /// segment and room left, else a new one; its range is extended to the frame.
+    /// Put a frame in a block: the current block if it has the frame's phase and segment and
+    /// room left, else a new one; the block's range is extended to the frame (a moving frame's
+    /// statistics go to [`Segmenter::open`]).
     #[inline]
-    fn block(&mut self, index: usize, t: f64, phase: Phase, segment: Option<usize>) -> &mut Block {
+    fn block(&mut self, index: usize, t: f64, phase: Phase, segment: Option<usize>) {
         let fits = self.blocks.last().is_some_and(|b| {
             b.phase == phase && b.segment == segment && b.frames < self.block_size
         });
@@ -607,16 +692,24 @@ impl Segmenter {
         b.last = index;
         b.t1 = t;
         b.frames += 1;
-        b
     }
 
-    /// Start a new block (compacting first if there are [`MAX_BLOCKS`]).
+    /// Close the last block and start a new one (compacting first if there are
+    /// [`MAX_BLOCKS`]).
     #[inline(never)]
     fn new_block(&mut self, index: usize, t: f64, phase: Phase, segment: Option<usize>) {
+        self.close_block();
         if self.blocks.len() >= MAX_BLOCKS {
             self.compact();
         }
         self.blocks.push(Block::new(index, t, phase, segment));
+    }
+
+    /// Add the open statistics to the last block.
+    fn close_block(&mut self) {
+        if let (Some(b), Some(m)) = (self.blocks.last_mut(), &self.model) {
+            self.open.close_into(b, m);
+        }
     }
 
     /// Merge adjacent pairs of blocks and double the block size: first pairs of one phase and
@@ -625,17 +718,22 @@ impl Segmenter {
     fn compact(&mut self) {
         self.block_size *= 2;
         for same_phase in [true, false] {
-            let old = std::mem::take(&mut self.blocks);
-            let mut it = old.into_iter().peekable();
-            while let Some(mut b) = it.next() {
-                if let Some(n) = it.peek() {
+            // In place: block `read` (and its mergeable successor) becomes block `write`.
+            let blocks = &mut self.blocks;
+            let (mut read, mut write) = (0, 0);
+            while read < blocks.len() {
+                let mut b = blocks[read];
+                read += 1;
+                if let Some(n) = blocks.get(read) {
                     if (!same_phase || n.phase == b.phase) && n.segment == b.segment {
-                        let n = it.next().unwrap();
-                        b.merge(&n);
+                        b.merge(n);
+                        read += 1;
                     }
                 }
-                self.blocks.push(b);
+                blocks[write] = b;
+                write += 1;
             }
+            blocks.truncate(write);
             if self.blocks.len() <= MAX_BLOCKS * 3 / 4 {
                 break;
             }
@@ -648,6 +746,7 @@ impl Segmenter {
         instrumented: bool,
         frames: u64,
     ) -> crate::Result<Classification> {
+        self.close_block();
         if !self.in_motion {
             let rest_down = self.rest_acc.down(self.down);
             if let Some(prev) = self.segments.last_mut() {
