@@ -367,6 +367,13 @@ mod tests {
     }
 
     #[test]
+    fn sym3_outer_is_the_outer_product_bit_for_bit() {
+        let x = Vector3::new(0.3, -1.7e-3, 2.9);
+        let s = 0.37;
+        assert_eq!(Sym3::outer(&x, s).to_matrix(), x * x.transpose() * s);
+    }
+
+    #[test]
     fn plane_normal_from_planar_motion() {
         let n = Vector3::new(0.0, 0.6, 0.8);
         let a = n.cross(&Vector3::x()).normalize();

@@ -562,15 +562,17 @@ impl Segmenter {
     /// * direction: `a = 1/σ²_dir`, `σ²_dir = (σ_r² + s_r²)/θ² + tol_r²`,
     /// * pitch χ²: `(u·t)²/(σ_p² + tol_p²)`.
     ///
-    /// The same quantities, computed with three divisions and two square roots (the divider
-    /// is the bottleneck, with the logarithm's):
+    /// The same quantities, computed with three independent divisions and two square roots
+    /// (the divider is the bottleneck, with the logarithm's), and with `g = ω × v = θ² r`:
     ///
-    /// * `w = c²/E` with `E = σ_p² + s_p² + (σ_r² + s_r²) d² + tol_p² c²` (`d²` without a root),
-    ///   and `w/c = c/E`,
+    /// * `w = c²/E` with `E = σ_p² + s_p² + (σ_r² + s_r²) d² + tol_p² c²`, taken as
+    ///   `w/θ⁴ = c²/(θ⁴ E)`, `θ⁴ E = θ⁴ (σ_p² + s_p² + tol_p² c²) + (σ_r² + s_r²) θ⁴ d²` and
+    ///   `θ⁴ d² = min(|g|², θ⁴ MAX_AXIS_DISTANCE_M²)`; then `w r = (w/θ⁴) θ² g`,
+    ///   `w r rᵀ = (w/θ⁴) g gᵀ` and `w/c = c θ⁴/(θ⁴ E)`,
     /// * `a = θ²/D` with `D = σ_r² + s_r² + tol_r² θ²`, so `a u uᵀ = ω ωᵀ/D`,
-    /// * `(u·t)² = (ω·t)²/θ²`, and r by one reciprocal 1/θ²;
+    /// * `(u·t)² = (ω·t)²/θ²`;
     ///
-    /// u itself is only formed for the block's largest rotation.
+    /// u and r themselves are only formed for the block's largest rotation.
     fn moving(&mut self, f: &RawFrame, slow_start: bool) {
         if !self.in_motion {
             self.in_motion = true;
@@ -602,32 +604,34 @@ impl Segmenter {
         if chi2_r <= m.axis_chi2 {
             return;
         }
-        let inv_theta2 = 1.0 / theta2;
-        let r = omega.cross(&xi.v) * inv_theta2;
-        let dist2 = r
+        // With g = ω × v = θ² r, everything over θ⁴ so that no division waits for another:
+        // θ⁴ d² = min(|g|², θ⁴ MAX_AXIS_DISTANCE_M²), θ⁴ E, and w r rᵀ = (w/θ⁴) g gᵀ.
+        let g = omega.cross(&xi.v);
+        let theta4 = theta2 * theta2;
+        let g2 = g
             .norm_squared()
-            .min(MAX_AXIS_DISTANCE_M * MAX_AXIS_DISTANCE_M);
+            .min(MAX_AXIS_DISTANCE_M * MAX_AXIS_DISTANCE_M * theta4);
         // Chord 2 sin(θ/2) = 2 |imag(q_rel)|, from the quaternion (no sine).
         let chord2 = 4.0 * q_rel.quaternion().imag().norm_squared();
         // The pose from which the rotation starts is uncertain by the noise and by the
         // contacts settling as the load moves onto the edge (REFERENCE_SETTLING_*); its
         // effect on the axis shrinks as 1/θ. The tolerance adds a constant wander.
-        let inv_e = 1.0 / (m.ref_var_p + m.ref_var_r * dist2 + m.tol_p2 * chord2);
+        let inv_e4 = 1.0 / (theta4 * (m.ref_var_p + m.tol_p2 * chord2) + m.ref_var_r * g2);
         let inv_d = 1.0 / (m.ref_var_r + m.tol_r2 * theta2);
-        let w = chord2 * inv_e;
+        let w_4 = chord2 * inv_e4; // w/θ⁴
+        let w = w_4 * theta4;
         let a = theta2 * inv_d;
-        let wr = r * w;
         let wt = omega.dot(&t_rel);
         o.line_n += 1.0;
         o.sw += w;
         o.sww += w * w;
-        o.swr += wr;
-        o.swrr.add_product(&wr, &r);
+        o.swr += g * (w_4 * theta2);
+        o.swrr.add_product(&(g * w_4), &g);
         o.sa += a;
         o.saa += a * a;
         o.sauu.add_scaled(&ww, inv_d);
-        o.pitch_chi2 += wt * wt * inv_theta2 * m.w_p;
-        o.sw_inv_chord += chord2.sqrt() * inv_e;
+        o.pitch_chi2 += wt * wt * m.w_p / theta2;
+        o.sw_inv_chord += chord2.sqrt() * theta4 * inv_e4;
         let theta = theta2.sqrt();
         if theta > o.max_angle {
             o.max_angle = theta;
