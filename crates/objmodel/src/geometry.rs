@@ -149,6 +149,30 @@ pub fn sym_eigen(m: &Matrix3<f64>) -> ([f64; 3], [Vector3<f64>; 3]) {
     (vals, vecs)
 }
 
+/// A line with the parts of [`LineStats::chi2`] that depend on it alone: the projector
+/// `P = I - u uᵀ` normal to it and `pᵀ P p`.
+#[derive(Clone, Copy, Debug)]
+pub struct LineChi2 {
+    point: Vector3<f64>,
+    direction: Vector3<f64>,
+    p_mat: Matrix3<f64>,
+    p_p_p: f64,
+}
+
+impl LineChi2 {
+    /// Prepare `line`.
+    pub fn new(line: &Line) -> Self {
+        let (p, u) = (line.point, line.direction);
+        let p_mat = Matrix3::identity() - u * u.transpose();
+        Self {
+            point: p,
+            direction: u,
+            p_mat,
+            p_p_p: p.dot(&(p_mat * p)),
+        }
+    }
+}
+
 /// Weighted sufficient statistics of a set of lines `(r_k, u_k)` (points closest to the origin,
 /// unit directions), for the directional mean of the axes and the euclidean mean of the points.
 ///
@@ -241,11 +265,15 @@ impl LineStats {
     /// χ² of these lines against `line`: Σ w |P(r - p)|² + Σ a |u × u_L|² + pitch χ², with
     /// P the projector normal to the line. Degrees of freedom: 5 per line.
     pub fn chi2(&self, line: &Line) -> f64 {
-        let u = line.direction;
-        let p_mat = Matrix3::identity() - u * u.transpose();
-        let p = line.point;
-        let point = (p_mat * self.swrr).trace() - 2.0 * p.dot(&(p_mat * self.swr))
-            + self.sw * p.dot(&(p_mat * p));
+        self.chi2_to(&LineChi2::new(line))
+    }
+
+    /// [`LineStats::chi2`] against a line prepared once for many statistics.
+    #[inline]
+    pub fn chi2_to(&self, l: &LineChi2) -> f64 {
+        let (u, p, p_mat) = (l.direction, l.point, l.p_mat);
+        let point =
+            (p_mat * self.swrr).trace() - 2.0 * p.dot(&(p_mat * self.swr)) + self.sw * l.p_p_p;
         let dir = self.sa - u.dot(&(self.sauu * u));
         point.max(0.0) + dir.max(0.0) + self.pitch_chi2
     }
