@@ -2,14 +2,15 @@
 //!
 //! `cargo run --release --example analyze_bench -p objmodel [FILE.tum] [REPS]`
 //!
-//! Prints the best of REPS runs of: cleaning alone, cleaning + the rest front end (the
-//! background thread's work after parsing, up to its output chunks), cleaning + rest detection + blocks (the
+//! Prints the best of REPS runs of: cleaning alone, cleaning + the rest front end (the parsing
+//! thread's work after parsing, with `OBJMODEL_FRONT_REST`), cleaning + rest detection + blocks (the
 //! whole robust analysis after parsing; also with the front end split off as `learn` runs it),
+//! the back end alone (segments and blocks, fed the front end's output collected beforehand),
 //! and the paper's Algorithm 1, as thread CPU time.
 //!
-//! Environment: `ONLY_CLEAN=1` times the cleaning alone, `ONLY_FRONT=1` the cleaning alone and
-//! with the rest front end, `ONLY_ROBUST=1` skips Algorithm 1
-//! (both handy under `perf record`), `REST_WINDOW=30` sets the rest window \[s\].
+//! Environment: `ONLY_CLEAN=1` times the cleaning alone, `ONLY_ROBUST=1` skips Algorithm 1
+//! (both handy under `perf record`), `ONLY_BACK=1` times the back end alone (`BACK_PASSES=10`
+//! passes per timing), `REST_WINDOW=30` sets the rest window \[s\].
 
 use objmodel::classify::{Analyzer, Config};
 use std::path::PathBuf;
@@ -48,7 +49,9 @@ fn main() {
     {
         config.robust.rest_window_s = w; // e.g. 30 for gen_tum.py's 2.3-hour topple
     }
-    let clean = best(reps, || {
+    let only_back = std::env::var_os("ONLY_BACK").is_some();
+    let front_reps = if only_back { 0 } else { reps };
+    let clean = best(front_reps, || {
         let mut a = Analyzer::new("bench", &config, false);
         let mut c = a.take_object_cleaner().expect("robust");
         let mut k = 0usize;
@@ -57,36 +60,29 @@ fn main() {
         }
         std::hint::black_box(k);
     });
-    let only_front = std::env::var_os("ONLY_FRONT").is_some();
-    let front = best(
-        if only_front || std::env::var_os("ONLY_CLEAN").is_none() {
-            reps
-        } else {
-            0
-        },
-        || {
-            let mut a = Analyzer::new("bench", &config, false);
-            let mut front = a.take_object_front().expect("robust, no palm");
-            // What `learn`'s parsing thread does with the output: chunks of 8192 for hand-over.
-            let mut chunk = Vec::with_capacity(8192);
-            let mut k = 0usize;
-            let mut keep = |j: objmodel::classify::Judged| {
-                chunk.push(j);
-                if chunk.len() == 8192 {
-                    k += std::hint::black_box(&chunk).len();
-                    chunk.clear();
-                }
-            };
-            for p in &poses {
-                front.push(p, &mut keep);
+    // The cleaner and the rest front end, their output gathered in hand-over chunks as on
+    // `learn`'s parsing thread.
+    let front = best(front_reps, || {
+        let mut a = Analyzer::new("bench", &config, false);
+        let mut front = a.take_object_front().expect("robust, no palm");
+        let mut chunk = Vec::with_capacity(8192);
+        let mut k = 0usize;
+        let mut keep = |j: objmodel::classify::Judged| {
+            chunk.push(j);
+            if chunk.len() == 8192 {
+                k += std::hint::black_box(&chunk).len();
+                chunk.clear();
             }
-            front.finish(&mut keep);
-            std::hint::black_box(k);
-        },
-    );
+        };
+        for p in &poses {
+            front.push(p, &mut keep);
+        }
+        front.finish(&mut keep);
+        std::hint::black_box(k);
+    });
     let mut kind = String::new();
-    let only_clean = std::env::var_os("ONLY_CLEAN").is_some() || only_front;
-    let all = best(if only_clean { 0 } else { reps }, || {
+    let only_clean = std::env::var_os("ONLY_CLEAN").is_some();
+    let all = best(if only_clean { 0 } else { front_reps }, || {
         let mut a = Analyzer::new("bench", &config, false);
         let mut c = a.take_object_cleaner().expect("robust");
         for p in &poses {
@@ -97,7 +93,7 @@ fn main() {
     });
     let mut paper_config = Config::default();
     paper_config.method = objmodel::classify::Method::Paper;
-    let skip_paper = std::env::var_os("ONLY_ROBUST").is_some() || only_clean;
+    let skip_paper = only_back || std::env::var_os("ONLY_ROBUST").is_some();
     let paper = best(if skip_paper { 0 } else { reps }, || {
         let mut a = Analyzer::new("bench", &paper_config, false);
         for p in &poses {
@@ -106,7 +102,7 @@ fn main() {
         std::hint::black_box(a.finish().expect("classify").kind);
     });
     let mut split_kind = String::new();
-    let split = best(if only_clean { 0 } else { reps }, || {
+    let split = best(if only_clean { 0 } else { front_reps }, || {
         let mut a = Analyzer::new("bench", &config, false);
         let mut front = a.take_object_front().expect("robust, no palm");
         for p in &poses {
@@ -115,8 +111,37 @@ fn main() {
         front.finish(&mut |j| a.push_judged(j));
         split_kind = a.finish().expect("classify").kind.as_str().to_string();
     });
-    if !only_clean {
-        assert_eq!(kind, split_kind);
+    assert_eq!(kind, split_kind);
+    // The back end alone (segments and blocks): the front end's output collected first.
+    let mut judged = Vec::with_capacity(poses.len() + 1);
+    {
+        let mut a = Analyzer::new("bench", &config, false);
+        let mut front = a.take_object_front().expect("robust, no palm");
+        for p in &poses {
+            front.push(p, &mut |j| judged.push(j));
+        }
+        front.finish(&mut |j| judged.push(j));
+    }
+    let mut back_kind = String::new();
+    // Several passes per timing: the thread CPU clock may tick as coarsely as 4 ms.
+    let passes: usize = std::env::var("BACK_PASSES")
+        .ok()
+        .and_then(|p| p.parse().ok())
+        .unwrap_or(10);
+    let back = best(if only_clean { 0 } else { reps }, || {
+        for _ in 0..passes {
+            let mut a = Analyzer::new("bench", &config, false);
+            let _front = a.take_object_front().expect("robust, no palm");
+            for j in &judged {
+                a.push_judged(*j);
+            }
+            back_kind = a.finish().expect("classify").kind.as_str().to_string();
+        }
+    }) / passes as f64;
+    if only_back {
+        kind = back_kind;
+    } else if !only_clean {
+        assert_eq!(kind, back_kind);
     }
     println!("{} poses ({}), kind {kind}", poses.len(), path.display());
     println!(
@@ -138,5 +163,9 @@ fn main() {
     println!(
         "same, split front:   cpu {split:.3} s = {:.0} ns/pose",
         split / n * 1e9
+    );
+    println!(
+        "back end alone:      cpu {back:.3} s = {:.1} ns/pose",
+        back / n * 1e9
     );
 }

@@ -58,6 +58,87 @@ pub fn angle_about(axis: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> f
     axis.dot(&pa.cross(&pb)).atan2(pa.dot(&pb))
 }
 
+/// A symmetric 3×3 matrix by its 6 distinct entries `[xx, xy, xz, yy, yz, zz]`: sums of outer
+/// products accumulate in 6 additions instead of 9.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Sym3(pub [f64; 6]);
+
+impl Sym3 {
+    /// The outer product `x xᵀ s`, its entries rounded as `(x_i x_j) s`, exactly as those of
+    /// `x * x.transpose() * s`.
+    #[inline]
+    pub fn outer(x: &Vector3<f64>, s: f64) -> Self {
+        Self([
+            x.x * x.x * s,
+            x.x * x.y * s,
+            x.x * x.z * s,
+            x.y * x.y * s,
+            x.y * x.z * s,
+            x.z * x.z * s,
+        ])
+    }
+
+    /// Add `x xᵀ s` (rounded as [`Sym3::outer`]).
+    #[inline]
+    pub fn add_outer(&mut self, x: &Vector3<f64>, s: f64) {
+        let o = Self::outer(x, s);
+        for (a, b) in self.0.iter_mut().zip(o.0) {
+            *a += b;
+        }
+    }
+
+    /// `x xᵀ` (6 multiplications).
+    #[inline]
+    pub fn square(x: &Vector3<f64>) -> Self {
+        Self([
+            x.x * x.x,
+            x.x * x.y,
+            x.x * x.z,
+            x.y * x.y,
+            x.y * x.z,
+            x.z * x.z,
+        ])
+    }
+
+    /// Add `o`.
+    #[inline]
+    pub fn add(&mut self, o: &Self) {
+        for (a, b) in self.0.iter_mut().zip(o.0) {
+            *a += b;
+        }
+    }
+
+    /// Add `s o`.
+    #[inline]
+    pub fn add_scaled(&mut self, o: &Self, s: f64) {
+        for (a, b) in self.0.iter_mut().zip(o.0) {
+            *a += s * b;
+        }
+    }
+
+    /// Add the upper triangle of `y xᵀ` (entries `y_i x_j`, i ≤ j): for `y = s x` that is
+    /// `s x xᵀ` in 6 multiplications once `y` is known (rounded otherwise than
+    /// [`Sym3::add_outer`]).
+    #[inline]
+    pub fn add_product(&mut self, y: &Vector3<f64>, x: &Vector3<f64>) {
+        self.add(&Self([
+            y.x * x.x,
+            y.x * x.y,
+            y.x * x.z,
+            y.y * x.y,
+            y.y * x.z,
+            y.z * x.z,
+        ]));
+    }
+
+    /// The full matrix.
+    #[inline]
+    pub fn to_matrix(&self) -> Matrix3<f64> {
+        let [xx, xy, xz, yy, yz, zz] = self.0;
+        Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz)
+    }
+}
+
 /// Eigen-decomposition of a symmetric 3×3 matrix, eigenvalues ascending.
 pub fn sym_eigen(m: &Matrix3<f64>) -> ([f64; 3], [Vector3<f64>; 3]) {
     let e = SymmetricEigen::new(0.5 * (m + m.transpose()));
@@ -66,6 +147,30 @@ pub fn sym_eigen(m: &Matrix3<f64>) -> ([f64; 3], [Vector3<f64>; 3]) {
     let vals = idx.map(|i| e.eigenvalues[i]);
     let vecs = idx.map(|i| e.eigenvectors.column(i).into_owned());
     (vals, vecs)
+}
+
+/// A line with the parts of [`LineStats::chi2`] that depend on it alone: the projector
+/// `P = I - u uᵀ` normal to it and `pᵀ P p`.
+#[derive(Clone, Copy, Debug)]
+pub struct LineChi2 {
+    point: Vector3<f64>,
+    direction: Vector3<f64>,
+    p_mat: Matrix3<f64>,
+    p_p_p: f64,
+}
+
+impl LineChi2 {
+    /// Prepare `line`.
+    pub fn new(line: &Line) -> Self {
+        let (p, u) = (line.point, line.direction);
+        let p_mat = Matrix3::identity() - u * u.transpose();
+        Self {
+            point: p,
+            direction: u,
+            p_mat,
+            p_p_p: p.dot(&(p_mat * p)),
+        }
+    }
 }
 
 /// Weighted sufficient statistics of a set of lines `(r_k, u_k)` (points closest to the origin,
@@ -125,10 +230,10 @@ impl LineStats {
         self.sw += w;
         self.sww += w * w;
         self.swr += r * w;
-        self.swrr += r * r.transpose() * w;
+        self.swrr += Sym3::outer(r, w).to_matrix();
         self.sa += a;
         self.saa += a * a;
-        self.sauu += u * u.transpose() * a;
+        self.sauu += Sym3::outer(u, a).to_matrix();
         self.pitch_chi2 += pitch_chi2;
     }
 
@@ -160,11 +265,15 @@ impl LineStats {
     /// χ² of these lines against `line`: Σ w |P(r - p)|² + Σ a |u × u_L|² + pitch χ², with
     /// P the projector normal to the line. Degrees of freedom: 5 per line.
     pub fn chi2(&self, line: &Line) -> f64 {
-        let u = line.direction;
-        let p_mat = Matrix3::identity() - u * u.transpose();
-        let p = line.point;
-        let point = (p_mat * self.swrr).trace() - 2.0 * p.dot(&(p_mat * self.swr))
-            + self.sw * p.dot(&(p_mat * p));
+        self.chi2_to(&LineChi2::new(line))
+    }
+
+    /// [`LineStats::chi2`] against a line prepared once for many statistics.
+    #[inline]
+    pub fn chi2_to(&self, l: &LineChi2) -> f64 {
+        let (u, p, p_mat) = (l.direction, l.point, l.p_mat);
+        let point =
+            (p_mat * self.swrr).trace() - 2.0 * p.dot(&(p_mat * self.swr)) + self.sw * l.p_p_p;
         let dir = self.sa - u.dot(&(self.sauu * u));
         point.max(0.0) + dir.max(0.0) + self.pitch_chi2
     }
@@ -205,12 +314,20 @@ pub struct PlaneStats {
 }
 
 impl PlaneStats {
-    /// Add one frame.
+    /// Add one frame: rotation vector `omega` \[rad\] with variance `var_omega` \[rad²\] per
+    /// axis, translation `t` \[m\] with variance `var_t` \[m²\] per axis.
     #[inline]
     pub fn add(&mut self, omega: &Vector3<f64>, t: &Vector3<f64>, var_omega: f64, var_t: f64) {
+        self.add_weighted(omega, t, 1.0 / var_omega, 1.0 / var_t);
+    }
+
+    /// [`PlaneStats::add`] with the weights (inverse variances) given: `w_omega` = 1/σ_ω²
+    /// \[1/rad²\], `w_t` = 1/σ_t² \[1/m²\] (no division per frame).
+    #[inline]
+    pub fn add_weighted(&mut self, omega: &Vector3<f64>, t: &Vector3<f64>, w_omega: f64, w_t: f64) {
         self.n += 1.0;
-        self.sww += omega * omega.transpose() / var_omega;
-        self.stt += t * t.transpose() / var_t;
+        self.sww += Sym3::outer(omega, w_omega).to_matrix();
+        self.stt += Sym3::outer(t, w_t).to_matrix();
     }
 
     /// Merge another set of statistics into this one.
@@ -275,6 +392,13 @@ mod tests {
         assert!(s.chi2(&m) < 1e-9);
         let shifted = Line::through(truth.point + Vector3::new(0.01, 0.0, 0.0), truth.direction);
         assert!(s.chi2(&shifted) > 1e-5 * s.sw);
+    }
+
+    #[test]
+    fn sym3_outer_is_the_outer_product_bit_for_bit() {
+        let x = Vector3::new(0.3, -1.7e-3, 2.9);
+        let s = 0.37;
+        assert_eq!(Sym3::outer(&x, s).to_matrix(), x * x.transpose() * s);
     }
 
     #[test]

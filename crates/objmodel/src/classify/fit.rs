@@ -5,7 +5,7 @@ use super::blocks::{Block, Phase, SegState};
 use super::{Config, Kind, Label, Segment, Votes};
 use crate::edge::EdgeObservation;
 use crate::face::{FaceObservation, FaceSource};
-use crate::geometry::{Line, LineStats, PlaneStats};
+use crate::geometry::{Line, LineChi2, LineStats, PlaneStats};
 use nalgebra::Vector3;
 
 /// Candidates tried by MSAC: the blocks with the most information.
@@ -34,7 +34,14 @@ impl Thresholds {
 
     #[inline]
     fn get(&mut self, dof: f64) -> f64 {
-        let k = dof.round().max(1.0) as usize;
+        // dof.round().max(1.0), without the call `round` is on baseline x86-64 (and by i64,
+        // which converts in one instruction).
+        let k = if dof >= 1.0 {
+            let t = dof as i64;
+            (t + i64::from(dof - t as f64 >= 0.5)) as usize
+        } else {
+            1
+        };
         if k >= self.cache.len() {
             self.cache.resize(k + 1, f64::NAN);
         }
@@ -46,10 +53,11 @@ impl Thresholds {
 }
 
 fn line_cost(blocks: &[Block], idx: &[usize], line: &Line, th: &mut Thresholds) -> f64 {
+    let line = LineChi2::new(line);
     idx.iter()
         .map(|&i| &blocks[i].line)
         .filter(|s| s.n > 0.0)
-        .map(|s| s.chi2(line).min(th.get(5.0 * s.n)))
+        .map(|s| s.chi2_to(&line).min(th.get(5.0 * s.n)))
         .sum()
 }
 
@@ -439,5 +447,38 @@ pub(super) fn analyse_segment(
         face: face.flatten(),
         resting_normal_before: seg.rest_before,
         resting_normal_after: seg.rest_after,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn thresholds_round_the_degrees_of_freedom_as_f64_round() {
+        let mut th = Thresholds::new(0.01);
+        for dof in [
+            f64::NAN,
+            -3.0,
+            0.0,
+            0.49,
+            0.5,
+            0.99,
+            1.0,
+            1.49,
+            1.5,
+            2.5,
+            5.0,
+            7.499999999999999,
+            7.5,
+            3e6,
+        ] {
+            let k = dof.round().max(1.0);
+            assert_eq!(
+                th.get(dof),
+                crate::stats::chi2_threshold(k, 0.01),
+                "dof {dof}"
+            );
+        }
     }
 }
