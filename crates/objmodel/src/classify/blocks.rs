@@ -112,16 +112,30 @@ impl Block {
     }
 }
 
-/// The moving-frame statistics of the last block while it takes frames, in compact form
-/// (symmetric matrices by their 6 distinct entries, see [`Sym3`]), added to the block when it
-/// is closed ([`OpenSums::close_into`]).
+/// The moving-frame statistics of the last block while it takes frames, added to the block
+/// when it is closed ([`OpenSums::close_into`]): the sums of the frames added so far, and the
+/// frames waiting to be added (see [`OpenSums::push`]), by their poses relative to the
+/// segment reference.
+#[derive(Clone, Copy, Debug, Default)]
+struct OpenSums {
+    sums: MovingSums,
+    pending: usize,
+    pending_t: [Vector3<f64>; PENDING_FRAMES],
+    pending_q: [UnitQuaternion<f64>; PENDING_FRAMES],
+}
+
+/// Moving frames whose logarithms are taken together (see [`OpenSums::push`]).
+const PENDING_FRAMES: usize = 16;
+
+/// A block's moving-frame statistics in compact form (symmetric matrices by their 6 distinct
+/// entries, see [`Sym3`]).
 ///
 /// The plane sums are kept unweighted (`Σ ω ωᵀ`, `Σ t tᵀ`: the weights 1/σ² are the same for
 /// every frame and are applied on closing) and `Σ a u uᵀ` is taken as `Σ ω ωᵀ/D` with
-/// `D = θ²/a` (see [`Segmenter::moving`]), so that `ω ωᵀ` serves both; the axis of the largest
+/// `D = θ²/a` (see [`MovingSums::add`]), so that `ω ωᵀ` serves both; the axis of the largest
 /// rotation is kept as its twist and made a [`Line`] on closing.
 #[derive(Clone, Copy, Debug, Default)]
-struct OpenSums {
+struct MovingSums {
     /// Frames measurably displaced from the segment reference.
     significant: u64,
     /// Σ ω ωᵀ \[rad²\] and Σ t tᵀ \[m²\] over those frames.
@@ -141,20 +155,12 @@ struct OpenSums {
     /// Largest rotation \[rad\] among the frames with an axis, and the twist of that frame.
     max_angle: f64,
     max_twist: Option<Twist>,
-    /// Moving frames yet to be added (see [`OpenSums::push`]): their poses relative to the
-    /// segment reference.
-    pending: usize,
-    pending_t: [Vector3<f64>; PENDING_FRAMES],
-    pending_q: [UnitQuaternion<f64>; PENDING_FRAMES],
 }
-
-/// Moving frames whose logarithms are taken together (see [`OpenSums::push`]).
-const PENDING_FRAMES: usize = 16;
 
 impl OpenSums {
     /// Take a moving frame, its pose `(t_rel, q_rel)` relative to the segment reference (`m`
     /// the frame model). Frames are added [`PENDING_FRAMES`] at a time, their logarithms first
-    /// and then their statistics ([`OpenSums::add`]), in frame order: each frame is a long
+    /// and then their statistics ([`MovingSums::add`]), in frame order: each frame is a long
     /// chain of dependent operations (square roots, divisions, the arc tangent), and so the
     /// processor works on several at once (a fifth less time per frame than one by one).
     #[inline]
@@ -172,6 +178,9 @@ impl OpenSums {
     #[inline(never)]
     fn add_pending(&mut self, m: &FrameModel) {
         let n = std::mem::take(&mut self.pending);
+        if n == 0 {
+            return;
+        }
         let mut xi = [Twist::new(Vector3::zeros(), Vector3::zeros()); PENDING_FRAMES];
         for (x, (q, t)) in xi
             .iter_mut()
@@ -181,13 +190,23 @@ impl OpenSums {
             *x = Twist::log_quat(q, t);
         }
         for (k, x) in xi.iter().enumerate().take(n) {
-            let (t, q) = (self.pending_t[k], self.pending_q[k]);
-            self.add(x, &t, &q, m);
+            self.sums.add(x, &self.pending_t[k], &self.pending_q[k], m);
         }
     }
 
-    /// Add a moving frame with twist `xi` relative to the segment reference, as
-    /// [`Segmenter::moving`] describes.
+    /// Add the sums to `b` (the block they were taken for; `m` the frame model they were
+    /// taken with) and start afresh.
+    fn close_into(&mut self, b: &mut Block, m: &FrameModel) {
+        self.add_pending(m);
+        if self.sums.significant > 0 {
+            std::mem::take(&mut self.sums).close_into(b, m);
+        }
+    }
+}
+
+impl MovingSums {
+    /// Add a moving frame with twist `xi` and pose `(t_rel, q_rel)` relative to the segment
+    /// reference, as [`Segmenter::moving`] describes.
     ///
     /// Its quantities are computed with three independent divisions and two square roots (the
     /// divider is the bottleneck, with the logarithm's), and with `g = ω × v = θ² r`:
@@ -261,12 +280,8 @@ impl OpenSums {
     }
 
     /// Add the sums to `b` (the block they were taken for; `m` the frame model they were
-    /// taken with) and start afresh.
-    fn close_into(&mut self, b: &mut Block, m: &FrameModel) {
-        self.add_pending(m);
-        if self.significant == 0 {
-            return; // nothing was added
-        }
+    /// taken with).
+    fn close_into(self, b: &mut Block, m: &FrameModel) {
         b.significant += self.significant;
         b.plane.merge(&PlaneStats {
             n: self.significant as f64,
@@ -295,7 +310,6 @@ impl OpenSums {
             };
             b.max_line = Some((line, xi.omega));
         }
-        *self = Self::default();
     }
 }
 
