@@ -16,6 +16,9 @@ use crate::screw::{plane_normal, Screw};
 use crate::se3::Twist;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
+/// Algorithm 2's candidate: (θ \[rad\], axis point \[m\], unit axis direction, ω \[rad\]).
+type Best = (f64, Vector3<f64>, Vector3<f64>, Vector3<f64>);
+
 /// Streaming state of the literal algorithm.
 pub(super) struct PaperCore {
     config: Config,
@@ -25,9 +28,8 @@ pub(super) struct PaperCore {
     previous: Option<(Twist, Option<Screw>, Option<Vector3<f64>>)>,
     runs: Vec<LabelRun>,
     votes: Votes,
-    /// The screw of largest rotation so far: (θ, axis point, axis direction, ω); its line is
-    /// formed once, at the end.
-    best: Option<(f64, Vector3<f64>, Vector3<f64>, Vector3<f64>)>,
+    /// The screw of largest rotation so far; its line is formed once, at the end.
+    best: Option<Best>,
     normal_sum: Vector3<f64>,
     slide_frames: u64,
     t_range: Option<(f64, f64)>,

@@ -155,7 +155,7 @@ fn read_chunk_gives_the_iterators_poses_and_error() {
         let t = if k == 200 { 199.0 } else { k as f64 };
         text.push_str(&format!("{t} {k}.5 0 0 0 0 0 1\n"));
     }
-    let want: Vec<_> = PoseReader::new(&text.as_bytes()[..], "f".into(), Format::Tum).collect();
+    let want: Vec<_> = PoseReader::new(text.as_bytes(), "f".into(), Format::Tum).collect();
     assert_eq!(want.len(), 201, "200 poses, then the error");
     let want_err = want[200].as_ref().unwrap_err().to_string();
     assert!(want_err.contains("line 202"), "{want_err}");
