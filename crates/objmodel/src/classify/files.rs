@@ -103,9 +103,8 @@ struct ThreadedPoses {
     error: Option<crate::Error>,
 }
 
-/// Poses per chunk handed from the parsing thread: small enough that the chunks in flight stay
-/// in the processor's caches (a chunk of poses is 64 KiB) and large enough that the hand-over
-/// is rare.
+/// Poses per chunk handed from the parsing thread (512 KiB of poses): large enough that the
+/// hand-over is rare (chunks of 1024 cost more thread switches and gained nothing, measured).
 const CHUNK_POSES: usize = 8192;
 /// Chunks in flight between the threads.
 const CHANNEL_CHUNKS: usize = 4;
@@ -161,8 +160,9 @@ impl Iterator for ThreadedPoses {
     }
 }
 
-/// Object frames parsed *and cleaned* on a background thread (the cleaner's tag-flip tests are
-/// the costliest per-frame step after parsing), handed over in bounded chunks.
+/// Poses parsed and put through a [`Front`] stage (the tag-flip cleaner) on a background
+/// thread, its output handed over in bounded chunks: on 2 cores this balances the two threads
+/// best (parse + clean there, rest detection + segments here; see [`classify_files`]).
 struct CleanedFrames<T> {
     rx: std::sync::mpsc::Receiver<(Vec<T>, Option<crate::Error>)>,
     /// Emptied chunks go back to the producer for reuse (fresh ones would cost page faults).
