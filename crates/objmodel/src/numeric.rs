@@ -41,7 +41,7 @@ fn atan_reduced(x: f64) -> f64 {
 
 /// `atan2(y, x)` for `y ≥ 0` and `x ≥ 0` (the first quadrant), in `[0, π/2]`; `0` for
 /// `(0, 0)`. Within 2 ulp of libm's `atan2` (tested over 24 decades of y/x), at about a third
-/// of its cost: one reduction with one division, then [`atan_reduced`].
+/// of its cost: one reduction with one division, then a rational approximation.
 #[inline]
 pub fn atan2_nonneg(y: f64, x: f64) -> f64 {
     debug_assert!(y >= 0.0 && x >= 0.0, "atan2_nonneg({y}, {x})");

@@ -409,7 +409,8 @@ impl RestDetector {
 pub enum Judged {
     /// The tracking noise, given or estimated from the first frames.
     Noise(NoiseModel),
-    /// An item, `moving` or not, with its accumulated rotation (see [`RestDetector::push`]).
+    /// An item, `moving` or not, with its accumulated rotation \[rad\]: the sum of the logs of
+    /// the frame-to-frame rotations since the first frame (zero for outliers).
     Item(Item, bool, Vector3<f64>),
 }
 

@@ -64,8 +64,9 @@ pub fn detect_format(path: &Path, first_line: &str) -> Format {
 
 /// Open a pose file for streaming (`-` is standard input). The format is [`Format::Csv`] for a
 /// `.csv` name, else decided by [`detect_format`] at the first non-comment line. Regular files
-/// of at least [`mapped::MIN_MAPPED_BYTES`] are read through memory-mapped windows (no copy
-/// out of the page cache; see the caveat there), others through a buffer.
+/// of at least 16 MB are read through memory-mapped windows (no copy out of the page cache;
+/// truncating such a file while it is read stops the process with SIGBUS, as with any
+/// memory-mapped reader), others through a buffer.
 pub fn open(path: &Path) -> Result<PoseReader<Box<dyn BufRead + Send>>> {
     if path.as_os_str() == "-" {
         let stdin = BufReader::with_capacity(BUF_CAPACITY, std::io::stdin());
