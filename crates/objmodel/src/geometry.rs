@@ -90,13 +90,19 @@ impl Sym3 {
     /// `x xᵀ` (6 multiplications).
     #[inline]
     pub fn square(x: &Vector3<f64>) -> Self {
+        Self::upper(x, x)
+    }
+
+    /// The upper triangle of `y xᵀ` (entries `y_i x_j`, i ≤ j), as a symmetric matrix.
+    #[inline(always)]
+    fn upper(y: &Vector3<f64>, x: &Vector3<f64>) -> Self {
         Self([
-            x.x * x.x,
-            x.x * x.y,
-            x.x * x.z,
-            x.y * x.y,
-            x.y * x.z,
-            x.z * x.z,
+            y.x * x.x,
+            y.x * x.y,
+            y.x * x.z,
+            y.y * x.y,
+            y.y * x.z,
+            y.z * x.z,
         ])
     }
 
@@ -121,14 +127,7 @@ impl Sym3 {
     /// [`Sym3::add_outer`]).
     #[inline]
     pub fn add_product(&mut self, y: &Vector3<f64>, x: &Vector3<f64>) {
-        self.add(&Self([
-            y.x * x.x,
-            y.x * x.y,
-            y.x * x.z,
-            y.y * x.y,
-            y.y * x.z,
-            y.z * x.z,
-        ]));
+        self.add(&Self::upper(y, x));
     }
 
     /// The full matrix.

@@ -67,9 +67,7 @@ fn digits(s: &[u8], mut i: usize, mut m: u64) -> (u64, usize) {
         if digit_run(w) < 8 {
             break;
         }
-        m = m
-            .wrapping_mul(100_000_000)
-            .wrapping_add(parse_8digit_values(w - ZEROS));
+        m = append_8digits(m, w);
         i += 8;
     }
     while i < n {
@@ -166,6 +164,28 @@ pub(crate) struct Decimal {
     pub(crate) len: usize,
 }
 
+/// `m` followed by the eight digits in `w` (checked with [`all_digits`]).
+#[inline(always)]
+fn append_8digits(m: u64, w: u64) -> u64 {
+    m.wrapping_mul(100_000_000)
+        .wrapping_add(parse_8digit_values(w - ZEROS))
+}
+
+/// The end of a run of digits, byte by byte (at most 8) from `b[j]`, appended to `m`: the new
+/// position and value. Part of [`scan_field`]'s hot loop, see there.
+#[inline(always)]
+fn digits_one_by_one(b: &[u8; FIELD_WINDOW], mut j: usize, mut m: u64) -> (usize, u64) {
+    for _ in 0..8 {
+        let d = u64::from(b[j]).wrapping_sub(u64::from(b'0'));
+        if d > 9 {
+            break;
+        }
+        m = m.wrapping_mul(10).wrapping_add(d);
+        j += 1;
+    }
+    (j, m)
+}
+
 /// The plain decimal (`[+-]digits[.digits]`, at least one digit) at the start of `b`, for the
 /// fields of a TUM line: the same number, length and value as [`scan_decimal`] when that says
 /// `exact`, or `None` (then the caller takes the general path): for a number of more than
@@ -211,19 +231,9 @@ pub(crate) fn scan_field(b: &[u8; FIELD_WINDOW]) -> Option<Decimal> {
         j = 2;
         let w = load8(b, j);
         if all_digits(w) {
-            m = m
-                .wrapping_mul(100_000_000)
-                .wrapping_add(parse_8digit_values(w - ZEROS));
-            j += 8;
+            (j, m) = (j + 8, append_8digits(m, w));
         }
-        for _ in 0..8 {
-            let d = u64::from(b[j]).wrapping_sub(u64::from(b'0'));
-            if d > 9 {
-                break;
-            }
-            m = m.wrapping_mul(10).wrapping_add(d);
-            j += 1;
-        }
+        (j, m) = digits_one_by_one(b, j, m);
     }
     let mut frac = 0;
     if b[j] == b'.' {
@@ -231,22 +241,12 @@ pub(crate) fn scan_field(b: &[u8; FIELD_WINDOW]) -> Option<Decimal> {
         let f0 = j;
         let w = load8(b, j);
         if all_digits(w) {
-            m = m
-                .wrapping_mul(100_000_000)
-                .wrapping_add(parse_8digit_values(w - ZEROS));
-            j += 8;
+            (j, m) = (j + 8, append_8digits(m, w));
         } else if all_digits4(w as u32) {
             m = m.wrapping_mul(10_000).wrapping_add(parse_4digits(w as u32));
             j += 4;
         }
-        for _ in 0..8 {
-            let d = u64::from(b[j]).wrapping_sub(u64::from(b'0'));
-            if d > 9 {
-                break;
-            }
-            m = m.wrapping_mul(10).wrapping_add(d);
-            j += 1;
-        }
+        (j, m) = digits_one_by_one(b, j, m);
         frac = j - f0;
     }
     // At most 19 bytes: at most 19 digits, so `m` did not wrap, and `frac <= 22`. Up to 15

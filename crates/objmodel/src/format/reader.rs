@@ -188,31 +188,7 @@ impl<R: BufRead> PoseReader<R> {
 
     /// Append all remaining poses to `out`: the same as collecting the iterator, but faster.
     pub(crate) fn read_into(&mut self, out: &mut Vec<StampedPose>) -> Result<()> {
-        while let Some(p) = self.next_if_batched() {
-            out.push(p);
-        }
-        if let Some(e) = self.pending_err.take() {
-            return Err(e);
-        }
-        loop {
-            let before = out.len();
-            let r = step(
-                &mut self.reader,
-                &mut self.st,
-                &mut self.pending_err,
-                out,
-                None,
-                usize::MAX,
-            );
-            match r {
-                Some(r) => out.push(r?),
-                None if out.len() == before => return Ok(()),
-                None => {}
-            }
-            if let Some(e) = self.pending_err.take() {
-                return Err(e);
-            }
-        }
+        self.read_chunk(out, usize::MAX).map(|_| ())
     }
 
     /// Append up to `limit` more poses to `out` (`limit` ≥ 1), decoding straight into it:
@@ -220,7 +196,7 @@ impl<R: BufRead> PoseReader<R> {
     /// the input is exhausted, `Ok(true)` if there may be more; after an error the poses before
     /// it are in `out` and the error is returned (the next call returns `Ok(false)`).
     pub fn read_chunk(&mut self, out: &mut Vec<StampedPose>, limit: usize) -> Result<bool> {
-        let goal = out.len() + limit.max(1);
+        let goal = out.len().saturating_add(limit.max(1));
         while out.len() < goal {
             if let Some(p) = self.next_if_batched() {
                 out.push(p);
