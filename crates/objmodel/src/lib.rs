@@ -44,6 +44,8 @@ pub mod se3;
 pub mod skill;
 pub mod stats;
 pub mod synth;
+#[cfg(test)]
+mod testing;
 pub mod trajectory;
 pub mod tree;
 

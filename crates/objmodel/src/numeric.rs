@@ -72,11 +72,8 @@ mod tests {
         let mut worst = 0;
         let mut state = 0x9e37_79b9_7f4a_7c15_u64;
         for k in 0..200_000 {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
             // log10(y/x) uniform in [-12, 12], and a random scale of both.
-            let u = (state >> 11) as f64 / (1u64 << 53) as f64;
+            let u = crate::testing::unit(&mut state);
             let ratio = 10f64.powf(24.0 * u - 12.0);
             let x = 1e-3 + (k % 1000) as f64 * 1e-3;
             let y = ratio * x;

@@ -582,12 +582,7 @@ mod tests {
     #[test]
     fn step_log_is_the_log() {
         let mut seed = 0x1234_5678_9abc_def1_u64;
-        let mut rnd = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut rnd = move || crate::testing::unit(&mut seed) - 0.5;
         for k in 0..20000 {
             let scale = [1e-9, 1e-5, 1e-3, 0.019, 0.021, 0.3, 3.0][k % 7];
             let q0 = UnitQuaternion::from_scaled_axis(Vector3::new(rnd(), rnd(), rnd()) * 6.0);
@@ -607,12 +602,7 @@ mod tests {
         // Rests and motions at random speeds, outliers, gaps in time; windows of 3 to ~600 items
         // (the ring grows).
         let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        let mut rnd = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = move || crate::testing::unit(&mut seed);
         let mut moving_frames = 0;
         for (window, n) in [(0.1, 50), (0.6, 3000), (5.0, 2000), (0.6, 1)] {
             let (mut t, mut w, mut v) = (0.0, Vector3::zeros(), Vector3::zeros());

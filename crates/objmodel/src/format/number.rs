@@ -302,12 +302,12 @@ pub(crate) fn find_newline(s: &[u8]) -> Option<usize> {
 mod tests {
     use super::*;
 
-    /// Deterministic test randomness ([`crate::format::tests::next`]).
+    /// Deterministic test randomness ([`crate::testing::next`]).
     struct Rng(u64);
 
     impl Rng {
         fn next(&mut self) -> u64 {
-            crate::format::tests::next(&mut self.0)
+            crate::testing::next(&mut self.0)
         }
 
         fn below(&mut self, n: u64) -> u64 {

@@ -3,13 +3,7 @@
 use super::{Format, PoseReader};
 use std::io::BufReader;
 
-/// xorshift64*: deterministic test randomness (shared by the format module's tests).
-pub(crate) fn next(state: &mut u64) -> u64 {
-    *state ^= *state >> 12;
-    *state ^= *state << 25;
-    *state ^= *state >> 27;
-    state.wrapping_mul(0x2545_f491_4f6c_dd1d)
-}
+use crate::testing::next;
 
 #[test]
 fn random_input_never_panics() {

@@ -202,7 +202,7 @@ pub(super) fn tum_field(s: &[u8], k: usize) -> Option<(usize, usize)> {
 mod tests {
     use super::*;
 
-    use crate::format::tests::next;
+    use crate::testing::next;
 
     /// A field: what pose files hold (`%.6f`, `%.9f`, signs, ...), or with `any` also other
     /// numbers and things that are no number. True for a plain decimal of at most 15 bytes.
