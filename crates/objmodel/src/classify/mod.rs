@@ -28,6 +28,7 @@
 mod blocks;
 mod files;
 mod fit;
+mod moving;
 mod paper;
 mod rest;
 mod stream;
