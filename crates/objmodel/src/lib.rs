@@ -17,6 +17,7 @@
 //! * [`clean`]: quaternion sign continuity and rejection of single-frame tag flips.
 //! * [`noise`]: tracking-noise estimation from the data itself.
 //! * [`numeric`]: small numeric kernels of the per-frame loops (a first-quadrant `atan2`).
+//! * [`lanes`]: four `f64` lanes for the kernels that take frames four at a time.
 //! * [`stats`]: the few distributions the tests need (chi-square quantiles).
 //! * [`classify`]: Algorithm 1, the paper-literal version and the robust one.
 //! * [`edge`], [`face`]: Algorithm 2 and eq. 5 estimates with covariances.
@@ -36,6 +37,7 @@ pub mod error;
 pub mod face;
 pub mod format;
 pub mod geometry;
+pub mod lanes;
 pub mod noise;
 pub mod numeric;
 pub mod pendulum;

@@ -4,6 +4,7 @@
 //! classifiers (`θ = 2·atan2(|q_v|, |w|)`), where libm's general `atan2` was the largest single
 //! cost per frame. Both arguments are non-negative there, which removes the quadrant logic.
 
+use crate::lanes::{Real, F4};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
 
 /// `π/2 = FRAC_PI_2 + MOREBITS`: the part of π/2 below the last bit of `FRAC_PI_2`, added back
@@ -15,26 +16,29 @@ const TAN_3PI_8: f64 = 2.414_213_562_373_095;
 /// argument is reduced by `π/4 + atan((x-1)/(x+1))`.
 const REDUCE_AT: f64 = 0.66;
 
+/// Numerator coefficients of Cephes' `atan` rational approximation (see [`atan_reduced`]).
+const P: [f64; 5] = [
+    -8.750_608_600_031_904e-1,
+    -1.615_753_718_733_365e1,
+    -7.500_855_792_314_705e1,
+    -1.228_866_684_490_136e2,
+    -6.485_021_904_942_025e1,
+];
+/// Denominator coefficients (leading 1 implied) of the same approximation.
+const Q: [f64; 5] = [
+    2.485_846_490_142_306e1,
+    1.650_270_098_316_988_5e2,
+    4.328_810_604_912_903e2,
+    4.853_903_996_359_137e2,
+    1.945_506_571_482_614e2,
+];
+
 /// `atan(x)` for `x ∈ [0, 0.66]`: `x + x·z·P(z)/Q(z)` with `z = x²`, the degree-4/5 rational
 /// approximation of Cephes' `atan` (relative error about 1e-16 on this interval).
 #[inline(always)]
-fn atan_reduced(x: f64) -> f64 {
-    const P: [f64; 5] = [
-        -8.750_608_600_031_904e-1,
-        -1.615_753_718_733_365e1,
-        -7.500_855_792_314_705e1,
-        -1.228_866_684_490_136e2,
-        -6.485_021_904_942_025e1,
-    ];
-    const Q: [f64; 5] = [
-        2.485_846_490_142_306e1,
-        1.650_270_098_316_988_5e2,
-        4.328_810_604_912_903e2,
-        4.853_903_996_359_137e2,
-        1.945_506_571_482_614e2,
-    ];
+fn atan_reduced<T: Real>(x: T) -> T {
     let z = x * x;
-    let p = (((P[0] * z + P[1]) * z + P[2]) * z + P[3]) * z + P[4];
+    let p = (((z * P[0] + P[1]) * z + P[2]) * z + P[3]) * z + P[4];
     let q = ((((z + Q[0]) * z + Q[1]) * z + Q[2]) * z + Q[3]) * z + Q[4];
     x + x * (z * p / q)
 }
@@ -56,6 +60,22 @@ pub fn atan2_nonneg(y: f64, x: f64) -> f64 {
     } else {
         0.0
     }
+}
+
+/// [`atan2_nonneg`] of four lanes, each rounded as the scalar one: the three cases of the
+/// reduction are selected per lane, around one division and one rational approximation.
+#[inline(always)]
+pub fn atan2_nonneg4(y: F4, x: F4) -> F4 {
+    let high = y.gt(x * TAN_3PI_8);
+    let mid = !high & y.gt(x * REDUCE_AT);
+    let num = high.select(x, mid.select(y - x, y));
+    let den = high.select(y, mid.select(y + x, x));
+    let r = atan_reduced(num / den);
+    let low = x.gt(F4::splat(0.0)).select(r, F4::splat(0.0));
+    high.select(
+        (FRAC_PI_2 - r) + MOREBITS,
+        mid.select((FRAC_PI_4 + r) + 0.5 * MOREBITS, low),
+    )
 }
 
 #[cfg(test)]
@@ -100,5 +120,41 @@ mod tests {
         }
         assert_eq!(atan2_nonneg(0.0, 0.0), 0.0);
         println!("largest difference from libm: {worst} ulp");
+    }
+    #[test]
+    fn four_lanes_give_the_scalar_bits() {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut pairs: Vec<(f64, f64)> = (0..40_000)
+            .map(|_| {
+                let u = crate::testing::unit(&mut state);
+                let x = crate::testing::unit(&mut state) + 1e-3;
+                (10f64.powf(24.0 * u - 12.0) * x, x)
+            })
+            .collect();
+        for &(y, x) in &[
+            (TAN_3PI_8, 1.0),
+            (REDUCE_AT, 1.0),
+            (1.0, 1.0),
+            (1.0, 0.0),
+            (0.0, 1.0),
+        ] {
+            pairs.extend([(y, x), (f64::from_bits(y.to_bits() + 1), x)]);
+        }
+        pairs.extend([(0.0, 0.0), (f64::INFINITY, 1.0), (1e-300, 1e-300)]);
+        for c in pairs.chunks(4) {
+            let y = F4::from_fn(|k| c[k % c.len()].0);
+            let x = F4::from_fn(|k| c[k % c.len()].1);
+            let r = atan2_nonneg4(y, x);
+            for k in 0..4 {
+                let s = atan2_nonneg(y.0[k], x.0[k]);
+                assert!(
+                    r.0[k].to_bits() == s.to_bits() || (r.0[k].is_nan() && s.is_nan()),
+                    "atan2({}, {}): {} vs {s}",
+                    y.0[k],
+                    x.0[k],
+                    r.0[k]
+                );
+            }
+        }
     }
 }

@@ -6,8 +6,9 @@ use super::blocks::{
     Block, MAX_AXIS_DISTANCE_M, MIN_AXIS_SNR, REFERENCE_SETTLING_M, REFERENCE_SETTLING_RAD,
 };
 use crate::geometry::{Line, LineStats, PlaneStats, Sym3};
+use crate::lanes::{cross, dot, scale, F4, M4, V4};
 use crate::noise::NoiseModel;
-use crate::se3::Twist;
+use crate::se3::{Twist, Twist4};
 use nalgebra::{UnitQuaternion, Vector3};
 
 /// The moving-frame statistics of the last block while it takes frames, added to the block
@@ -18,38 +19,46 @@ use nalgebra::{UnitQuaternion, Vector3};
 pub(super) struct OpenSums {
     sums: MovingSums,
     pending: usize,
-    pending_t: [Vector3<f64>; PENDING_FRAMES],
-    pending_q: [UnitQuaternion<f64>; PENDING_FRAMES],
+    /// The pending frames by coordinate, four to an [`F4`] (frame `k` is lane `k % 4` of
+    /// group `k / 4`), so that a kernel loads them as they are: translations `x, y, z`, and
+    /// quaternions `w, x, y, z`.
+    pending_t: [[F4; PENDING_GROUPS]; 3],
+    pending_q: [[F4; PENDING_GROUPS]; 4],
 }
 
 /// Moving frames whose logarithms are taken together (see [`OpenSums::push`]).
 const PENDING_FRAMES: usize = 16;
+/// Groups of four frames among them.
+const PENDING_GROUPS: usize = PENDING_FRAMES / 4;
 
-/// A block's moving-frame statistics in compact form (symmetric matrices by their 6 distinct
-/// entries, see [`Sym3`]).
+/// A block's moving-frame statistics in compact form: symmetric matrices by their 6 distinct
+/// entries (ordered as [`Sym3`]), and every sum in four lanes, lane `k` over the frames that
+/// were in lane `k` of a [`FrameTerms`]. The lanes are added up on closing
+/// ([`MovingSums::close_into`]), so a sum over n frames is rounded as four partial sums and
+/// their total, not as one running sum (the same results to about 1e-16 relative).
 ///
 /// The plane sums are kept unweighted (`Σ ω ωᵀ`, `Σ t tᵀ`: the weights 1/σ² are the same for
 /// every frame and are applied on closing) and `Σ a u uᵀ` is taken as `Σ ω ωᵀ/D` with
-/// `D = θ²/a` (see [`MovingSums::add`]), so that `ω ωᵀ` serves both; the axis of the largest
+/// `D = θ²/a` (see [`FrameTerms`]), so that `ω ωᵀ` serves both; the axis of the largest
 /// rotation is kept as its twist and made a [`Line`] on closing.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct MovingSums {
     /// Frames measurably displaced from the segment reference.
     significant: u64,
     /// Σ ω ωᵀ \[rad²\] and Σ t tᵀ \[m²\] over those frames.
-    sum_ww: Sym3,
-    sum_tt: Sym3,
+    sum_ww: [F4; 6],
+    sum_tt: [F4; 6],
     /// [`LineStats`]: n, Σ w, Σ w², Σ w r, Σ w r rᵀ, Σ a, Σ a², Σ a u uᵀ, Σ pitch χ², Σ w / c.
-    line_n: f64,
-    sw: f64,
-    sww: f64,
-    swr: Vector3<f64>,
-    swrr: Sym3,
-    sa: f64,
-    saa: f64,
-    sauu: Sym3,
-    pitch_chi2: f64,
-    sw_inv_chord: f64,
+    line_n: F4,
+    sw: F4,
+    sww: F4,
+    swr: V4,
+    swrr: [F4; 6],
+    sa: F4,
+    saa: F4,
+    sauu: [F4; 6],
+    pitch_chi2: F4,
+    sw_inv_chord: F4,
     /// Largest rotation \[rad\] among the frames with an axis, and the twist of that frame.
     max_angle: f64,
     max_twist: Option<Twist>,
@@ -69,31 +78,65 @@ impl OpenSums {
         m: &FrameModel,
     ) {
         let k = self.pending;
-        self.pending_t[k] = *t_rel;
-        self.pending_q[k] = *q_rel;
+        let (g, l) = (k / 4, k % 4);
+        let q = q_rel.quaternion();
+        for (i, x) in [q.w, q.i, q.j, q.k].into_iter().enumerate() {
+            self.pending_q[i][g].0[l] = x;
+        }
+        for i in 0..3 {
+            self.pending_t[i][g].0[l] = t_rel[i];
+        }
         self.pending += 1;
         if self.pending == PENDING_FRAMES {
             self.add_pending(m);
         }
     }
 
-    /// Add the pending frames.
+    /// Add the pending frames, four at a time through [`FrameTerms`] into the four lanes of
+    /// the sums (in AVX2 code when the processor has it). Missing frames of the last four are
+    /// identities, computed and masked out.
     #[inline(never)]
     fn add_pending(&mut self, m: &FrameModel) {
         let n = std::mem::take(&mut self.pending);
         if n == 0 {
             return;
         }
-        let mut xi = [Twist::new(Vector3::zeros(), Vector3::zeros()); PENDING_FRAMES];
-        for (x, (q, t)) in xi
-            .iter_mut()
-            .zip(self.pending_q.iter().zip(&self.pending_t))
-            .take(n)
-        {
-            *x = Twist::log_quat(q, t);
+        #[cfg(target_arch = "x86_64")]
+        if crate::lanes::avx2() {
+            // SAFETY: the processor runs AVX2 code (checked just above).
+            unsafe { self.add_pending_avx2(n, m) };
+            return;
         }
-        for (k, x) in xi.iter().enumerate().take(n) {
-            self.sums.add(x, &self.pending_t[k], &self.pending_q[k], m);
+        self.add_pending_lanes(n, m);
+    }
+
+    /// [`OpenSums::add_pending`] compiled for AVX2 (the same operations, on 256-bit vectors).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn add_pending_avx2(&mut self, n: usize, m: &FrameModel) {
+        self.add_pending_lanes(n, m);
+    }
+
+    #[inline(always)]
+    fn add_pending_lanes(&mut self, n: usize, m: &FrameModel) {
+        // Identities after the last frame, to fill its group.
+        for k in n..n.next_multiple_of(4) {
+            let (g, l) = (k / 4, k % 4);
+            for (i, x) in [1.0, 0.0, 0.0, 0.0].into_iter().enumerate() {
+                self.pending_q[i][g].0[l] = x;
+            }
+            for i in 0..3 {
+                self.pending_t[i][g].0[l] = 0.0;
+            }
+        }
+        for g in 0..n.div_ceil(4) {
+            let first = 4 * g;
+            let pad = |k: usize| first + k >= n;
+            let (q, t) = (&self.pending_q, &self.pending_t);
+            let (qw, qv): (F4, V4) = (q[0][g], [q[1][g], q[2][g], q[3][g]]);
+            let t: V4 = [t[0][g], t[1][g], t[2][g]];
+            let valid = M4([true, !pad(1), !pad(2), !pad(3)]);
+            self.sums.add(&FrameTerms::new(qw, &qv, &t, valid, m));
         }
     }
 
@@ -108,77 +151,43 @@ impl OpenSums {
 }
 
 impl MovingSums {
-    /// Add a moving frame with twist `xi` and pose `(t_rel, q_rel)` relative to the segment
-    /// reference, as [`Segmenter::moving`] describes.
-    ///
-    /// Its quantities are computed with three independent divisions and two square roots (the
-    /// divider is the bottleneck, with the logarithm's), and with `g = ω × v = θ² r`:
-    ///
-    /// * `w = c²/E` with `E = σ_p² + s_p² + (σ_r² + s_r²) d² + tol_p² c²`, taken as
-    ///   `w/θ⁴ = c²/(θ⁴ E)`, `θ⁴ E = θ⁴ (σ_p² + s_p² + tol_p² c²) + (σ_r² + s_r²) θ⁴ d²` and
-    ///   `θ⁴ d² = min(|g|², θ⁴ MAX_AXIS_DISTANCE_M²)`; then `w r = (w/θ⁴) θ² g`,
-    ///   `w r rᵀ = (w/θ⁴) g gᵀ` and `w/c = c θ⁴/(θ⁴ E)`,
-    /// * `a = θ²/D` with `D = σ_r² + s_r² + tol_r² θ²`, so `a u uᵀ = ω ωᵀ/D`,
-    /// * `(u·t)² = (ω·t)²/θ²`;
-    ///
-    /// u and r themselves are only formed for the block's largest rotation.
+    /// Add four moving frames' terms, as [`Segmenter::moving`] describes, each into its lane.
     #[inline(always)]
-    fn add(
-        &mut self,
-        xi: &Twist,
-        t_rel: &Vector3<f64>,
-        q_rel: &UnitQuaternion<f64>,
-        m: &FrameModel,
-    ) {
-        let omega = xi.omega;
-        let theta2 = omega.norm_squared();
-        let chi2_r = theta2 * m.inv_var_r;
-        let significant = chi2_r + t_rel.norm_squared() * m.inv_var_p > m.displaced;
-        if !significant {
-            return;
-        }
+    fn add(&mut self, f: &FrameTerms) {
         let o = self;
-        o.significant += 1;
-        let ww = Sym3::square(&omega);
-        o.sum_ww.add(&ww);
-        o.sum_tt.add_product(t_rel, t_rel);
-        // An axis only from a rotation well above the noise: the axis point's bias is of
-        // order (σ_r/θ)² relative, kept below 1% by θ >= 10 σ_r (MIN_AXIS_SNR).
-        if chi2_r <= m.axis_chi2 {
-            return;
+        let zero = F4::splat(0.0);
+        // What a frame adds only when it is displaced, or (`line`) also has an axis: an axis
+        // only from a rotation well above the noise, since the axis point's bias is of order
+        // (σ_r/θ)² relative, kept below 1% by θ >= 10 σ_r (MIN_AXIS_SNR).
+        let sig = f.significant;
+        let line = sig & f.axis;
+        let add = |acc: &mut F4, mask: M4, x: F4| *acc = *acc + mask.select(x, zero);
+        let m = sig.0;
+        o.significant += m[0] as u64 + m[1] as u64 + m[2] as u64 + m[3] as u64;
+        for i in 0..6 {
+            add(&mut o.sum_ww[i], sig, f.ww[i]);
+            add(&mut o.sum_tt[i], sig, f.tt[i]);
+            add(&mut o.swrr[i], line, f.wrr[i]);
+            add(&mut o.sauu[i], line, f.auu[i]);
         }
-        // With g = ω × v = θ² r, everything over θ⁴ so that no division waits for another:
-        // θ⁴ d² = min(|g|², θ⁴ MAX_AXIS_DISTANCE_M²), θ⁴ E, and w r rᵀ = (w/θ⁴) g gᵀ.
-        let g = omega.cross(&xi.v);
-        let theta4 = theta2 * theta2;
-        let g2 = g
-            .norm_squared()
-            .min(MAX_AXIS_DISTANCE_M * MAX_AXIS_DISTANCE_M * theta4);
-        // Chord 2 sin(θ/2) = 2 |imag(q_rel)|, from the quaternion (no sine).
-        let chord2 = 4.0 * q_rel.quaternion().imag().norm_squared();
-        // The pose from which the rotation starts is uncertain by the noise and by the
-        // contacts settling as the load moves onto the edge (REFERENCE_SETTLING_*); its
-        // effect on the axis shrinks as 1/θ. The tolerance adds a constant wander.
-        let inv_e4 = 1.0 / (theta4 * (m.ref_var_p + m.tol_p2 * chord2) + m.ref_var_r * g2);
-        let inv_d = 1.0 / (m.ref_var_r + m.tol_r2 * theta2);
-        let w_4 = chord2 * inv_e4; // w/θ⁴
-        let w = w_4 * theta4;
-        let a = theta2 * inv_d;
-        let wt = omega.dot(t_rel);
-        o.line_n += 1.0;
-        o.sw += w;
-        o.sww += w * w;
-        o.swr += g * (w_4 * theta2);
-        o.swrr.add_product(&(g * w_4), &g);
-        o.sa += a;
-        o.saa += a * a;
-        o.sauu.add_scaled(&ww, inv_d);
-        o.pitch_chi2 += wt * wt * m.w_p / theta2;
-        o.sw_inv_chord += chord2.sqrt() * theta4 * inv_e4;
-        let theta = theta2.sqrt();
-        if theta > o.max_angle {
-            o.max_angle = theta;
-            o.max_twist = Some(*xi);
+        for i in 0..3 {
+            add(&mut o.swr[i], line, f.wr[i]);
+        }
+        add(&mut o.line_n, line, F4::splat(1.0));
+        add(&mut o.sw, line, f.w);
+        add(&mut o.sww, line, f.w * f.w);
+        add(&mut o.sa, line, f.a);
+        add(&mut o.saa, line, f.a * f.a);
+        add(&mut o.pitch_chi2, line, f.pitch_chi2);
+        add(&mut o.sw_inv_chord, line, f.w_inv_chord);
+        // The largest rotation: the first frame of the largest angle, as frame by frame.
+        if (line & f.theta.gt(F4::splat(o.max_angle))).any() {
+            for k in 0..4 {
+                if line.0[k] && f.theta.0[k] > o.max_angle {
+                    o.max_angle = f.theta.0[k];
+                    o.max_twist = Some(f.xi.lane(k));
+                }
+            }
         }
     }
 
@@ -186,22 +195,23 @@ impl MovingSums {
     /// taken with).
     fn close_into(self, b: &mut Block, m: &FrameModel) {
         b.significant += self.significant;
+        let sym = |x: &[F4; 6]| Sym3([0, 1, 2, 3, 4, 5].map(|i| total(x[i]))).to_matrix();
         b.plane.merge(&PlaneStats {
             n: self.significant as f64,
-            sww: self.sum_ww.to_matrix() * m.w_r,
-            stt: self.sum_tt.to_matrix() * m.w_p,
+            sww: sym(&self.sum_ww) * m.w_r,
+            stt: sym(&self.sum_tt) * m.w_p,
         });
         b.line.merge(&LineStats {
-            n: self.line_n,
-            sw: self.sw,
-            sww: self.sww,
-            swr: self.swr,
-            swrr: self.swrr.to_matrix(),
-            sa: self.sa,
-            saa: self.saa,
-            sauu: self.sauu.to_matrix(),
-            pitch_chi2: self.pitch_chi2,
-            sw_inv_chord: self.sw_inv_chord,
+            n: total(self.line_n),
+            sw: total(self.sw),
+            sww: total(self.sww),
+            swr: Vector3::new(total(self.swr[0]), total(self.swr[1]), total(self.swr[2])),
+            swrr: sym(&self.swrr),
+            sa: total(self.sa),
+            saa: total(self.saa),
+            sauu: sym(&self.sauu),
+            pitch_chi2: total(self.pitch_chi2),
+            sw_inv_chord: total(self.sw_inv_chord),
         });
         if let Some(xi) = self.max_twist.filter(|_| self.max_angle > b.max_angle) {
             let theta = self.max_angle;
@@ -214,6 +224,116 @@ impl MovingSums {
             b.max_line = Some((line, xi.omega));
         }
     }
+}
+
+/// The sum of the lanes, `(x₀ + x₁) + (x₂ + x₃)`.
+#[inline]
+fn total(x: F4) -> f64 {
+    let [a, b, c, d] = x.0;
+    (a + b) + (c + d)
+}
+
+/// What four moving frames add to a block's [`MovingSums`], lane by lane: each frame's
+/// logarithm and the terms of its sums, computed together (see [`crate::lanes`]) and added one
+/// in lanes ([`MovingSums::add`]).
+///
+/// For a frame with twist `ξ = (v, ω)` and pose `(t, q)` relative to the segment reference,
+/// with `θ² = |ω|²` and `g = ω × v = θ² r` (r the axis point), the quantities take three
+/// independent divisions and two square roots (the divider is the bottleneck, with the
+/// logarithm's):
+///
+/// * `w = c²/E` with `E = σ_p² + s_p² + (σ_r² + s_r²) d² + tol_p² c²`, taken as
+///   `w/θ⁴ = c²/(θ⁴ E)`, `θ⁴ E = θ⁴ (σ_p² + s_p² + tol_p² c²) + (σ_r² + s_r²) θ⁴ d²` and
+///   `θ⁴ d² = min(|g|², θ⁴ MAX_AXIS_DISTANCE_M²)`; then `w r = (w/θ⁴) θ² g`,
+///   `w r rᵀ = (w/θ⁴) g gᵀ` and `w/c = c θ⁴/(θ⁴ E)`,
+/// * `a = θ²/D` with `D = σ_r² + s_r² + tol_r² θ²`, so `a u uᵀ = ω ωᵀ/D`,
+/// * `(u·t)² = (ω·t)²/θ²`;
+///
+/// u and r themselves are only formed for the block's largest rotation.
+struct FrameTerms {
+    /// The frame is measurably displaced from the reference (it votes).
+    significant: M4,
+    /// Its rotation is large enough for an axis (θ²/σ_r² above [`FrameModel::axis_chi2`]).
+    axis: M4,
+    /// `ω ωᵀ`, `t tᵀ` (upper triangles, as [`Sym3`]).
+    ww: [F4; 6],
+    tt: [F4; 6],
+    /// `w`, `w r`, `w r rᵀ`, `a`, `a u uᵀ`, the pitch χ² term, `w/c`, θ.
+    w: F4,
+    wr: V4,
+    wrr: [F4; 6],
+    a: F4,
+    auu: [F4; 6],
+    pitch_chi2: F4,
+    w_inv_chord: F4,
+    theta: F4,
+    /// The twists (for the block's largest rotation).
+    xi: Twist4,
+}
+
+impl FrameTerms {
+    /// The terms of four frames, poses `(t, q)` relative to the segment reference (quaternions
+    /// by their scalar and vector parts `qw`, `qv`); lanes outside `valid` add nothing.
+    #[inline(always)]
+    fn new(qw: F4, qv: &V4, t: &V4, valid: M4, m: &FrameModel) -> Self {
+        let xi = Twist4::log_quat(qw, qv, t);
+        let omega = &xi.omega;
+        let theta2 = dot(omega, omega);
+        let chi2_r = theta2 * m.inv_var_r;
+        let significant = valid & (chi2_r + dot(t, t) * m.inv_var_p).gt(F4::splat(m.displaced));
+        let axis = !chi2_r.le(F4::splat(m.axis_chi2));
+        // With g = ω × v = θ² r, everything over θ⁴ so that no division waits for another:
+        // θ⁴ d² = min(|g|², θ⁴ MAX_AXIS_DISTANCE_M²), θ⁴ E, and w r rᵀ = (w/θ⁴) g gᵀ.
+        let g = cross(omega, &xi.v);
+        let theta4 = theta2 * theta2;
+        let g2 = dot(&g, &g).min(theta4 * (MAX_AXIS_DISTANCE_M * MAX_AXIS_DISTANCE_M));
+        // Chord 2 sin(θ/2) = 2 |imag(q)|, from the quaternion (no sine).
+        let chord2 = dot(qv, qv) * 4.0;
+        // The pose from which the rotation starts is uncertain by the noise and by the
+        // contacts settling as the load moves onto the edge (REFERENCE_SETTLING_*); its
+        // effect on the axis shrinks as 1/θ. The tolerance adds a constant wander.
+        let inv_e4 = 1.0 / (theta4 * (chord2 * m.tol_p2 + m.ref_var_p) + g2 * m.ref_var_r);
+        let inv_d = 1.0 / (theta2 * m.tol_r2 + m.ref_var_r);
+        let w_4 = chord2 * inv_e4; // w/θ⁴
+        let wt = dot(omega, t);
+        let gw = scale(&g, w_4);
+        let ww = upper(omega, omega);
+        Self {
+            significant,
+            axis,
+            ww,
+            tt: upper(t, t),
+            w: w_4 * theta4,
+            wr: scale(&g, w_4 * theta2),
+            wrr: upper(&gw, &g),
+            a: theta2 * inv_d,
+            auu: [
+                ww[0] * inv_d,
+                ww[1] * inv_d,
+                ww[2] * inv_d,
+                ww[3] * inv_d,
+                ww[4] * inv_d,
+                ww[5] * inv_d,
+            ],
+            pitch_chi2: wt * wt * m.w_p / theta2,
+            w_inv_chord: chord2.sqrt() * theta4 * inv_e4,
+            theta: theta2.sqrt(),
+            xi,
+        }
+    }
+}
+
+/// The upper triangle of `y xᵀ` (entries `y_i x_j`, i ≤ j), lane by lane, ordered as [`Sym3`].
+#[inline(always)]
+fn upper(y: &V4, x: &V4) -> [F4; 6] {
+    [
+        y[0] * x[0],
+        y[0] * x[1],
+        y[0] * x[2],
+        y[1] * x[1],
+        y[1] * x[2],
+        y[2] * x[2],
+    ]
 }
 
 /// Per-frame variances and the χ² levels, shared by the block statistics; with the derived
@@ -265,6 +385,159 @@ impl FrameModel {
             axis_chi2: rotated.max(MIN_AXIS_SNR * MIN_AXIS_SNR),
             ref_var_p: var_p + REFERENCE_SETTLING_M * REFERENCE_SETTLING_M,
             ref_var_r: var_r + REFERENCE_SETTLING_RAD * REFERENCE_SETTLING_RAD,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::unit;
+
+    /// The frame-by-frame sums, as one running sum each (the original of [`FrameTerms`] and
+    /// [`MovingSums::add`]).
+    #[derive(Default)]
+    struct Reference {
+        significant: u64,
+        sum_ww: Sym3,
+        sum_tt: Sym3,
+        line_n: f64,
+        sw: f64,
+        sww: f64,
+        swr: Vector3<f64>,
+        swrr: Sym3,
+        sa: f64,
+        saa: f64,
+        sauu: Sym3,
+        pitch_chi2: f64,
+        sw_inv_chord: f64,
+        max_angle: f64,
+        max_twist: Option<Twist>,
+    }
+
+    fn add_one(
+        o: &mut Reference,
+        t_rel: &Vector3<f64>,
+        q_rel: &UnitQuaternion<f64>,
+        m: &FrameModel,
+    ) {
+        let xi = Twist::log_quat(q_rel, t_rel);
+        let omega = xi.omega;
+        let theta2 = omega.norm_squared();
+        let chi2_r = theta2 * m.inv_var_r;
+        if chi2_r + t_rel.norm_squared() * m.inv_var_p <= m.displaced {
+            return;
+        }
+        o.significant += 1;
+        let ww = Sym3::square(&omega);
+        o.sum_ww.add(&ww);
+        o.sum_tt.add_product(t_rel, t_rel);
+        if chi2_r <= m.axis_chi2 {
+            return;
+        }
+        let g = omega.cross(&xi.v);
+        let theta4 = theta2 * theta2;
+        let g2 = g
+            .norm_squared()
+            .min(MAX_AXIS_DISTANCE_M * MAX_AXIS_DISTANCE_M * theta4);
+        let chord2 = 4.0 * q_rel.quaternion().imag().norm_squared();
+        let inv_e4 = 1.0 / (theta4 * (m.ref_var_p + m.tol_p2 * chord2) + m.ref_var_r * g2);
+        let inv_d = 1.0 / (m.ref_var_r + m.tol_r2 * theta2);
+        let w_4 = chord2 * inv_e4;
+        let w = w_4 * theta4;
+        let a = theta2 * inv_d;
+        let wt = omega.dot(t_rel);
+        o.line_n += 1.0;
+        o.sw += w;
+        o.sww += w * w;
+        o.swr += g * (w_4 * theta2);
+        o.swrr.add_product(&(g * w_4), &g);
+        o.sa += a;
+        o.saa += a * a;
+        o.sauu.add_scaled(&ww, inv_d);
+        o.pitch_chi2 += wt * wt * m.w_p / theta2;
+        o.sw_inv_chord += chord2.sqrt() * theta4 * inv_e4;
+        let theta = theta2.sqrt();
+        if theta > o.max_angle {
+            o.max_angle = theta;
+            o.max_twist = Some(xi);
+        }
+    }
+
+    #[test]
+    fn four_lanes_give_the_frame_by_frame_sums() {
+        let m = FrameModel::new(
+            &NoiseModel {
+                sigma_position: 1e-3,
+                sigma_rotation: 8.7e-3,
+            },
+            &crate::classify::Config::default().robust,
+        );
+        let mut state = 0x0123_4567_89ab_cdef_u64;
+        // Runs of 1 to 40 frames (all remainders of 16 and 4): still, barely moving, small and
+        // large rotations about random lines, both quaternion signs. Sums agree to rounding
+        // (they are added in another order), the rest bit for bit.
+        for run in 1..=40 {
+            let (mut open, mut reference) = (OpenSums::default(), Reference::default());
+            for _ in 0..run {
+                let mut r = || unit(&mut state);
+                let scale = [0.0, 1e-3, 0.05, 0.5, 2.5][(r() * 5.0) as usize];
+                let axis = Vector3::new(r() - 0.5, r() - 0.5, r() - 0.5);
+                let mut q = UnitQuaternion::from_scaled_axis(axis * scale);
+                if r() < 0.3 {
+                    q = UnitQuaternion::new_unchecked(-q.into_inner());
+                }
+                let t = Vector3::new(r() - 0.5, r() - 0.5, r() - 0.5) * (0.2 * scale);
+                open.push(&t, &q, &m);
+                add_one(&mut reference, &t, &q, &m);
+            }
+            open.add_pending(&m);
+            assert!(reference.significant > 0 && reference.line_n > 0.0 || run < 8);
+            // Rounding bound of a sum of n terms in any order: n ε Σ|terms|, with Σ|terms|
+            // bounded through Cauchy-Schwarz by the diagonal sums for the mixed-sign entries
+            // (Σ|x_i x_j| <= √(Σx_i² Σx_j²)).
+            let o = &open.sums;
+            let bound = |scale: f64| run as f64 * f64::EPSILON * scale;
+            let close = |a: F4, b: f64, scale: f64| {
+                let a = total(a);
+                assert!((a - b).abs() <= bound(scale), "run of {run}: {a} vs {b}");
+            };
+            let diag = [(0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2)];
+            let sym = |a: &[F4; 6], b: &Sym3| {
+                let d = [b.0[0], b.0[3], b.0[5]];
+                for (e, &(i, j)) in diag.iter().enumerate() {
+                    close(a[e], b.0[e], (d[i] * d[j]).sqrt());
+                }
+            };
+            assert_eq!(o.significant, reference.significant);
+            assert_eq!(total(o.line_n), reference.line_n);
+            sym(&o.sum_ww, &reference.sum_ww);
+            sym(&o.sum_tt, &reference.sum_tt);
+            sym(&o.swrr, &reference.swrr);
+            sym(&o.sauu, &reference.sauu);
+            // Σ|w r_i| <= √(Σw Σ w r_i²).
+            let rr = [
+                reference.swrr.0[0],
+                reference.swrr.0[3],
+                reference.swrr.0[5],
+            ];
+            for i in 0..3 {
+                close(o.swr[i], reference.swr[i], (reference.sw * rr[i]).sqrt());
+            }
+            // Sums of positive terms.
+            for (a, b) in [
+                (o.sw, reference.sw),
+                (o.sww, reference.sww),
+                (o.sa, reference.sa),
+                (o.saa, reference.saa),
+                (o.pitch_chi2, reference.pitch_chi2),
+                (o.sw_inv_chord, reference.sw_inv_chord),
+            ] {
+                close(a, b, b);
+            }
+            // The largest rotation is picked, not summed: the same frame, bit for bit.
+            assert_eq!(o.max_angle, reference.max_angle);
+            assert_eq!(o.max_twist, reference.max_twist);
         }
     }
 }

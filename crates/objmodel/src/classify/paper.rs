@@ -12,9 +12,10 @@ use super::{Classification, Config, Kind, Label, LabelRun, Method, Segment, Vote
 use crate::edge::EdgeObservation;
 use crate::face::{FaceObservation, FaceSource};
 use crate::geometry::Line;
-use crate::screw::{plane_normal, Screw};
-use crate::se3::Twist;
-use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use crate::lanes::{cross, dot, scale, F4, M4, V4};
+use crate::screw::{plane_normal, Screw, ZERO_ROTATION_RAD};
+use crate::se3::{Twist, Twist4};
+use nalgebra::{Matrix3, Unit, UnitQuaternion, Vector3};
 
 /// Algorithm 2's candidate: (θ \[rad\], axis point \[m\], unit axis direction, ω \[rad\]).
 type Best = (f64, Vector3<f64>, Vector3<f64>, Vector3<f64>);
@@ -36,6 +37,24 @@ pub(super) struct PaperCore {
     /// Cosines of the axis and normal angle thresholds.
     cos_axis: f64,
     cos_normal: f64,
+    /// Frames waiting for their logarithms, taken four at a time (see [`Pending`]).
+    pending: Pending,
+}
+
+/// Up to four frames' motions `g(0)⁻¹ g(t)` waiting for their logarithms, which are taken
+/// together in four lanes ([`Twist4::log_quat`], in AVX2 code when the processor has it): each
+/// logarithm is a long chain of square roots and divisions, and four share each instruction.
+/// Every lane has the bits of the frame-by-frame logarithm.
+#[derive(Default)]
+struct Pending {
+    n: usize,
+    /// Frame index and time \[s\].
+    index: [usize; 4],
+    t: [f64; 4],
+    /// The motion's rotation `(w, x, y, z)` and translation \[m\], by coordinate.
+    qw: F4,
+    qv: V4,
+    tr: V4,
 }
 
 impl PaperCore {
@@ -53,6 +72,7 @@ impl PaperCore {
             t_range: None,
             cos_axis: config.paper.axis_angle.cos(),
             cos_normal: config.paper.normal_angle.cos(),
+            pending: Pending::default(),
         }
     }
 
@@ -79,7 +99,6 @@ impl PaperCore {
     /// Push the next item; `down` is the unit "down" in the frame the poses are relative to.
     pub(super) fn push(&mut self, item: Item, down: Option<Vector3<f64>>) {
         let Item::Frame(f) = item else { return };
-        let th = self.config.paper;
         if self.reference.is_none() {
             self.reference = Some((f.q, f.p, down.map(|d| f.q.inverse() * d)));
             self.reference_inv = f.q.inverse();
@@ -90,9 +109,78 @@ impl PaperCore {
             r.1 = f.t;
         }
         let q0_inv = self.reference_inv;
-        let xi = Twist::log_quat(&(q0_inv * f.q), &(q0_inv * (f.p - p0)));
+        let (q, t) = (q0_inv * f.q, q0_inv * (f.p - p0));
+        let p = &mut self.pending;
+        let k = p.n;
+        (p.index[k], p.t[k]) = (f.index, f.t);
+        p.qw.0[k] = q.w;
+        for i in 0..3 {
+            p.qv[i].0[k] = q.imag()[i];
+            p.tr[i].0[k] = t[i];
+        }
+        p.n += 1;
+        if p.n == 4 {
+            self.flush();
+        }
+    }
+
+    /// Judge the pending frames.
+    #[inline(never)]
+    fn flush(&mut self) {
+        #[cfg(target_arch = "x86_64")]
+        if crate::lanes::avx2() {
+            // SAFETY: the processor runs AVX2 code (checked just above).
+            unsafe { self.flush_avx2() };
+            return;
+        }
+        self.flush_lanes();
+    }
+
+    /// [`PaperCore::flush`] compiled for AVX2 (the same operations, on 256-bit vectors).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn flush_avx2(&mut self) {
+        self.flush_lanes();
+    }
+
+    /// The logarithms of the pending frames and their screws (eq. 1-3, as
+    /// [`Screw::from_twist`]), four at a time; then each frame is judged in order.
+    #[inline(always)]
+    fn flush_lanes(&mut self) {
+        let p = std::mem::take(&mut self.pending);
+        // Identities after the last frame.
+        let valid = M4([p.n > 0, p.n > 1, p.n > 2, p.n > 3]);
+        let qw = valid.select(p.qw, F4::splat(1.0));
+        let xi = Twist4::log_quat(qw, &p.qv, &p.tr);
+        let theta = dot(&xi.omega, &xi.omega).sqrt();
+        let inv = 1.0 / theta;
+        let inv2 = inv * inv;
+        let direction = scale(&xi.omega, inv);
+        let point = scale(&cross(&xi.omega, &xi.v), inv2);
+        let pitch = dot(&xi.omega, &xi.v) * inv2;
+        for k in 0..p.n {
+            let x = xi.lane(k);
+            let screw = if theta.0[k] > ZERO_ROTATION_RAD {
+                let lane = |v: &V4| Vector3::new(v[0].0[k], v[1].0[k], v[2].0[k]);
+                Some(Screw {
+                    direction: Unit::new_unchecked(lane(&direction)),
+                    point: lane(&point),
+                    pitch: pitch.0[k],
+                    magnitude: theta.0[k],
+                })
+            } else {
+                Screw::from_twist(&x)
+            };
+            self.judge(p.index[k], p.t[k], x, screw);
+        }
+    }
+
+    /// Algorithm 1 for one frame: its twist `xi` of `g(0)⁻¹ g(t)` and screw, against the
+    /// previous frame's.
+    #[inline(always)]
+    fn judge(&mut self, index: usize, t: f64, xi: Twist, screw: Option<Screw>) {
+        let th = self.config.paper;
         let omega = xi.omega;
-        let screw = Screw::from_twist(&xi);
         // For a rotation the plane normal (eq. 5) is the screw's direction and θ its magnitude.
         let (theta, normal) = match &screw {
             Some(s) if s.is_rotation() => (s.magnitude, Some(s.direction.into_inner())),
@@ -140,16 +228,19 @@ impl PaperCore {
                 self.best = Some((theta, s.point, s.direction.into_inner(), omega));
             }
         }
-        self.label(f.index, f.t, label);
+        self.label(index, t, label);
         self.previous = Some((xi, screw, normal));
     }
 
     pub(super) fn finish(
-        self,
+        mut self,
         name: &str,
         instrumented: bool,
         frames: u64,
     ) -> crate::Result<Classification> {
+        if self.pending.n > 0 {
+            self.flush();
+        }
         let kind = self.votes.winner().unwrap_or(Kind::General);
         let down = self.reference.and_then(|r| r.2);
         let edge = (kind == Kind::Topple)
