@@ -258,6 +258,21 @@ impl Core {
         }
     }
 
+    /// [`Core::push`] for an item whose accumulated rotation \[rad\] was taken elsewhere (see
+    /// [`RestFront::push_rotated`]).
+    pub(super) fn push_rotated(
+        &mut self,
+        item: Item,
+        rot: &Vector3<f64>,
+        down: Option<Vector3<f64>>,
+    ) {
+        self.seg.down = down;
+        let Self { front, seg } = self;
+        if let Some(front) = front {
+            front.push_rotated(item, rot, &mut |j| seg.judged(j));
+        }
+    }
+
     pub(super) fn finish(
         self,
         name: &str,

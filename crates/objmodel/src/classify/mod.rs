@@ -34,8 +34,8 @@ mod rest;
 mod stream;
 
 pub use files::classify_files;
-pub use rest::{Item, Judged};
-pub use stream::{Analyzer, ObjectCleaner, ObjectFront};
+pub use rest::{Item, Judged, RotationSum};
+pub use stream::{Analyzer, ObjectCleaner, ObjectFront, RotatingCleaner};
 
 use crate::edge::EdgeObservation;
 use crate::face::FaceObservation;

@@ -67,6 +67,27 @@ fn step_log(q0: &UnitQuaternion<f64>, q: &UnitQuaternion<f64>) -> Vector3<f64> {
     }
 }
 
+/// The accumulated rotation \[rad\] of a stream of frames: the sum of the logs of the
+/// frame-to-frame rotations since the first frame ([`step_log`]). A stage of its own, so that
+/// it can run on another thread than the [`RestDetector`] that fits it.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RotationSum {
+    sum: Vector3<f64>,
+    last: Option<UnitQuaternion<f64>>,
+}
+
+impl RotationSum {
+    /// The accumulated rotation at the next frame, of orientation `q`.
+    #[inline(always)]
+    pub fn next(&mut self, q: &UnitQuaternion<f64>) -> Vector3<f64> {
+        if let Some(q0) = self.last {
+            self.sum += step_log(&q0, q);
+        }
+        self.last = Some(*q);
+        self.sum
+    }
+}
+
 /// Number of running sums (padded to an even count for two-lane SIMD).
 const TERMS: usize = 16;
 
@@ -217,8 +238,6 @@ pub struct RestDetector {
     tail: usize,
     /// Sums over the items pushed since the last re-basing (the next item's `before`).
     total: Sums,
-    cum_rot: Vector3<f64>,
-    last_q: Option<UnitQuaternion<f64>>,
     origin: (f64, [f64; 6]),
     since_rebase: usize,
 }
@@ -242,8 +261,6 @@ impl RestDetector {
             hi: 0,
             tail: 0,
             total: Sums::default(),
-            cum_rot: Vector3::zeros(),
-            last_q: None,
             origin: (0.0, [0.0; 6]),
             since_rebase: 0,
         }
@@ -305,14 +322,15 @@ impl RestDetector {
         &mut self.slots[self.tail & self.mask]
     }
 
-    /// Push the next frame (see [`RestDetector::push`]).
+    /// Push the next frame, with its accumulated rotation `r` \[rad\] (see [`RotationSum`],
+    /// [`RestDetector::push`]).
     #[inline(always)]
-    pub fn push_frame(&mut self, f: &RawFrame, out: &mut impl FnMut(Item, bool, &Vector3<f64>)) {
-        if let Some(q0) = self.last_q {
-            self.cum_rot += step_log(&q0, &f.q);
-        }
-        self.last_q = Some(f.q);
-        let r = &self.cum_rot;
+    pub fn push_frame(
+        &mut self,
+        f: &RawFrame,
+        r: &Vector3<f64>,
+        out: &mut impl FnMut(Item, bool, &Vector3<f64>),
+    ) {
         let x = [r.x, r.y, r.z, f.p.x, f.p.y, f.p.z];
         let origin = self.origin;
         // Field by field, in place: a whole `Slot` value would be built aside and copied.
@@ -348,13 +366,18 @@ impl RestDetector {
         self.drain(false, out);
     }
 
-    /// Push the next item; judged items are passed to `out` with `moving` (false for outliers)
-    /// and the accumulated rotation \[rad\] (the sum of the logs of the frame-to-frame
-    /// rotations since the first frame; zero for outliers).
+    /// Push the next item, with its accumulated rotation `rot` \[rad\] (of the frames up to it,
+    /// see [`RotationSum`]; ignored for outliers); judged items are passed to `out` with
+    /// `moving` (false for outliers) and that rotation (zero for outliers).
     #[inline(always)]
-    pub fn push(&mut self, item: Item, out: &mut impl FnMut(Item, bool, &Vector3<f64>)) {
+    pub fn push(
+        &mut self,
+        item: Item,
+        rot: &Vector3<f64>,
+        out: &mut impl FnMut(Item, bool, &Vector3<f64>),
+    ) {
         match &item {
-            Item::Frame(f) => self.push_frame(f, out),
+            Item::Frame(f) => self.push_frame(f, rot, out),
             Item::Outlier(index, t) => self.push_outlier(*index, *t, out),
         }
     }
@@ -421,7 +444,9 @@ pub enum Judged {
 #[derive(Debug)]
 pub struct RestFront {
     config: Config,
-    warm: Vec<Item>,
+    /// The accumulated rotation, for items pushed without it ([`RestFront::push`]).
+    rotation: RotationSum,
+    warm: Vec<(Item, Vector3<f64>)>,
     noise: Option<NoiseModel>,
     rest: Option<RestDetector>,
 }
@@ -431,6 +456,7 @@ impl RestFront {
     pub fn new(config: &Config) -> Self {
         Self {
             config: *config,
+            rotation: RotationSum::default(),
             warm: Vec::new(),
             noise: config.robust.noise.map(NoiseModel::floored),
             rest: None,
@@ -442,7 +468,7 @@ impl RestFront {
             let samples: Vec<noise::PoseSample> = self
                 .warm
                 .iter()
-                .filter_map(|i| match i {
+                .filter_map(|(i, _)| match i {
                     Item::Frame(f) => Some((f.t, f.q, f.p)),
                     Item::Outlier(..) => None,
                 })
@@ -461,8 +487,8 @@ impl RestFront {
             noise.sigma_rotation,
             r.alpha,
         );
-        for item in std::mem::take(&mut self.warm) {
-            rest.push(item, &mut |i, m, r| out(Judged::Item(i, m, *r)));
+        for (item, rot) in std::mem::take(&mut self.warm) {
+            rest.push(item, &rot, &mut |i, m, r| out(Judged::Item(i, m, *r)));
         }
         self.rest = Some(rest);
     }
@@ -472,10 +498,21 @@ impl RestFront {
     // 45-52 ns/pose for clean + rest front when left to the compiler, 60 when forced inline.
     #[inline(never)]
     pub fn push(&mut self, item: Item, out: &mut impl FnMut(Judged)) {
+        let rot = match &item {
+            Item::Frame(f) => self.rotation.next(&f.q),
+            Item::Outlier(..) => Vector3::zeros(),
+        };
+        self.push_rotated(item, &rot, out);
+    }
+
+    /// Push the next item with its accumulated rotation \[rad\], taken elsewhere (with a
+    /// [`RotationSum`] over the frames, outliers left out); what is judged goes to `out`.
+    #[inline(never)]
+    pub fn push_rotated(&mut self, item: Item, rot: &Vector3<f64>, out: &mut impl FnMut(Judged)) {
         match self.rest.as_mut() {
-            Some(rest) => rest.push(item, &mut |i, m, r| out(Judged::Item(i, m, *r))),
+            Some(rest) => rest.push(item, rot, &mut |i, m, r| out(Judged::Item(i, m, *r))),
             None => {
-                self.warm.push(item);
+                self.warm.push((item, *rot));
                 if self.warm.len() >= self.config.robust.warmup_frames.max(3) {
                     self.start(out);
                 }
@@ -638,8 +675,13 @@ mod tests {
             let mut keep = |i: Item, m: bool, r: &Vector3<f64>| {
                 got.push((key(&i), m, [r.x, r.y, r.z]));
             };
+            let mut rotation = RotationSum::default();
             for i in &items {
-                d.push(*i, &mut keep);
+                let rot = match i {
+                    Item::Frame(f) => rotation.next(&f.q),
+                    Item::Outlier(..) => Vector3::zeros(),
+                };
+                d.push(*i, &rot, &mut keep);
             }
             d.finish(&mut keep);
             moving_frames += got.iter().filter(|g| g.1).count();
@@ -653,6 +695,7 @@ mod tests {
         // 1 s rest, 2 s tilt at 0.1 rad/s, 1 s rest, exact data with 0.5 deg / 1 mm noise model.
         let mut d = RestDetector::new(0.6, 1e-3, 0.0087, 1e-3);
         let mut verdicts = Vec::new();
+        let mut rotation = RotationSum::default();
         for k in 0..120 {
             let t = k as f64 / 30.0;
             let angle = 0.1 * (t - 1.0).clamp(0.0, 2.0);
@@ -662,7 +705,8 @@ mod tests {
                 q: UnitQuaternion::from_scaled_axis(Vector3::new(angle, 0.0, 0.0)),
                 p: Vector3::zeros(),
             };
-            d.push(Item::Frame(f), &mut |i, m, _| verdicts.push((i, m)));
+            let rot = rotation.next(&f.q);
+            d.push(Item::Frame(f), &rot, &mut |i, m, _| verdicts.push((i, m)));
         }
         d.finish(&mut |i, m, _| verdicts.push((i, m)));
         assert_eq!(verdicts.len(), 120);

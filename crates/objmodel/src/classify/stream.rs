@@ -4,7 +4,7 @@
 
 use super::blocks::Core;
 use super::paper::PaperCore;
-use super::rest::{Item, Judged, RestFront};
+use super::rest::{Item, Judged, RestFront, RotationSum};
 use super::{Classification, Config, Method};
 use crate::clean::{Cleaner, RawFrame};
 use crate::noise::{self, NoiseModel};
@@ -94,6 +94,53 @@ impl ObjectCleaner {
     /// Flush the last frames.
     pub fn finish(self, out: &mut impl FnMut(RawFrame, bool)) {
         self.cleaner.finish(out);
+    }
+}
+
+/// The object stream's cleaner and the accumulated rotation of the frames it keeps
+/// ([`RotationSum`]): the part of the robust analysis before rest detection that can run on
+/// another thread (it is `Send`). Feed it poses; pass what it emits to
+/// [`Analyzer::push_cleaned_rotated`].
+pub struct RotatingCleaner {
+    cleaner: ObjectCleaner,
+    rotation: RotationSum,
+}
+
+impl RotatingCleaner {
+    /// Wrap a cleaner taken with [`Analyzer::take_object_cleaner`].
+    pub fn new(cleaner: ObjectCleaner) -> Self {
+        Self {
+            cleaner,
+            rotation: RotationSum::default(),
+        }
+    }
+
+    /// Push the next object pose; judged frames are passed to `out` with their verdict and,
+    /// for kept frames, their accumulated rotation \[rad\] (zero for rejected ones).
+    #[inline(always)]
+    pub fn push(&mut self, p: &StampedPose, out: &mut impl FnMut(RawFrame, bool, Vector3<f64>)) {
+        let rotation = &mut self.rotation;
+        self.cleaner.push(p, &mut |f, outlier| {
+            let rot = if outlier {
+                Vector3::zeros()
+            } else {
+                rotation.next(&f.q)
+            };
+            out(f, outlier, rot)
+        });
+    }
+
+    /// Flush the last frames.
+    pub fn finish(self, out: &mut impl FnMut(RawFrame, bool, Vector3<f64>)) {
+        let mut rotation = self.rotation;
+        self.cleaner.finish(&mut |f, outlier| {
+            let rot = if outlier {
+                Vector3::zeros()
+            } else {
+                rotation.next(&f.q)
+            };
+            out(f, outlier, rot)
+        });
     }
 }
 
@@ -383,6 +430,21 @@ impl Analyzer {
         }
         if let Back::Robust(core) = &mut self.back {
             core.seg.judged(j);
+        }
+    }
+
+    /// Push an object frame judged by an [`ObjectCleaner`] (`outlier` = rejected), with its
+    /// accumulated rotation \[rad\] taken by a [`RotationSum`] over the frames that were not
+    /// rejected (see [`RotatingCleaner`]). For the robust method without a palm; otherwise the
+    /// same as [`Analyzer::push_cleaned_object`].
+    pub fn push_cleaned_rotated(&mut self, f: RawFrame, outlier: bool, rot: &Vector3<f64>) {
+        match &mut self.back {
+            Back::Robust(core) if !self.instrumented => {
+                self.frames += 1;
+                self.last_t = Some(f.t);
+                core.push_rotated(item(f, outlier), rot, self.down_world);
+            }
+            _ => self.push_cleaned_object(f, outlier),
         }
     }
 
