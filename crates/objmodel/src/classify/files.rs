@@ -5,7 +5,7 @@ use crate::clean::RawFrame;
 use crate::format;
 use crate::trajectory::StampedPose;
 use crate::Result;
-use nalgebra::Vector3;
+use nalgebra::{UnitQuaternion, Vector3};
 use std::path::Path;
 
 /// A stage of the analysis that can run on the parsing thread: it takes poses and emits
@@ -19,13 +19,39 @@ trait Front: Send + 'static {
     fn finish_poses(self, out: &mut impl FnMut(Self::Out));
 }
 
+/// A cleaned frame as the parsing thread hands it over, in 88 bytes (every byte crosses
+/// between the cores' caches): time \[s\], orientation, position \[m\] and accumulated
+/// rotation \[rad\], NaN for a frame rejected as an outlier. The frame's index is its place
+/// in the stream, counted by the receiver.
+#[derive(Clone, Copy)]
+struct Handed {
+    t: f64,
+    q: UnitQuaternion<f64>,
+    p: Vector3<f64>,
+    rot: Vector3<f64>,
+}
+
 impl Front for RotatingCleaner {
-    type Out = (RawFrame, bool, Vector3<f64>);
-    fn push_pose(&mut self, p: &StampedPose, out: &mut impl FnMut(Self::Out)) {
-        self.push(p, &mut |f, o, r| out((f, o, r)))
+    type Out = Handed;
+    fn push_pose(&mut self, p: &StampedPose, out: &mut impl FnMut(Handed)) {
+        self.push(p, &mut |f, o, r| out(handed(&f, o, r)))
     }
-    fn finish_poses(self, out: &mut impl FnMut(Self::Out)) {
-        self.finish(&mut |f, o, r| out((f, o, r)))
+    fn finish_poses(self, out: &mut impl FnMut(Handed)) {
+        self.finish(&mut |f, o, r| out(handed(&f, o, r)))
+    }
+}
+
+#[inline(always)]
+fn handed(f: &RawFrame, outlier: bool, rot: Vector3<f64>) -> Handed {
+    Handed {
+        t: f.t,
+        q: f.q,
+        p: f.p,
+        rot: if outlier {
+            Vector3::repeat(f64::NAN)
+        } else {
+            rot
+        },
     }
 }
 
@@ -50,9 +76,15 @@ pub fn classify_files(
             // `ObjectFront`, that thread is the busier one).
             if let Some(cleaner) = a.take_object_cleaner() {
                 let front = RotatingCleaner::new(cleaner);
-                for j in CleanedFrames::spawn(format::open(object)?, front) {
-                    let (f, outlier, rot) = j?;
-                    a.push_cleaned_rotated(f, outlier, &rot);
+                for (index, h) in CleanedFrames::spawn(format::open(object)?, front).enumerate() {
+                    let h = h?;
+                    let f = RawFrame {
+                        index,
+                        t: h.t,
+                        q: h.q,
+                        p: h.p,
+                    };
+                    a.push_cleaned_rotated(f, h.rot.x.is_nan(), &h.rot);
                 }
             } else {
                 for p in ThreadedPoses::spawn(format::open(object)?) {

@@ -290,6 +290,9 @@ impl PalmMerger {
     }
 }
 
+// One per analyzer, on the per-frame path: boxing the large variant would add an indirection
+// to every frame for no saving that matters.
+#[allow(clippy::large_enum_variant)]
 enum Back {
     Robust(Core),
     Paper(PaperCore),
