@@ -491,7 +491,13 @@ mod tests {
                 open.push(&t, &q, &m);
                 add_one(&mut reference, &t, &q, &m);
             }
+            // The portable build of the kernel (SSE2 or scalar) against the dispatched one
+            // (AVX2 where the processor has it): the same operations, the same bits.
+            let mut portable = open;
+            let n = std::mem::take(&mut portable.pending);
+            portable.add_pending_lanes(n, &m);
             open.add_pending(&m);
+            assert_eq!(portable.sums, open.sums);
             assert!(reference.significant > 0 && reference.line_n > 0.0 || run < 8);
             // Rounding bound of a sum of n terms in any order: n ε Σ|terms|, with Σ|terms|
             // bounded through Cauchy-Schwarz by the diagonal sums for the mixed-sign entries
