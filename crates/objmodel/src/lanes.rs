@@ -203,6 +203,12 @@ pub fn cross(a: &V4, b: &V4) -> V4 {
     ]
 }
 
+/// Lane `k` of `a` as a vector.
+#[inline(always)]
+pub fn lane(a: &V4, k: usize) -> nalgebra::Vector3<f64> {
+    nalgebra::Vector3::new(a[0].0[k], a[1].0[k], a[2].0[k])
+}
+
 /// `s a` for a lane scalar `s`.
 #[inline(always)]
 pub fn scale(a: &V4, s: F4) -> V4 {

@@ -12,7 +12,8 @@
 //! ω = 0 (a pure translation) the axis is `{λ v/|v|}`, the pitch is infinite and the magnitude
 //! is |v| \[m\]. Eq. 5's plane normal is ω/θ for ω ≠ 0 and `v(t) × v(t-1)` normalised otherwise.
 
-use crate::se3::Twist;
+use crate::lanes::{cross, dot, lane, scale};
+use crate::se3::{Twist, Twist4};
 use nalgebra::{Unit, Vector3};
 
 /// |ω| \[rad\] at or below which a twist counts as a pure translation (ω = 0 in eq. 1-3).
@@ -55,6 +56,28 @@ impl Screw {
                 magnitude: n,
             })
         }
+    }
+
+    /// [`Screw::from_twist`] of four twists: lane `k` is the screw of twist `k`, with its
+    /// bits; `None` in the lanes whose rotation is at or below [`ZERO_ROTATION_RAD`] (a
+    /// translation or nothing: take [`Screw::from_twist`] of that twist).
+    #[inline(always)]
+    pub fn from_twists(xi: &Twist4) -> [Option<Self>; 4] {
+        let theta = dot(&xi.omega, &xi.omega).sqrt();
+        let inv = 1.0 / theta;
+        let inv2 = inv * inv;
+        let direction = scale(&xi.omega, inv);
+        let point = scale(&cross(&xi.omega, &xi.v), inv2);
+        let pitch = dot(&xi.omega, &xi.v) * inv2;
+        let screw = |k: usize| {
+            (theta.0[k] > ZERO_ROTATION_RAD).then(|| Self {
+                direction: Unit::new_unchecked(lane(&direction, k)),
+                point: lane(&point, k),
+                pitch: pitch.0[k],
+                magnitude: theta.0[k],
+            })
+        };
+        [screw(0), screw(1), screw(2), screw(3)]
     }
 
     /// True for a pure rotation or screw (ω ≠ 0), false for a pure translation.
@@ -121,6 +144,38 @@ mod tests {
             let g = Isometry3::from_parts(Translation3::from(q - r * q + u * advance), r);
             let s = Screw::from_twist(&Twist::log(&g)).unwrap();
             prop_assert!((s.pitch - advance / theta).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn four_lane_screws_have_the_scalar_bits() {
+        use crate::lanes::{F4, V4};
+        let mut state = 0x1234_5678_9abc_def1_u64;
+        let mut r = || crate::testing::unit(&mut state) - 0.5;
+        for _ in 0..500 {
+            // Rotations of all sizes, down to none (a pure translation) and the zero twist.
+            let twists: [Twist; 4] = std::array::from_fn(|k| {
+                let scale = [1.0, 1e-6, 1e-13, 0.0][k];
+                Twist::new(
+                    Vector3::new(r(), r(), r()) * if k == 3 { 0.0 } else { 1.0 },
+                    Vector3::new(r(), r(), r()) * scale,
+                )
+            });
+            let v4 = |f: &dyn Fn(&Twist) -> Vector3<f64>| -> V4 {
+                std::array::from_fn(|i| F4::from_fn(|k| f(&twists[k])[i]))
+            };
+            let four = Twist4 {
+                v: v4(&|x| x.v),
+                omega: v4(&|x| x.omega),
+            };
+            let screws = Screw::from_twists(&four);
+            for (k, x) in twists.iter().enumerate() {
+                let one = Screw::from_twist(x);
+                match screws[k] {
+                    Some(s) => assert_eq!(Some(s), one),
+                    None => assert!(x.omega.norm() <= ZERO_ROTATION_RAD),
+                }
+            }
         }
     }
 

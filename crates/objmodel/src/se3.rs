@@ -195,8 +195,8 @@ impl Twist4 {
     #[inline(always)]
     pub fn lane(&self, k: usize) -> Twist {
         Twist {
-            v: Vector3::new(self.v[0].0[k], self.v[1].0[k], self.v[2].0[k]),
-            omega: Vector3::new(self.omega[0].0[k], self.omega[1].0[k], self.omega[2].0[k]),
+            v: crate::lanes::lane(&self.v, k),
+            omega: crate::lanes::lane(&self.omega, k),
         }
     }
 }

@@ -12,10 +12,10 @@ use super::{Classification, Config, Kind, Label, LabelRun, Method, Segment, Vote
 use crate::edge::EdgeObservation;
 use crate::face::{FaceObservation, FaceSource};
 use crate::geometry::Line;
-use crate::lanes::{cross, dot, scale, F4, M4, V4};
-use crate::screw::{plane_normal, Screw, ZERO_ROTATION_RAD};
+use crate::lanes::{F4, M4, V4};
+use crate::screw::{plane_normal, Screw};
 use crate::se3::{Twist, Twist4};
-use nalgebra::{Matrix3, Unit, UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 /// Algorithm 2's candidate: (θ \[rad\], axis point \[m\], unit axis direction, ω \[rad\]).
 type Best = (f64, Vector3<f64>, Vector3<f64>, Vector3<f64>);
@@ -152,25 +152,10 @@ impl PaperCore {
         let valid = M4([p.n > 0, p.n > 1, p.n > 2, p.n > 3]);
         let qw = valid.select(p.qw, F4::splat(1.0));
         let xi = Twist4::log_quat(qw, &p.qv, &p.tr);
-        let theta = dot(&xi.omega, &xi.omega).sqrt();
-        let inv = 1.0 / theta;
-        let inv2 = inv * inv;
-        let direction = scale(&xi.omega, inv);
-        let point = scale(&cross(&xi.omega, &xi.v), inv2);
-        let pitch = dot(&xi.omega, &xi.v) * inv2;
+        let screws = Screw::from_twists(&xi);
         for k in 0..p.n {
             let x = xi.lane(k);
-            let screw = if theta.0[k] > ZERO_ROTATION_RAD {
-                let lane = |v: &V4| Vector3::new(v[0].0[k], v[1].0[k], v[2].0[k]);
-                Some(Screw {
-                    direction: Unit::new_unchecked(lane(&direction)),
-                    point: lane(&point),
-                    pitch: pitch.0[k],
-                    magnitude: theta.0[k],
-                })
-            } else {
-                Screw::from_twist(&x)
-            };
+            let screw = screws[k].or_else(|| Screw::from_twist(&x));
             self.judge(p.index[k], p.t[k], x, screw);
         }
     }
