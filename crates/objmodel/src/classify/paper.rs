@@ -153,9 +153,9 @@ impl PaperCore {
         let qw = valid.select(p.qw, F4::splat(1.0));
         let xi = Twist4::log_quat(qw, &p.qv, &p.tr);
         let screws = Screw::from_twists(&xi);
-        for k in 0..p.n {
+        for (k, screw) in screws.into_iter().enumerate().take(p.n) {
             let x = xi.lane(k);
-            let screw = screws[k].or_else(|| Screw::from_twist(&x));
+            let screw = screw.or_else(|| Screw::from_twist(&x));
             self.judge(p.index[k], p.t[k], x, screw);
         }
     }
