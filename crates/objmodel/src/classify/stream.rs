@@ -121,26 +121,25 @@ impl RotatingCleaner {
     pub fn push(&mut self, p: &StampedPose, out: &mut impl FnMut(RawFrame, bool, Vector3<f64>)) {
         let rotation = &mut self.rotation;
         self.cleaner.push(p, &mut |f, outlier| {
-            let rot = if outlier {
-                Vector3::zeros()
-            } else {
-                rotation.next(&f.q)
-            };
-            out(f, outlier, rot)
+            out(f, outlier, rotated(rotation, &f, outlier))
         });
     }
 
     /// Flush the last frames.
     pub fn finish(self, out: &mut impl FnMut(RawFrame, bool, Vector3<f64>)) {
         let mut rotation = self.rotation;
-        self.cleaner.finish(&mut |f, outlier| {
-            let rot = if outlier {
-                Vector3::zeros()
-            } else {
-                rotation.next(&f.q)
-            };
-            out(f, outlier, rot)
-        });
+        self.cleaner
+            .finish(&mut |f, outlier| out(f, outlier, rotated(&mut rotation, &f, outlier)));
+    }
+}
+
+/// The accumulated rotation at a cleaned frame: zero for a rejected one, which is left out.
+#[inline(always)]
+fn rotated(rotation: &mut RotationSum, f: &RawFrame, outlier: bool) -> Vector3<f64> {
+    if outlier {
+        Vector3::zeros()
+    } else {
+        rotation.next(&f.q)
     }
 }
 
