@@ -10,7 +10,7 @@
 
 use super::fit;
 use super::moving::{FrameModel, OpenSums};
-use super::rest::{Item, Judged, RestFront};
+use super::rest::{Item, ItemRef, Judged, RestFront, Verdicts};
 use super::{Classification, Config, Label, LabelRun, Method, Votes};
 use crate::clean::RawFrame;
 use crate::geometry::{Line, LineStats, PlaneStats};
@@ -254,22 +254,28 @@ impl Core {
         self.seg.down = down;
         let Self { front, seg } = self;
         if let Some(front) = front {
-            front.push(item, &mut |j| seg.judged(j));
+            front.push(item, seg);
         }
     }
 
-    /// [`Core::push`] for an item whose accumulated rotation \[rad\] was taken elsewhere (see
-    /// [`RestFront::push_rotated`]).
+    /// [`Core::push`] for a frame (index, time \[s\], orientation, position \[m\]; `None`
+    /// for an outlier, of which only the index and time count) whose accumulated rotation
+    /// \[rad\] was taken elsewhere (see [`RestFront::push_frame`]).
+    #[inline(always)]
     pub(super) fn push_rotated(
         &mut self,
-        item: Item,
-        rot: &Vector3<f64>,
+        index: usize,
+        t: f64,
+        frame: Option<(&UnitQuaternion<f64>, &Vector3<f64>, &Vector3<f64>)>,
         down: Option<Vector3<f64>>,
     ) {
         self.seg.down = down;
         let Self { front, seg } = self;
         if let Some(front) = front {
-            front.push_rotated(item, rot, &mut |j| seg.judged(j));
+            match frame {
+                Some((q, p, rot)) => front.push_frame(index, t, q, p, rot, seg),
+                None => front.push_outlier(index, t, seg),
+            }
         }
     }
 
@@ -281,7 +287,7 @@ impl Core {
     ) -> crate::Result<Classification> {
         let Self { front, mut seg } = self;
         if let Some(front) = front {
-            front.finish(&mut |j| seg.judged(j));
+            front.finish(&mut seg);
         }
         seg.finish(name, instrumented, frames)
     }
@@ -307,6 +313,16 @@ pub(super) struct Segmenter {
     recent: RestAcc,
     /// In a slow motion (see [`Slow`]).
     slow: Option<Slow>,
+}
+
+impl Verdicts for Segmenter {
+    fn noise(&mut self, noise: NoiseModel) {
+        self.set_noise(noise)
+    }
+    #[inline(always)]
+    fn item(&mut self, item: ItemRef<'_>, moving: bool, rot: &Vector3<f64>) {
+        Segmenter::item(self, item, moving, rot)
+    }
 }
 
 /// A slow motion: a "rest" to the windowed test over which the pose drifted measurably, both
@@ -346,52 +362,53 @@ impl Segmenter {
         self.model = Some(FrameModel::new(&n, &self.config.robust));
     }
 
-    /// Take the next output of the rest front end.
+    /// Take the next output of the rest front end, owned.
     pub(super) fn judged(&mut self, j: Judged) {
         match j {
             Judged::Noise(n) => self.set_noise(n),
-            Judged::Item(item, moving, rot) => self.item(item, moving, &rot),
+            Judged::Item(item, moving, rot) => self.item(item.as_ref(), moving, &rot),
         }
     }
 
-    fn item(&mut self, item: Item, moving: bool, rot: &Vector3<f64>) {
+    #[inline(always)]
+    fn item(&mut self, item: ItemRef<'_>, moving: bool, rot: &Vector3<f64>) {
         match item {
-            Item::Outlier(index, t) => {
+            ItemRef::Outlier(index, t) => {
                 self.outliers += 1;
                 let segment = self.segments.len().checked_sub(1);
                 self.block(index, t, Phase::Outlier, segment);
             }
-            Item::Frame(f) if self.slow.is_some() => {
-                self.moving(&f, false);
-                self.probe_slow(&f, rot, moving);
+            ItemRef::Frame(f) if self.slow.is_some() => {
+                self.moving(f, false);
+                self.probe_slow(f, rot, moving);
             }
-            Item::Frame(f) if !moving => {
+            ItemRef::Frame(f) if !moving => {
                 if self.in_motion {
                     self.in_motion = false;
                     self.rest_acc = RestAcc::default();
                     self.recent = RestAcc::default();
                 }
                 let min_rest = self.config.robust.min_rest_s;
-                self.rest_acc.add(&f, rot, min_rest);
+                self.rest_acc.add(f, rot, min_rest);
                 let full = self.rest_acc.t1 - self.rest_acc.t0;
                 if self.recent.n > 0.0 && self.recent.t1 - self.recent.t0 >= 0.5 * full {
                     self.recent = RestAcc::default();
                 }
-                self.recent.add(&f, rot, min_rest);
+                self.recent.add(f, rot, min_rest);
                 if self.is_slow_motion() {
                     self.slow = Some(Slow {
                         span_s: full,
                         probe: RestAcc::default(),
                     });
                     self.in_motion = false;
-                    self.moving(&f, true);
+                    self.moving(f, true);
                 } else {
                     // Rests belong to the segment they follow (None before the first motion).
                     let segment = self.segments.len().checked_sub(1);
                     self.block(f.index, f.t, Phase::Rest, segment);
                 }
             }
-            Item::Frame(f) => self.moving(&f, false),
+            ItemRef::Frame(f) => self.moving(f, false),
         }
     }
 

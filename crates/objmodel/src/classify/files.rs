@@ -76,16 +76,13 @@ pub fn classify_files(
             // `ObjectFront`, that thread is the busier one).
             if let Some(cleaner) = a.take_object_cleaner() {
                 let front = RotatingCleaner::new(cleaner);
-                for (index, h) in CleanedFrames::spawn(format::open(object)?, front).enumerate() {
-                    let h = h?;
-                    let f = RawFrame {
-                        index,
-                        t: h.t,
-                        q: h.q,
-                        p: h.p,
-                    };
-                    a.push_cleaned_rotated(f, h.rot.x.is_nan(), &h.rot);
-                }
+                let mut index = 0;
+                CleanedFrames::spawn(format::open(object)?, front).for_each(|h| {
+                    // Read in place, in the hand-over chunk (see `ItemRef`).
+                    let frame = (!h.rot.x.is_nan()).then_some((&h.q, &h.p, &h.rot));
+                    a.push_cleaned_rotated_parts(index, h.t, frame);
+                    index += 1;
+                })?;
             } else {
                 for p in ThreadedPoses::spawn(format::open(object)?) {
                     a.push_object(&p?);
@@ -201,9 +198,6 @@ struct CleanedFrames<T> {
     rx: std::sync::mpsc::Receiver<(Vec<T>, Option<crate::Error>)>,
     /// Emptied chunks go back to the producer for reuse (fresh ones would cost page faults).
     recycle: std::sync::mpsc::Sender<Vec<T>>,
-    chunk: Vec<T>,
-    pos: usize,
-    error: Option<crate::Error>,
 }
 
 impl<T: Copy + Send + 'static> CleanedFrames<T> {
@@ -249,34 +243,22 @@ impl<T: Copy + Send + 'static> CleanedFrames<T> {
             cleaner.finish_poses(&mut |j| chunk.push(j));
             let _ = tx.send((chunk, None));
         });
-        Self {
-            rx,
-            recycle,
-            chunk: Vec::new(),
-            pos: 0,
-            error: None,
-        }
+        Self { rx, recycle }
     }
 }
 
-impl<T: Copy> Iterator for CleanedFrames<T> {
-    type Item = Result<T>;
-
-    fn next(&mut self) -> Option<Self::Item> {
-        loop {
-            if let Some(j) = self.chunk.get(self.pos) {
-                self.pos += 1;
-                return Some(Ok(*j));
+impl<T> CleanedFrames<T> {
+    /// Pass every item to `f` in order, by reference into its hand-over chunk; an error from
+    /// the parsing thread ends the stream and is returned.
+    fn for_each(self, mut f: impl FnMut(&T)) -> Result<()> {
+        while let Ok((mut chunk, error)) = self.rx.recv() {
+            chunk.iter().for_each(&mut f);
+            if let Some(e) = error {
+                return Err(e);
             }
-            if let Some(e) = self.error.take() {
-                return Some(Err(e));
-            }
-            let (chunk, error) = self.rx.recv().ok()?;
-            let mut done = std::mem::replace(&mut self.chunk, chunk);
-            done.clear();
-            let _ = self.recycle.send(done);
-            self.pos = 0;
-            self.error = error;
+            chunk.clear();
+            let _ = self.recycle.send(chunk);
         }
+        Ok(())
     }
 }

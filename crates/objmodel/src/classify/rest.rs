@@ -40,6 +40,39 @@ pub enum Item {
     Outlier(usize, f64),
 }
 
+impl Item {
+    /// The item, borrowed.
+    #[inline(always)]
+    pub fn as_ref(&self) -> ItemRef<'_> {
+        match self {
+            Item::Frame(f) => ItemRef::Frame(f),
+            Item::Outlier(index, t) => ItemRef::Outlier(*index, *t),
+        }
+    }
+}
+
+/// An item as the [`RestDetector`] passes it on: a frame is borrowed from the detector's
+/// window, so that it is read where it was stored. (A copy assembled on the stack field by
+/// field and read back in other widths stalls the CPU on store forwarding: measured as the
+/// largest single cost of the robust analysis before this.)
+#[derive(Clone, Copy, Debug)]
+pub enum ItemRef<'a> {
+    /// A frame.
+    Frame(&'a RawFrame),
+    /// A frame rejected as an outlier (index, time).
+    Outlier(usize, f64),
+}
+
+impl ItemRef<'_> {
+    /// The item, owned.
+    pub fn to_item(self) -> Item {
+        match self {
+            ItemRef::Frame(f) => Item::Frame(*f),
+            ItemRef::Outlier(index, t) => Item::Outlier(index, t),
+        }
+    }
+}
+
 /// `sin²(θ/2)` below which [`step_log`] uses its series (rotations below 1.15°).
 const STEP_SERIES_S2: f64 = 1e-4;
 
@@ -172,27 +205,28 @@ impl Sums {
 }
 
 /// One item in the detector's window: the sums over the items before it since the last
-/// re-basing (see [`Sums`]), whether it is a frame (or an outlier), and what it takes to hand it
-/// on: time \[s\], index, and for frames the accumulated rotation \[rad\] and position \[m\]
-/// (`x`, the fitted coordinates) and the orientation.
+/// re-basing (see [`Sums`]), whether it is a frame (or an outlier, of which only the index and
+/// time are kept), the frame, and its accumulated rotation \[rad\] (with the position, the
+/// fitted coordinates).
 #[derive(Clone, Copy, Debug)]
 struct Slot {
     before: Sums,
     frame: bool,
-    t: f64,
-    x: [f64; 6],
-    q: UnitQuaternion<f64>,
-    index: usize,
+    f: RawFrame,
+    rot: Vector3<f64>,
 }
 
 impl Slot {
     const EMPTY: Slot = Slot {
         before: Sums([0.0; TERMS]),
         frame: false,
-        t: 0.0,
-        x: [0.0; 6],
-        q: UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(1.0, 0.0, 0.0, 0.0)),
-        index: 0,
+        f: RawFrame {
+            index: 0,
+            t: 0.0,
+            q: UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(1.0, 0.0, 0.0, 0.0)),
+            p: Vector3::new(0.0, 0.0, 0.0),
+        },
+        rot: Vector3::new(0.0, 0.0, 0.0),
     };
 
     #[inline(always)]
@@ -200,18 +234,20 @@ impl Slot {
         self.frame
     }
 
+    /// The fitted coordinates: accumulated rotation \[rad\] and position \[m\].
+    #[inline(always)]
+    fn x(&self) -> [f64; 6] {
+        let (r, p) = (&self.rot, &self.f.p);
+        [r.x, r.y, r.z, p.x, p.y, p.z]
+    }
+
     /// The item this slot holds.
     #[inline(always)]
-    fn item(&self) -> Item {
+    fn item(&self) -> ItemRef<'_> {
         if self.is_frame() {
-            Item::Frame(RawFrame {
-                index: self.index,
-                t: self.t,
-                q: self.q,
-                p: Vector3::new(self.x[3], self.x[4], self.x[5]),
-            })
+            ItemRef::Frame(&self.f)
         } else {
-            Item::Outlier(self.index, self.t)
+            ItemRef::Outlier(self.f.index, self.f.t)
         }
     }
 }
@@ -289,14 +325,14 @@ impl RestDetector {
     #[inline(never)]
     fn rebase(&mut self) {
         let c = self.slot(self.center);
-        let origin = (c.t, c.x);
+        let origin = (c.f.t, c.x());
         self.origin = origin;
         let mut acc = Sums::default();
         for i in self.head..self.tail {
             let e = &mut self.slots[i & self.mask];
             e.before = acc;
             if e.frame {
-                acc.add(&terms(e.t, &e.x, &origin));
+                acc.add(&terms(e.f.t, &e.x(), &origin));
             }
         }
         self.total = acc;
@@ -322,27 +358,33 @@ impl RestDetector {
         &mut self.slots[self.tail & self.mask]
     }
 
-    /// Push the next frame, with its accumulated rotation `r` \[rad\] (see [`RotationSum`],
-    /// [`RestDetector::push`]).
+    /// Push the next frame, given by its index, time \[s\], orientation and position \[m\],
+    /// with its accumulated rotation `r` \[rad\] (see [`RotationSum`], [`RestDetector::push`]).
+    /// The parts are taken by reference and stored field by field, so that they are read
+    /// where the caller has them.
     #[inline(always)]
     pub fn push_frame(
         &mut self,
-        f: &RawFrame,
+        index: usize,
+        t: f64,
+        q: &UnitQuaternion<f64>,
+        p: &Vector3<f64>,
         r: &Vector3<f64>,
-        out: &mut impl FnMut(Item, bool, &Vector3<f64>),
+        out: &mut impl FnMut(ItemRef<'_>, bool, &Vector3<f64>),
     ) {
-        let x = [r.x, r.y, r.z, f.p.x, f.p.y, f.p.z];
+        let x = [r.x, r.y, r.z, p.x, p.y, p.z];
         let origin = self.origin;
         // Field by field, in place: a whole `Slot` value would be built aside and copied.
         let total = self.total;
         let slot = self.next_slot();
         slot.before = total;
         slot.frame = true;
-        slot.t = f.t;
-        slot.x = x;
-        slot.q = f.q;
-        slot.index = f.index;
-        self.total.add(&terms(f.t, &x, &origin));
+        slot.f.index = index;
+        slot.f.t = t;
+        slot.f.q = *q;
+        slot.f.p = *p;
+        slot.rot = *r;
+        self.total.add(&terms(t, &x, &origin));
         self.tail += 1;
         self.drain(false, out);
     }
@@ -353,15 +395,15 @@ impl RestDetector {
         &mut self,
         index: usize,
         t: f64,
-        out: &mut impl FnMut(Item, bool, &Vector3<f64>),
+        out: &mut impl FnMut(ItemRef<'_>, bool, &Vector3<f64>),
     ) {
         let total = self.total;
         let slot = self.next_slot();
         slot.before = total;
         slot.frame = false;
-        slot.t = t;
-        slot.x = [0.0; 6];
-        slot.index = index;
+        slot.f.index = index;
+        slot.f.t = t;
+        slot.rot = Vector3::zeros();
         self.tail += 1;
         self.drain(false, out);
     }
@@ -372,34 +414,34 @@ impl RestDetector {
     #[inline(always)]
     pub fn push(
         &mut self,
-        item: Item,
+        item: &Item,
         rot: &Vector3<f64>,
-        out: &mut impl FnMut(Item, bool, &Vector3<f64>),
+        out: &mut impl FnMut(ItemRef<'_>, bool, &Vector3<f64>),
     ) {
-        match &item {
-            Item::Frame(f) => self.push_frame(f, rot, out),
+        match item {
+            Item::Frame(f) => self.push_frame(f.index, f.t, &f.q, &f.p, rot, out),
             Item::Outlier(index, t) => self.push_outlier(*index, *t, out),
         }
     }
 
     /// Flush the remaining items at the end of the stream.
-    pub fn finish(mut self, out: &mut impl FnMut(Item, bool, &Vector3<f64>)) {
+    pub fn finish(mut self, out: &mut impl FnMut(ItemRef<'_>, bool, &Vector3<f64>)) {
         self.drain(true, out);
     }
 
     #[inline(always)]
-    fn drain(&mut self, at_end: bool, out: &mut impl FnMut(Item, bool, &Vector3<f64>)) {
+    fn drain(&mut self, at_end: bool, out: &mut impl FnMut(ItemRef<'_>, bool, &Vector3<f64>)) {
         while self.center < self.tail {
-            let tc = self.slot(self.center).t;
+            let tc = self.slot(self.center).f.t;
             // Extend the right window [tc, tc + w].
-            while self.hi < self.tail && self.slot(self.hi).t <= tc + self.window {
+            while self.hi < self.tail && self.slot(self.hi).f.t <= tc + self.window {
                 self.hi += 1;
             }
             if self.hi == self.tail && !at_end {
                 return; // The right window is not complete yet.
             }
             // Drop frames older than tc - w from the left window [tc - w, tc].
-            while self.center > self.head && self.slot(self.head).t < tc - self.window {
+            while self.center > self.head && self.slot(self.head).f.t < tc - self.window {
                 self.head += 1;
             }
             if self.since_rebase == 0
@@ -419,8 +461,7 @@ impl RestDetector {
                     .before(self.hi)
                     .minus(&e.before)
                     .exceeds(&self.inv_var, self.threshold);
-            let rot = Vector3::new(e.x[0], e.x[1], e.x[2]);
-            out(e.item(), moving, &rot);
+            out(e.item(), moving, &e.rot);
             self.center += 1;
         }
     }
@@ -435,6 +476,30 @@ pub enum Judged {
     /// An item, `moving` or not, with its accumulated rotation \[rad\]: the sum of the logs of
     /// the frame-to-frame rotations since the first frame (zero for outliers).
     Item(Item, bool, Vector3<f64>),
+}
+
+/// Where the rest front end's output goes, in order: first the noise model in force (once,
+/// before any item), then every item with its verdict (see [`Judged`]).
+pub trait Verdicts {
+    /// The tracking noise, given or estimated from the first frames.
+    fn noise(&mut self, noise: NoiseModel);
+    /// An item, `moving` or not, with its accumulated rotation `rot` \[rad\] (zero for
+    /// outliers).
+    fn item(&mut self, item: ItemRef<'_>, moving: bool, rot: &Vector3<f64>);
+}
+
+/// [`Verdicts`] as owned [`Judged`] values passed to a closure (to keep them, or to send them
+/// to another thread).
+pub struct ToJudged<F>(pub F);
+
+impl<F: FnMut(Judged)> Verdicts for ToJudged<F> {
+    fn noise(&mut self, noise: NoiseModel) {
+        (self.0)(Judged::Noise(noise))
+    }
+    #[inline(always)]
+    fn item(&mut self, item: ItemRef<'_>, moving: bool, rot: &Vector3<f64>) {
+        (self.0)(Judged::Item(item.to_item(), moving, *rot))
+    }
 }
 
 /// The robust classifier's front end: the noise warm-up (the first
@@ -463,7 +528,7 @@ impl RestFront {
         }
     }
 
-    fn start(&mut self, out: &mut impl FnMut(Judged)) {
+    fn start(&mut self, out: &mut impl Verdicts) {
         let noise = self.noise.unwrap_or_else(|| {
             let samples: Vec<noise::PoseSample> = self
                 .warm
@@ -479,7 +544,7 @@ impl RestFront {
             })
         });
         self.noise = Some(noise);
-        out(Judged::Noise(noise));
+        out.noise(noise);
         let r = &self.config.robust;
         let mut rest = RestDetector::new(
             r.rest_window_s,
@@ -488,45 +553,77 @@ impl RestFront {
             r.alpha,
         );
         for (item, rot) in std::mem::take(&mut self.warm) {
-            rest.push(item, &rot, &mut |i, m, r| out(Judged::Item(i, m, *r)));
+            rest.push(&item, &rot, &mut |i, m, r| out.item(i, m, r));
         }
         self.rest = Some(rest);
     }
 
     /// Push the next item; what is judged goes to `out`.
-    // Not inlined into the cleaner's loop: measured faster (register pressure), 44 against
-    // 45-52 ns/pose for clean + rest front when left to the compiler, 60 when forced inline.
-    #[inline(never)]
-    pub fn push(&mut self, item: Item, out: &mut impl FnMut(Judged)) {
+    pub fn push(&mut self, item: Item, out: &mut impl Verdicts) {
         let rot = match &item {
             Item::Frame(f) => self.rotation.next(&f.q),
             Item::Outlier(..) => Vector3::zeros(),
         };
-        self.push_rotated(item, &rot, out);
+        match item {
+            Item::Frame(f) => self.push_frame(f.index, f.t, &f.q, &f.p, &rot, out),
+            Item::Outlier(index, t) => self.push_outlier(index, t, out),
+        }
     }
 
-    /// Push the next item with its accumulated rotation \[rad\], taken elsewhere (with a
-    /// [`RotationSum`] over the frames, outliers left out); what is judged goes to `out`.
+    /// Push the next frame (index, time \[s\], orientation, position \[m\]) with its
+    /// accumulated rotation \[rad\], taken elsewhere (with a [`RotationSum`] over the frames,
+    /// outliers left out); what is judged goes to `out`. The parts are read where the caller
+    /// has them (see [`ItemRef`]).
+    // Not inlined into the caller's loop: measured faster (register pressure).
     #[inline(never)]
-    pub fn push_rotated(&mut self, item: Item, rot: &Vector3<f64>, out: &mut impl FnMut(Judged)) {
+    pub fn push_frame(
+        &mut self,
+        index: usize,
+        t: f64,
+        q: &UnitQuaternion<f64>,
+        p: &Vector3<f64>,
+        rot: &Vector3<f64>,
+        out: &mut impl Verdicts,
+    ) {
         match self.rest.as_mut() {
-            Some(rest) => rest.push(item, rot, &mut |i, m, r| out(Judged::Item(i, m, *r))),
+            Some(rest) => rest.push_frame(index, t, q, p, rot, &mut |i, m, r| out.item(i, m, r)),
             None => {
-                self.warm.push((item, *rot));
-                if self.warm.len() >= self.config.robust.warmup_frames.max(3) {
-                    self.start(out);
-                }
+                let f = RawFrame {
+                    index,
+                    t,
+                    q: *q,
+                    p: *p,
+                };
+                self.warm_up(Item::Frame(f), rot, out)
             }
         }
     }
 
+    /// Push the next item, a frame rejected as an outlier (index, time \[s\]); what is judged
+    /// goes to `out`.
+    pub fn push_outlier(&mut self, index: usize, t: f64, out: &mut impl Verdicts) {
+        match self.rest.as_mut() {
+            Some(rest) => rest.push_outlier(index, t, &mut |i, m, r| out.item(i, m, r)),
+            None => self.warm_up(Item::Outlier(index, t), &Vector3::zeros(), out),
+        }
+    }
+
+    /// Keep an item of the warm-up; start the detector when there are enough.
+    #[cold]
+    fn warm_up(&mut self, item: Item, rot: &Vector3<f64>, out: &mut impl Verdicts) {
+        self.warm.push((item, *rot));
+        if self.warm.len() >= self.config.robust.warmup_frames.max(3) {
+            self.start(out);
+        }
+    }
+
     /// Flush the remaining items at the end of the stream.
-    pub fn finish(mut self, out: &mut impl FnMut(Judged)) {
+    pub fn finish(mut self, out: &mut impl Verdicts) {
         if self.rest.is_none() {
             self.start(out);
         }
         if let Some(rest) = self.rest.take() {
-            rest.finish(&mut |i, m, r| out(Judged::Item(i, m, *r)));
+            rest.finish(&mut |i, m, r| out.item(i, m, r));
         }
     }
 }
@@ -672,8 +769,8 @@ mod tests {
             let mut d = RestDetector::new(window, 1e-3, 0.0087, 1e-3);
             let expected = reference(&d, &items);
             let mut got = Vec::new();
-            let mut keep = |i: Item, m: bool, r: &Vector3<f64>| {
-                got.push((key(&i), m, [r.x, r.y, r.z]));
+            let mut keep = |i: ItemRef<'_>, m: bool, r: &Vector3<f64>| {
+                got.push((key(&i.to_item()), m, [r.x, r.y, r.z]));
             };
             let mut rotation = RotationSum::default();
             for i in &items {
@@ -681,7 +778,7 @@ mod tests {
                     Item::Frame(f) => rotation.next(&f.q),
                     Item::Outlier(..) => Vector3::zeros(),
                 };
-                d.push(*i, &rot, &mut keep);
+                d.push(i, &rot, &mut keep);
             }
             d.finish(&mut keep);
             moving_frames += got.iter().filter(|g| g.1).count();
@@ -706,9 +803,11 @@ mod tests {
                 p: Vector3::zeros(),
             };
             let rot = rotation.next(&f.q);
-            d.push(Item::Frame(f), &rot, &mut |i, m, _| verdicts.push((i, m)));
+            d.push(&Item::Frame(f), &rot, &mut |i, m, _| {
+                verdicts.push((i.to_item(), m))
+            });
         }
-        d.finish(&mut |i, m, _| verdicts.push((i, m)));
+        d.finish(&mut |i, m, _| verdicts.push((i.to_item(), m)));
         assert_eq!(verdicts.len(), 120);
         let moving: Vec<bool> = verdicts.iter().map(|v| v.1).collect();
         assert!(moving[..20].iter().all(|m| !m), "{moving:?}");

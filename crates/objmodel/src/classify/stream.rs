@@ -4,12 +4,12 @@
 
 use super::blocks::Core;
 use super::paper::PaperCore;
-use super::rest::{Item, Judged, RestFront, RotationSum};
+use super::rest::{Item, Judged, RestFront, RotationSum, ToJudged};
 use super::{Classification, Config, Method};
 use crate::clean::{Cleaner, RawFrame};
 use crate::noise::{self, NoiseModel};
 use crate::trajectory::StampedPose;
-use nalgebra::Vector3;
+use nalgebra::{UnitQuaternion, Vector3};
 use std::collections::VecDeque;
 
 /// Cleans one stream: noise warm-up, then the tag-flip [`Cleaner`].
@@ -156,15 +156,17 @@ impl ObjectFront {
     /// Push the next object pose; what is judged goes to `out`.
     pub fn push(&mut self, p: &StampedPose, out: &mut impl FnMut(Judged)) {
         let front = &mut self.front;
+        let mut out = ToJudged(out);
         self.cleaner
-            .push(p, &mut |f, outlier| front.push(item(f, outlier), out));
+            .push(p, &mut |f, outlier| front.push(item(f, outlier), &mut out));
     }
 
     /// Flush the last frames.
     pub fn finish(self, out: &mut impl FnMut(Judged)) {
         let Self { cleaner, mut front } = self;
-        cleaner.finish(&mut |f, outlier| front.push(item(f, outlier), out));
-        front.finish(out);
+        let mut out = ToJudged(out);
+        cleaner.finish(&mut |f, outlier| front.push(item(f, outlier), &mut out));
+        front.finish(&mut out);
     }
 }
 
@@ -440,13 +442,44 @@ impl Analyzer {
     /// rejected (see [`RotatingCleaner`]). For the robust method without a palm; otherwise the
     /// same as [`Analyzer::push_cleaned_object`].
     pub fn push_cleaned_rotated(&mut self, f: RawFrame, outlier: bool, rot: &Vector3<f64>) {
+        let frame = (!outlier).then_some((&f.q, &f.p, rot));
+        self.push_cleaned_rotated_parts(f.index, f.t, frame);
+    }
+
+    /// [`Analyzer::push_cleaned_rotated`] with the frame given by parts: index, time \[s\],
+    /// and for a kept frame its orientation, position \[m\] and accumulated rotation \[rad\]
+    /// (`None` for a rejected one). The parts are read where the caller has them: a frame
+    /// copied together on the stack and read back in other widths stalls on store forwarding.
+    #[inline(always)]
+    pub fn push_cleaned_rotated_parts(
+        &mut self,
+        index: usize,
+        t: f64,
+        frame: Option<(&UnitQuaternion<f64>, &Vector3<f64>, &Vector3<f64>)>,
+    ) {
         match &mut self.back {
             Back::Robust(core) if !self.instrumented => {
                 self.frames += 1;
-                self.last_t = Some(f.t);
-                core.push_rotated(item(f, outlier), rot, self.down_world);
+                self.last_t = Some(t);
+                core.push_rotated(index, t, frame, self.down_world);
             }
-            _ => self.push_cleaned_object(f, outlier),
+            _ => {
+                let f = match frame {
+                    Some((q, p, _)) => RawFrame {
+                        index,
+                        t,
+                        q: *q,
+                        p: *p,
+                    },
+                    None => RawFrame {
+                        index,
+                        t,
+                        q: UnitQuaternion::identity(),
+                        p: Vector3::zeros(),
+                    },
+                };
+                self.push_cleaned_object(f, frame.is_none())
+            }
         }
     }
 
