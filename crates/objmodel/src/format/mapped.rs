@@ -24,7 +24,7 @@ use std::io::{BufRead, Read};
 use std::sync::mpsc::{sync_channel, Receiver, Sender};
 
 /// Bytes mapped at a time (a multiple of every page size in use).
-pub const WINDOW: usize = 4 << 20;
+pub const WINDOW: usize = 2 << 20;
 /// Files smaller than this \[bytes\] are read with `read`: for them the copy is cheap and a
 /// mapping would only add system calls.
 pub const MIN_MAPPED_BYTES: u64 = 16 << 20;
