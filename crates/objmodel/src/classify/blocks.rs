@@ -10,7 +10,8 @@
 
 use super::fit;
 use super::moving::{FrameModel, OpenSums};
-use super::rest::{Item, ItemRef, Judged, RestFront, Verdicts};
+use super::front::{Judged, RestFront, Verdicts};
+use super::rest::{Item, ItemRef};
 use super::{Classification, Config, Label, LabelRun, Method, Votes};
 use crate::clean::RawFrame;
 use crate::geometry::{Line, LineStats, PlaneStats};

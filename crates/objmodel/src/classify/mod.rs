@@ -28,13 +28,15 @@
 mod blocks;
 mod files;
 mod fit;
+mod front;
 mod moving;
 mod paper;
 mod rest;
 mod stream;
 
 pub use files::classify_files;
-pub use rest::{Item, Judged, RotationSum};
+pub use front::Judged;
+pub use rest::{Item, RotationSum};
 pub use stream::{Analyzer, ObjectCleaner, ObjectFront, RotatingCleaner};
 
 use crate::edge::EdgeObservation;

@@ -4,7 +4,8 @@
 
 use super::blocks::Core;
 use super::paper::PaperCore;
-use super::rest::{Item, Judged, RestFront, RotationSum, ToJudged};
+use super::front::{Judged, RestFront, ToJudged};
+use super::rest::{Item, RotationSum};
 use super::{Classification, Config, Method};
 use crate::clean::{Cleaner, RawFrame};
 use crate::noise::{self, NoiseModel};

@@ -1,0 +1,169 @@
+//! The robust classifier's front end: the noise warm-up, then the [`RestDetector`], and what
+//! they pass on ([`Verdicts`], [`Judged`]).
+
+use super::rest::{Item, ItemRef, RestDetector, RotationSum};
+use super::Config;
+use crate::clean::RawFrame;
+use crate::noise::{self, NoiseModel};
+use nalgebra::{UnitQuaternion, Vector3};
+
+/// What the rest front end passes on: first the noise model in force (once, before any item),
+/// then every item in order with its verdict.
+#[derive(Clone, Copy, Debug)]
+pub enum Judged {
+    /// The tracking noise, given or estimated from the first frames.
+    Noise(NoiseModel),
+    /// An item, `moving` or not, with its accumulated rotation \[rad\]: the sum of the logs of
+    /// the frame-to-frame rotations since the first frame (zero for outliers).
+    Item(Item, bool, Vector3<f64>),
+}
+
+/// Where the rest front end's output goes, in order: first the noise model in force (once,
+/// before any item), then every item with its verdict (see [`Judged`]).
+pub trait Verdicts {
+    /// The tracking noise, given or estimated from the first frames.
+    fn noise(&mut self, noise: NoiseModel);
+    /// An item, `moving` or not, with its accumulated rotation `rot` \[rad\] (zero for
+    /// outliers).
+    fn item(&mut self, item: ItemRef<'_>, moving: bool, rot: &Vector3<f64>);
+}
+
+/// [`Verdicts`] as owned [`Judged`] values passed to a closure (to keep them, or to send them
+/// to another thread).
+pub struct ToJudged<F>(pub F);
+
+impl<F: FnMut(Judged)> Verdicts for ToJudged<F> {
+    fn noise(&mut self, noise: NoiseModel) {
+        (self.0)(Judged::Noise(noise))
+    }
+    #[inline(always)]
+    fn item(&mut self, item: ItemRef<'_>, moving: bool, rot: &Vector3<f64>) {
+        (self.0)(Judged::Item(item.to_item(), moving, *rot))
+    }
+}
+
+/// The robust classifier's front end: the noise warm-up (the first
+/// [`super::RobustConfig::warmup_frames`] items, unless the noise is given) and the
+/// [`RestDetector`]. It only looks at the cleaned stream, so it can run on another thread than
+/// the segments and blocks that consume its output.
+#[derive(Debug)]
+pub struct RestFront {
+    config: Config,
+    /// The accumulated rotation, for items pushed without it ([`RestFront::push`]).
+    rotation: RotationSum,
+    warm: Vec<(Item, Vector3<f64>)>,
+    noise: Option<NoiseModel>,
+    rest: Option<RestDetector>,
+}
+
+impl RestFront {
+    /// A front end for `config`.
+    pub fn new(config: &Config) -> Self {
+        Self {
+            config: *config,
+            rotation: RotationSum::default(),
+            warm: Vec::new(),
+            noise: config.robust.noise.map(NoiseModel::floored),
+            rest: None,
+        }
+    }
+
+    fn start(&mut self, out: &mut impl Verdicts) {
+        let noise = self.noise.unwrap_or_else(|| {
+            let samples: Vec<noise::PoseSample> = self
+                .warm
+                .iter()
+                .filter_map(|(i, _)| match i {
+                    Item::Frame(f) => Some((f.t, f.q, f.p)),
+                    Item::Outlier(..) => None,
+                })
+                .collect();
+            noise::estimate(&samples).unwrap_or(NoiseModel {
+                sigma_position: noise::MIN_SIGMA_POSITION_M,
+                sigma_rotation: noise::MIN_SIGMA_ROTATION_RAD,
+            })
+        });
+        self.noise = Some(noise);
+        out.noise(noise);
+        let r = &self.config.robust;
+        let mut rest = RestDetector::new(
+            r.rest_window_s,
+            noise.sigma_position,
+            noise.sigma_rotation,
+            r.alpha,
+        );
+        for (item, rot) in std::mem::take(&mut self.warm) {
+            rest.push(&item, &rot, &mut |i, m, r| out.item(i, m, r));
+        }
+        self.rest = Some(rest);
+    }
+
+    /// Push the next item; what is judged goes to `out`.
+    pub fn push(&mut self, item: Item, out: &mut impl Verdicts) {
+        let rot = match &item {
+            Item::Frame(f) => self.rotation.next(&f.q),
+            Item::Outlier(..) => Vector3::zeros(),
+        };
+        match item {
+            Item::Frame(f) => self.push_frame(f.index, f.t, &f.q, &f.p, &rot, out),
+            Item::Outlier(index, t) => self.push_outlier(index, t, out),
+        }
+    }
+
+    /// Push the next frame (index, time \[s\], orientation, position \[m\]) with its
+    /// accumulated rotation \[rad\], taken elsewhere (with a [`RotationSum`] over the frames,
+    /// outliers left out); what is judged goes to `out`. The parts are read where the caller
+    /// has them (see [`ItemRef`]).
+    // Not inlined into the caller's loop: measured faster (register pressure).
+    #[inline(never)]
+    pub fn push_frame(
+        &mut self,
+        index: usize,
+        t: f64,
+        q: &UnitQuaternion<f64>,
+        p: &Vector3<f64>,
+        rot: &Vector3<f64>,
+        out: &mut impl Verdicts,
+    ) {
+        match self.rest.as_mut() {
+            Some(rest) => rest.push_frame(index, t, q, p, rot, &mut |i, m, r| out.item(i, m, r)),
+            None => {
+                let f = RawFrame {
+                    index,
+                    t,
+                    q: *q,
+                    p: *p,
+                };
+                self.warm_up(Item::Frame(f), rot, out)
+            }
+        }
+    }
+
+    /// Push the next item, a frame rejected as an outlier (index, time \[s\]); what is judged
+    /// goes to `out`.
+    pub fn push_outlier(&mut self, index: usize, t: f64, out: &mut impl Verdicts) {
+        match self.rest.as_mut() {
+            Some(rest) => rest.push_outlier(index, t, &mut |i, m, r| out.item(i, m, r)),
+            None => self.warm_up(Item::Outlier(index, t), &Vector3::zeros(), out),
+        }
+    }
+
+    /// Keep an item of the warm-up; start the detector when there are enough.
+    #[cold]
+    fn warm_up(&mut self, item: Item, rot: &Vector3<f64>, out: &mut impl Verdicts) {
+        self.warm.push((item, *rot));
+        if self.warm.len() >= self.config.robust.warmup_frames.max(3) {
+            self.start(out);
+        }
+    }
+
+    /// Flush the remaining items at the end of the stream.
+    pub fn finish(mut self, out: &mut impl Verdicts) {
+        if self.rest.is_none() {
+            self.start(out);
+        }
+        if let Some(rest) = self.rest.take() {
+            rest.finish(&mut |i, m, r| out.item(i, m, r));
+        }
+    }
+}
