@@ -309,6 +309,9 @@ pub fn analyse(
                 let start = series
                     .t
                     .partition_point(|&t| t < first_moving - ONSET_REST_S);
+                if start > last_pivot {
+                    return None; // No frame between the rest and the pivot's end.
+                }
                 let rel: Vec<f64> = series
                     .object
                     .iter()

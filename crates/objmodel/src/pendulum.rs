@@ -242,6 +242,13 @@ pub struct FallFit {
     pub t_end: f64,
 }
 
+/// Longest span \[s\] the pendulum fits ([`fit_fall`], [`fit_on_support`]) take. A toppling
+/// object falls from its balance point within about a second, and a palm tilts it over within
+/// seconds; a longer span is not one topple (or its timestamps are not seconds: nanoseconds
+/// made a 4 s demonstration 4·10⁹ "seconds" long), and the fits, which integrate in steps of
+/// 2 ms, would take time without bound.
+pub const MAX_FIT_SPAN_S: f64 = 60.0;
+
 /// Integrate `ψ̈ = k sin(ψ - φ)` from `(t0, ψ0, ψ̇0)` and return ψ at the times `t` (sorted,
 /// >= t0), with RK4 steps of at most 2 ms.
 pub fn simulate(phi: f64, k: f64, t0: f64, psi0: f64, dpsi0: f64, t: &[f64]) -> Vec<f64> {
@@ -269,7 +276,7 @@ pub fn simulate(phi: f64, k: f64, t0: f64, psi0: f64, dpsi0: f64, t: &[f64]) -> 
 /// Jacobian and step halving; covariance from the inverse normal matrix scaled by the noise.
 pub fn fit_fall(t: &[f64], psi: &[f64], sigma: f64, phi0: f64) -> Option<FallFit> {
     let n = t.len();
-    if n < 6 {
+    if n < 6 || t[n - 1] - t[0] > MAX_FIT_SPAN_S {
         return None;
     }
     let t0 = t[0];
@@ -344,6 +351,20 @@ mod tests {
     use super::*;
 
     #[test]
+    fn spans_longer_than_a_topple_are_not_fitted() {
+        // A fall sampled at 30 Hz, stamped in nanoseconds: refused at once (integrating it in
+        // 2 ms steps would not end), while the same fall in seconds is fitted.
+        let (phi, k) = (0.4, 40.0);
+        let t: Vec<f64> = (0..30).map(|i| i as f64 / 30.0).collect();
+        let psi = simulate(phi, k, 0.0, phi + 0.05, 0.3, &t);
+        assert!(fit_fall(&t, &psi, 1e-3, phi).is_some());
+        let t_ns: Vec<f64> = t.iter().map(|x| x * 1e9).collect();
+        assert!(fit_fall(&t_ns, &psi, 1e-3, phi).is_none());
+        let beta: Vec<f64> = t.iter().map(|x| 0.5 * x).collect();
+        assert!(fit_on_support(&t_ns, &psi, &beta, 1e-3, phi).is_none());
+    }
+
+    #[test]
     fn onset_of_a_toppling_start_is_found_to_a_fraction_of_a_frame() {
         let tau = 1.2345;
         let t: Vec<f64> = (0..90).map(|k| k as f64 / 30.0).collect();
@@ -410,7 +431,7 @@ pub fn fit_on_support(
     phi0: f64,
 ) -> Option<FallFit> {
     let n = t.len();
-    if n < 8 {
+    if n < 8 || t[n - 1] - t[0] > MAX_FIT_SPAN_S {
         return None;
     }
     let resid = |p: [f64; 2]| -> Vec<f64> {
