@@ -80,6 +80,9 @@ fn summary(c: &Classification, frames: bool) -> String {
         c.votes.slide,
         c.votes.general
     );
+    for w in &c.warnings {
+        s += &format!("  warning: {w}\n");
+    }
     if let Some(n) = c.noise {
         s += &format!(
             "  tracking noise (estimated): {:.2} mm, {:.2} deg per axis\n",
@@ -145,6 +148,9 @@ pub fn run_classify(a: &ClassifyArgs) -> Result<()> {
     let palm = palm_for(&a.demo, a.palm.as_deref(), a.no_palm);
     let c = classify_files(&a.demo, palm.as_deref(), &config)?;
     if a.json {
+        for w in &c.warnings {
+            eprintln!("warning: {}: {w}", a.demo.display());
+        }
         let mut v = serde_json::to_value(&c)?;
         v["file"] = serde_json::json!(a.demo.display().to_string());
         v["palm_file"] = serde_json::json!(palm.map(|p| p.display().to_string()));
@@ -176,6 +182,9 @@ pub fn learn_into(
     for d in objects {
         let p = palm_for(d, palm, false);
         let c = classify_files(d, p.as_deref(), config)?;
+        for w in &c.warnings {
+            eprintln!("warning: {}: {w}", d.display());
+        }
         tree.add(&c);
         if let Some(dynamics) = dynamics_of(d, p.as_deref(), &c, config)? {
             tree.add_dynamics(&c, &dynamics);

@@ -9,8 +9,8 @@
 //! frames and memory stays flat.
 
 use super::fit;
-use super::moving::{FrameModel, OpenSums};
 use super::front::{Judged, RestFront, Verdicts};
+use super::moving::{FrameModel, OpenSums};
 use super::rest::{Item, ItemRef};
 use super::{Classification, Config, Label, LabelRun, Method, Votes};
 use crate::clean::RawFrame;
@@ -644,6 +644,7 @@ impl Segmenter {
             topples,
             labels: runs(&self.blocks),
             paper_edge,
+            warnings: Vec::new(),
         })
     }
 }

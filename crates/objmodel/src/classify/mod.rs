@@ -342,6 +342,10 @@ pub struct Classification {
     pub labels: Vec<LabelRun>,
     /// The paper's Algorithm 2 edge (line at the frame of largest rotation), for a topple.
     pub paper_edge: Option<Line>,
+    /// What looked wrong with the input without making it unreadable (e.g. timestamps that do
+    /// not look like seconds), for the user to check.
+    #[serde(default)]
+    pub warnings: Vec<String>,
 }
 
 impl Classification {

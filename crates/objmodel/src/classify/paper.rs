@@ -294,6 +294,7 @@ impl PaperCore {
             }],
             labels: self.runs,
             paper_edge,
+            warnings: Vec::new(),
         })
     }
 }

@@ -3,8 +3,8 @@
 //! ([`super::paper`]) back end.
 
 use super::blocks::Core;
-use super::paper::PaperCore;
 use super::front::{Judged, RestFront, ToJudged};
+use super::paper::PaperCore;
 use super::rest::{Item, RotationSum};
 use super::{Classification, Config, Method};
 use crate::clean::{Cleaner, RawFrame};
@@ -324,7 +324,7 @@ pub struct Analyzer {
     back: Back,
     frames: u64,
     palm_frames: u64,
-    last_t: Option<f64>,
+    times: FrameTimes,
 }
 
 impl Analyzer {
@@ -348,7 +348,7 @@ impl Analyzer {
             },
             frames: 0,
             palm_frames: 0,
-            last_t: None,
+            times: FrameTimes::default(),
         }
     }
 
@@ -365,7 +365,7 @@ impl Analyzer {
     pub fn push_object(&mut self, p: &StampedPose) {
         let f = self.raw(self.frames as usize, p);
         self.frames += 1;
-        self.last_t = Some(p.t);
+        self.times.note(p.t);
         let Self {
             object,
             merger,
@@ -428,7 +428,7 @@ impl Analyzer {
     pub fn push_judged(&mut self, j: Judged) {
         if let Judged::Item(i, _, _) = &j {
             self.frames += 1;
-            self.last_t = Some(match i {
+            self.times.note(match i {
                 Item::Frame(f) => f.t,
                 Item::Outlier(_, t) => *t,
             });
@@ -461,7 +461,7 @@ impl Analyzer {
         match &mut self.back {
             Back::Robust(core) if !self.instrumented => {
                 self.frames += 1;
-                self.last_t = Some(t);
+                self.times.note(t);
                 core.push_rotated(index, t, frame, self.down_world);
             }
             _ => {
@@ -487,7 +487,7 @@ impl Analyzer {
     /// Push an object frame judged by an [`ObjectCleaner`] (`outlier` = rejected).
     pub fn push_cleaned_object(&mut self, f: RawFrame, outlier: bool) {
         self.frames += 1;
-        self.last_t = Some(f.t);
+        self.times.note(f.t);
         if self.instrumented {
             let back = &mut self.back;
             self.merger
@@ -531,6 +531,7 @@ impl Analyzer {
             frames,
             robust,
             down_world,
+            times,
             ..
         } = self;
         if frames == 0 {
@@ -559,9 +560,93 @@ impl Analyzer {
         if instrumented {
             merger.finish(&mut |i, d| back.push(i, d));
         }
-        match back {
+        let mut c = match back {
             Back::Robust(c) => c.finish(&name, instrumented, frames),
             Back::Paper(p) => p.finish(&name, instrumented, frames),
+        }?;
+        c.warnings.extend(times.warning());
+        Ok(c)
+    }
+}
+
+/// Frame intervals at the start of the object stream whose median [`FrameTimes`] checks.
+pub const TIME_CHECK_INTERVALS: usize = 63;
+/// Longest plausible median interval \[s\] between a pose tracker's frames (1 Hz). Beyond it
+/// the timestamps are most likely not seconds (milliseconds, nanoseconds).
+pub const MAX_MEDIAN_FRAME_INTERVAL_S: f64 = 1.0;
+/// Shortest plausible median interval \[s\] between a pose tracker's frames (10 kHz).
+pub const MIN_MEDIAN_FRAME_INTERVAL_S: f64 = 1e-4;
+
+/// The intervals between the first object frames, to check that the timestamps are seconds:
+/// every time-based test (rest windows, the slow-motion probe, velocities) assumes they are,
+/// and a file stamped in milliseconds or nanoseconds is otherwise read without complaint.
+#[derive(Default)]
+struct FrameTimes {
+    last: Option<f64>,
+    intervals: Vec<f64>,
+}
+
+impl FrameTimes {
+    /// Note the next frame's time \[s\] (a no-op once enough intervals are kept).
+    #[inline(always)]
+    fn note(&mut self, t: f64) {
+        if self.intervals.len() < TIME_CHECK_INTERVALS {
+            if let Some(last) = self.last {
+                self.intervals.push(t - last);
+            }
+            self.last = Some(t);
+        }
+    }
+
+    /// A warning if the median interval is outside the plausible range.
+    fn warning(mut self) -> Option<String> {
+        if self.intervals.is_empty() {
+            return None;
+        }
+        self.intervals.sort_by(f64::total_cmp);
+        let dt = self.intervals[self.intervals.len() / 2];
+        if (MIN_MEDIAN_FRAME_INTERVAL_S..=MAX_MEDIAN_FRAME_INTERVAL_S).contains(&dt) {
+            return None;
+        }
+        Some(format!(
+            "the first frames are {dt:.4e} s apart (median), {:.4e} Hz: timestamps must be in \
+             seconds (TUM), and every time-based test assumes so; convert milliseconds or \
+             nanoseconds first",
+            1.0 / dt
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::classify::Config;
+    use nalgebra::{Isometry3, Translation3};
+
+    /// A box at rest, then sliding 0.1 m along x in 1 s, then at rest, at 30 Hz, with the
+    /// timestamps multiplied by `unit` (1 for seconds).
+    fn warnings(unit: f64) -> Vec<String> {
+        let mut a = Analyzer::new("t", &Config::default(), false);
+        for k in 0..150 {
+            let t = k as f64 / 30.0;
+            let x = 0.1 * ((t - 2.0).clamp(0.0, 1.0));
+            let pose =
+                Isometry3::from_parts(Translation3::new(x, 0.0, 0.0), UnitQuaternion::identity());
+            a.push_object(&StampedPose {
+                t: 1.7e9 * unit + t * unit,
+                pose,
+            });
+        }
+        a.finish().unwrap().warnings
+    }
+
+    #[test]
+    fn timestamps_not_in_seconds_are_warned_about() {
+        assert!(warnings(1.0).is_empty(), "{:?}", warnings(1.0));
+        for unit in [1e3, 1e9, 1e-6] {
+            let w = warnings(unit);
+            assert_eq!(w.len(), 1, "unit {unit}: {w:?}");
+            assert!(w[0].contains("seconds"), "{}", w[0]);
         }
     }
 }
