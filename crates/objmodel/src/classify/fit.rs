@@ -18,6 +18,13 @@ const MIN_KEPT_BLOCKS: usize = 3;
 /// only a third of the frames in which it turns, and fly or slide for the rest.
 const MIN_KEPT_FRACTION: f64 = 0.2;
 
+/// Fewest frames with a measurable screw axis that a segment's edge line must explain for the
+/// segment to be a topple. One frame always has some screw axis, so a fixed line is testable
+/// only from the second frame on, and a glitch of two frames (two tag flips in a row, which
+/// single-frame rejection does not catch) can agree with itself; a real topple tracked at 10 Hz
+/// or more has many more.
+pub const MIN_EDGE_FRAMES: f64 = 3.0;
+
 /// χ² thresholds by (integer) degrees of freedom, cached in a table indexed by them.
 struct Thresholds {
     alpha: f64,
@@ -334,7 +341,14 @@ pub(super) fn analyse_segment(
     };
     let valid_plane = |n: &Vector3<f64>| up.is_none_or(|u| n.dot(&u).abs() >= cos_tilt);
     let mut th = Thresholds::new(alpha);
-    let mut line = fit_line(blocks, &idx, valid_line, &mut th);
+    let mut line = fit_line(blocks, &idx, valid_line, &mut th).filter(|l| {
+        let support: f64 = idx
+            .iter()
+            .filter(|&&i| blocks[i].line.n > 0.0 && line_inlier(&blocks[i].line, l, &mut th))
+            .map(|&i| blocks[i].line.n)
+            .sum();
+        support >= MIN_EDGE_FRAMES
+    });
     let plane = fit_plane(blocks, &idx, valid_plane, &mut th);
     // Blocks cut off as "after (or before) the pure rotation": labelled general.
     let mut cut: std::collections::HashSet<usize> = std::collections::HashSet::new();
