@@ -5,16 +5,15 @@
 //! Prints the best of REPS runs of: cleaning alone, cleaning + the rest front end (the parsing
 //! thread's work after parsing, with `OBJMODEL_FRONT_REST`), cleaning + rest detection + blocks (the
 //! whole robust analysis after parsing; also with the front end split off as `learn` runs it),
-//! `learn`'s main thread (rest detection, segments and blocks, fed the cleaned frames and their
-//! accumulated rotation collected beforehand), the back end alone (segments and blocks, fed the
-//! front end's output collected beforehand),
-//! and the paper's Algorithm 1, as thread CPU time.
+//! the back end alone (segments and blocks, fed the front end's output collected beforehand),
+//! and the paper's Algorithm 1, as thread CPU time. (`learn`'s main thread alone:
+//! `examples/main_bench.rs`.)
 //!
 //! Environment: `ONLY_CLEAN=1` times the cleaning alone, `ONLY_ROBUST=1` skips Algorithm 1
 //! (both handy under `perf record`), `ONLY_BACK=1` times the back end alone (`BACK_PASSES=10`
 //! passes per timing), `REST_WINDOW=30` sets the rest window \[s\].
 
-use objmodel::classify::{Analyzer, Config, RotatingCleaner};
+use objmodel::classify::{Analyzer, Config};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -82,27 +81,6 @@ fn main() {
         front.finish(&mut keep);
         std::hint::black_box(k);
     });
-    // `learn`'s main thread: the cleaned, rotated frames collected first (as the parsing thread
-    // hands them over), then rest detection, segments and blocks.
-    let mut rotated = Vec::with_capacity(poses.len());
-    {
-        let mut a = Analyzer::new("bench", &config, false);
-        let mut c = RotatingCleaner::new(a.take_object_cleaner().expect("robust"));
-        for p in &poses {
-            c.push(p, &mut |f, o, r| rotated.push((f, o, r)));
-        }
-        c.finish(&mut |f, o, r| rotated.push((f, o, r)));
-    }
-    let mut main_kind = String::new();
-    let main_thread = best(front_reps, || {
-        let mut a = Analyzer::new("bench", &config, false);
-        let _cleaner = a.take_object_cleaner();
-        for (f, o, r) in &rotated {
-            let frame = (!o).then_some((&f.q, &f.p, r));
-            a.push_cleaned_rotated_parts(f.index, f.t, frame);
-        }
-        main_kind = a.finish().expect("classify").kind.as_str().to_string();
-    });
     let mut kind = String::new();
     let only_clean = std::env::var_os("ONLY_CLEAN").is_some();
     let all = best(if only_clean { 0 } else { front_reps }, || {
@@ -135,9 +113,6 @@ fn main() {
         split_kind = a.finish().expect("classify").kind.as_str().to_string();
     });
     assert_eq!(kind, split_kind);
-    if !only_back {
-        assert_eq!(kind, main_kind);
-    }
     // The back end alone (segments and blocks): the front end's output collected first.
     let mut judged = Vec::with_capacity(poses.len() + 1);
     {
@@ -185,10 +160,6 @@ fn main() {
     println!(
         "clean + analysis:    cpu {all:.3} s = {:.0} ns/pose",
         all / n * 1e9
-    );
-    println!(
-        "learn's main thread: cpu {main_thread:.3} s = {:.0} ns/pose",
-        main_thread / n * 1e9
     );
     println!(
         "same, split front:   cpu {split:.3} s = {:.0} ns/pose",
