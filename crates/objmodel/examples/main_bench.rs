@@ -38,7 +38,7 @@ fn main() {
         let _cleaner = a.take_object_cleaner();
         for (f, o, r) in &rotated {
             let frame = (!o).then_some((&f.q, &f.p, r));
-            a.push_cleaned_rotated_parts(f.index, f.t, frame);
+            a.push_cleaned_rotated(f.index, f.t, frame);
         }
         kind = a.finish().expect("classify").kind.as_str().to_string();
         let wall = t0.elapsed().as_secs_f64();

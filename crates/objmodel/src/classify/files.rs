@@ -81,7 +81,7 @@ pub fn classify_files(
                 CleanedFrames::spawn(format::open(object)?, front).for_each(|h| {
                     // Read in place, in the hand-over chunk (see `ItemRef`).
                     let frame = (!h.rot.x.is_nan()).then_some((&h.q, &h.p, &h.rot));
-                    a.push_cleaned_rotated_parts(index, h.t, frame);
+                    a.push_cleaned_rotated(index, h.t, frame);
                     index += 1;
                 })?;
             } else {

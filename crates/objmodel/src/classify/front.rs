@@ -100,12 +100,11 @@ impl RestFront {
 
     /// Push the next item; what is judged goes to `out`.
     pub fn push(&mut self, item: Item, out: &mut impl Verdicts) {
-        let rot = match &item {
-            Item::Frame(f) => self.rotation.next(&f.q),
-            Item::Outlier(..) => Vector3::zeros(),
-        };
         match item {
-            Item::Frame(f) => self.push_frame(f.index, f.t, &f.q, &f.p, &rot, out),
+            Item::Frame(f) => {
+                let rot = self.rotation.next(&f.q);
+                self.push_frame(f.index, f.t, &f.q, &f.p, &rot, out)
+            }
             Item::Outlier(index, t) => self.push_outlier(index, t, out),
         }
     }

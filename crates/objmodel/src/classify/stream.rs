@@ -438,21 +438,14 @@ impl Analyzer {
         }
     }
 
-    /// Push an object frame judged by an [`ObjectCleaner`] (`outlier` = rejected), with its
-    /// accumulated rotation \[rad\] taken by a [`RotationSum`] over the frames that were not
-    /// rejected (see [`RotatingCleaner`]). For the robust method without a palm; otherwise the
-    /// same as [`Analyzer::push_cleaned_object`].
-    pub fn push_cleaned_rotated(&mut self, f: RawFrame, outlier: bool, rot: &Vector3<f64>) {
-        let frame = (!outlier).then_some((&f.q, &f.p, rot));
-        self.push_cleaned_rotated_parts(f.index, f.t, frame);
-    }
-
-    /// [`Analyzer::push_cleaned_rotated`] with the frame given by parts: index, time \[s\],
+    /// Push an object frame judged by an [`ObjectCleaner`], given by parts: index, time \[s\],
     /// and for a kept frame its orientation, position \[m\] and accumulated rotation \[rad\]
-    /// (`None` for a rejected one). The parts are read where the caller has them: a frame
-    /// copied together on the stack and read back in other widths stalls on store forwarding.
+    /// taken by a [`RotationSum`] over the kept frames (see [`RotatingCleaner`]); `None` for a
+    /// rejected one. The parts are read where the caller has them: a frame copied together on
+    /// the stack and read back in other widths stalls on store forwarding. For the robust
+    /// method without a palm; otherwise the same as [`Analyzer::push_cleaned_object`].
     #[inline(always)]
-    pub fn push_cleaned_rotated_parts(
+    pub fn push_cleaned_rotated(
         &mut self,
         index: usize,
         t: f64,
