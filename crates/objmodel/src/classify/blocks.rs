@@ -67,7 +67,7 @@ pub(super) struct Block {
 }
 
 impl Block {
-    fn new(index: usize, t: f64, phase: Phase, segment: Option<usize>) -> Self {
+    pub(super) fn new(index: usize, t: f64, phase: Phase, segment: Option<usize>) -> Self {
         Self {
             first: index,
             last: index,
