@@ -74,11 +74,14 @@ pub struct ClassifyOpts {
 impl ClassifyOpts {
     /// The library configuration, validated.
     pub fn config(&self) -> Result<Config> {
-        let mut c = Config::default();
-        c.method = if self.method == "paper" {
+        let method = if self.method == "paper" {
             Method::Paper
         } else {
             Method::Robust
+        };
+        let mut c = Config {
+            method,
+            ..Config::default()
         };
         c.gravity = match self.gravity.trim() {
             "none" => None,

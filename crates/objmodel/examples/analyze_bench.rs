@@ -92,8 +92,10 @@ fn main() {
         c.finish(&mut |f, o| a.push_cleaned_object(f, o));
         kind = a.finish().expect("classify").kind.as_str().to_string();
     });
-    let mut paper_config = Config::default();
-    paper_config.method = objmodel::classify::Method::Paper;
+    let paper_config = Config {
+        method: objmodel::classify::Method::Paper,
+        ..Config::default()
+    };
     let skip_paper = only_back || std::env::var_os("ONLY_ROBUST").is_some();
     let paper = best(if skip_paper { 0 } else { reps }, || {
         let mut a = Analyzer::new("bench", &paper_config, false);

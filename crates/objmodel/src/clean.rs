@@ -260,7 +260,7 @@ mod tests {
             .map(|i| frame(i, 0.02 * (i as f64).powi(2) / 10.0))
             .collect();
         // A mirror-like flip at frame 20: 40 degrees about x for one frame.
-        frames[20].q = frames[20].q * UnitQuaternion::from_scaled_axis(Vector3::new(0.7, 0.0, 0.0));
+        frames[20].q *= UnitQuaternion::from_scaled_axis(Vector3::new(0.7, 0.0, 0.0));
         // Sign flips.
         for i in [5usize, 6, 33] {
             frames[i].q = UnitQuaternion::new_unchecked(-frames[i].q.into_inner());
@@ -360,8 +360,8 @@ mod tests {
     #[test]
     fn rejects_a_flip_on_the_first_and_last_frame() {
         let mut frames: Vec<RawFrame> = (0..10).map(|i| frame(i, 0.01 * i as f64)).collect();
-        frames[0].q = frames[0].q * UnitQuaternion::from_scaled_axis(Vector3::new(0.8, 0.0, 0.0));
-        frames[9].q = frames[9].q * UnitQuaternion::from_scaled_axis(Vector3::new(-0.8, 0.0, 0.0));
+        frames[0].q *= UnitQuaternion::from_scaled_axis(Vector3::new(0.8, 0.0, 0.0));
+        frames[9].q *= UnitQuaternion::from_scaled_axis(Vector3::new(-0.8, 0.0, 0.0));
         let out = run(frames);
         let flagged: Vec<usize> = out
             .iter()

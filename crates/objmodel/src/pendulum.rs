@@ -346,44 +346,6 @@ fn fit_result(
     })
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn spans_longer_than_a_topple_are_not_fitted() {
-        // A fall sampled at 30 Hz, stamped in nanoseconds: refused at once (integrating it in
-        // 2 ms steps would not end), while the same fall in seconds is fitted.
-        let (phi, k) = (0.4, 40.0);
-        let t: Vec<f64> = (0..30).map(|i| i as f64 / 30.0).collect();
-        let psi = simulate(phi, k, 0.0, phi + 0.05, 0.3, &t);
-        assert!(fit_fall(&t, &psi, 1e-3, phi).is_some());
-        let t_ns: Vec<f64> = t.iter().map(|x| x * 1e9).collect();
-        assert!(fit_fall(&t_ns, &psi, 1e-3, phi).is_none());
-        let beta: Vec<f64> = t.iter().map(|x| 0.5 * x).collect();
-        assert!(fit_on_support(&t_ns, &psi, &beta, 1e-3, phi).is_none());
-    }
-
-    #[test]
-    fn onset_of_a_toppling_start_is_found_to_a_fraction_of_a_frame() {
-        let tau = 1.2345;
-        let t: Vec<f64> = (0..90).map(|k| k as f64 / 30.0).collect();
-        let theta: Vec<f64> = t.iter().map(|&x| 0.1 * onset_shape(x - tau, 8.0)).collect();
-        let o = onset(&t, &theta, 1e-4).unwrap();
-        assert!((o.t - tau).abs() < 0.01, "{o:?}");
-    }
-
-    #[test]
-    fn fall_fit_recovers_phi_and_k() {
-        let (phi, k) = (0.45, 55.0);
-        let t: Vec<f64> = (0..20).map(|i| i as f64 / 30.0).collect();
-        let psi = simulate(phi, k, 0.0, phi + 0.05, 0.3, &t);
-        let f = fit_fall(&t, &psi, 1e-4, phi + 0.2).unwrap();
-        assert!((f.phi - phi).abs() < 1e-4, "{f:?}");
-        assert!((f.k - k).abs() < 0.05, "{f:?}");
-    }
-}
-
 /// The rotation relative to a tilting support predicted by the pendulum: zero while the
 /// support's tilt `beta` (smoothed, at the sample times) is below φ; from the first crossing
 /// on, `θ̈ = k sin(θ + β(t) - φ)` from rest, with β interpolated linearly between samples.
@@ -464,4 +426,42 @@ pub fn fit_on_support(
         return None;
     }
     fit_result(p[0], p[1], cur, &jtj, 2, sigma, t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spans_longer_than_a_topple_are_not_fitted() {
+        // A fall sampled at 30 Hz, stamped in nanoseconds: refused at once (integrating it in
+        // 2 ms steps would not end), while the same fall in seconds is fitted.
+        let (phi, k) = (0.4, 40.0);
+        let t: Vec<f64> = (0..30).map(|i| i as f64 / 30.0).collect();
+        let psi = simulate(phi, k, 0.0, phi + 0.05, 0.3, &t);
+        assert!(fit_fall(&t, &psi, 1e-3, phi).is_some());
+        let t_ns: Vec<f64> = t.iter().map(|x| x * 1e9).collect();
+        assert!(fit_fall(&t_ns, &psi, 1e-3, phi).is_none());
+        let beta: Vec<f64> = t.iter().map(|x| 0.5 * x).collect();
+        assert!(fit_on_support(&t_ns, &psi, &beta, 1e-3, phi).is_none());
+    }
+
+    #[test]
+    fn onset_of_a_toppling_start_is_found_to_a_fraction_of_a_frame() {
+        let tau = 1.2345;
+        let t: Vec<f64> = (0..90).map(|k| k as f64 / 30.0).collect();
+        let theta: Vec<f64> = t.iter().map(|&x| 0.1 * onset_shape(x - tau, 8.0)).collect();
+        let o = onset(&t, &theta, 1e-4).unwrap();
+        assert!((o.t - tau).abs() < 0.01, "{o:?}");
+    }
+
+    #[test]
+    fn fall_fit_recovers_phi_and_k() {
+        let (phi, k) = (0.45, 55.0);
+        let t: Vec<f64> = (0..20).map(|i| i as f64 / 30.0).collect();
+        let psi = simulate(phi, k, 0.0, phi + 0.05, 0.3, &t);
+        let f = fit_fall(&t, &psi, 1e-4, phi + 0.2).unwrap();
+        assert!((f.phi - phi).abs() < 1e-4, "{f:?}");
+        assert!((f.k - k).abs() < 0.05, "{f:?}");
+    }
 }

@@ -117,7 +117,7 @@ impl SynthBox {
         )
     }
 
-    fn to_tag_line(&self, point_box: Vector3<f64>, dir_box: Vector3<f64>) -> Line {
+    fn tag_line(&self, point_box: Vector3<f64>, dir_box: Vector3<f64>) -> Line {
         let tag_from_box = self.box_from_tag.inverse();
         Line::through(
             (tag_from_box * nalgebra::Point3::from(point_box)).coords,
@@ -250,7 +250,11 @@ pub fn topple(
 ) -> SynthDemo {
     let mut rng = StdRng::seed_from_u64(seed);
     let (edge, dir, out) = side_edge(&b.half, p.side);
-    let along = if p.side % 2 == 0 { b.half.x } else { b.half.y };
+    let along = if p.side.is_multiple_of(2) {
+        b.half.x
+    } else {
+        b.half.y
+    };
     let phi = along.atan2(b.half.z);
     let rest = 1.0;
     let world0 = world_start(&mut rng, &b.half);
@@ -285,7 +289,7 @@ pub fn topple(
         },
         truth: SynthTruth {
             kind: Kind::Topple,
-            edge: Some(b.to_tag_line(edge, dir)),
+            edge: Some(b.tag_line(edge, dir)),
             face: Some((
                 face_n,
                 face_n.dot(&(b.box_from_tag.inverse() * nalgebra::Point3::from(edge)).coords),
@@ -307,7 +311,11 @@ pub fn instrumented_topple(
 ) -> SynthDemo {
     let mut rng = StdRng::seed_from_u64(seed);
     let (edge, dir, out) = side_edge(&b.half, side);
-    let along = if side % 2 == 0 { b.half.x } else { b.half.y };
+    let along = if side.is_multiple_of(2) {
+        b.half.x
+    } else {
+        b.half.y
+    };
     let phi = along.atan2(b.half.z);
     let (rest, fall_s) = (1.0, 0.3);
     let tilt_s = phi / tilt_rate;
@@ -353,7 +361,7 @@ pub fn instrumented_topple(
         },
         truth: SynthTruth {
             kind: Kind::Topple,
-            edge: Some(b.to_tag_line(edge, dir)),
+            edge: Some(b.tag_line(edge, dir)),
             face: Some((
                 face_n,
                 face_n.dot(&(b.box_from_tag.inverse() * nalgebra::Point3::from(edge)).coords),

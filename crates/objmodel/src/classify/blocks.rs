@@ -180,9 +180,9 @@ impl RestAcc {
         let x = [w.x, w.y, w.z, d.x, d.y, d.z];
         self.st += dt;
         self.stt += dt * dt;
-        for j in 0..6 {
-            self.sx[j] += x[j];
-            self.stx[j] += dt * x[j];
+        for ((sx, stx), xj) in self.sx.iter_mut().zip(&mut self.stx).zip(x) {
+            *sx += xj;
+            *stx += dt * xj;
         }
         let mut q = f.q.into_inner().coords;
         if self.n > 0.0 && q.dot(&self.q) < 0.0 {

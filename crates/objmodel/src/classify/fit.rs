@@ -369,7 +369,7 @@ pub(super) fn edge_observation(
 pub(super) fn group_topples(segments: &[Segment], alpha: f64, demo: &str) -> Vec<super::Topple> {
     let threshold = crate::stats::chi2_threshold(4.0, alpha);
     let own = |s: &LineStats| s.mean().map_or(0.0, |l| s.chi2(&l));
-    let mut groups: Vec<(Vec<usize>, LineStats, (f64, Line, Vector3<f64>))> = Vec::new();
+    let mut groups: Vec<(Vec<usize>, LineStats, super::LargestRotation)> = Vec::new();
     for (i, seg) in segments.iter().enumerate() {
         let (Kind::Topple, Some(best)) = (seg.kind, seg.topple_best) else {
             continue;
@@ -507,7 +507,7 @@ pub(super) fn analyse_segment(
     let slide_blocks = with_label(Label::Slide);
 
     let mut topple_stats = LineStats::default();
-    let mut topple_best: Option<(f64, Line, Vector3<f64>)> = None;
+    let mut topple_best: Option<super::LargestRotation> = None;
     if kind == Kind::Topple {
         topple_blocks
             .iter()

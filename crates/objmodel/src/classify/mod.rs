@@ -273,15 +273,18 @@ pub struct LabelRun {
     pub segment: Option<usize>,
 }
 
+/// A frame of largest rotation: (angle \[rad\], its screw axis, its rotation vector \[rad\]).
+pub(crate) type LargestRotation = (f64, Line, Vector3<f64>);
+
 /// One motion segment: the frames between two rests, analysed against one reference pose.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Segment {
     /// Pooled line statistics of the frames labelled topple.
     #[serde(skip)]
     pub(crate) topple_stats: crate::geometry::LineStats,
-    /// Largest rotation among them: (angle, screw axis, rotation vector).
+    /// Largest rotation among them.
     #[serde(skip)]
-    pub(crate) topple_best: Option<(f64, Line, Vector3<f64>)>,
+    pub(crate) topple_best: Option<LargestRotation>,
     /// Time of the first moving frame \[s\].
     pub t_start: f64,
     /// Time of the last moving frame \[s\].

@@ -526,8 +526,8 @@ mod tests {
                 reference.swrr.0[3],
                 reference.swrr.0[5],
             ];
-            for i in 0..3 {
-                close(o.swr[i], reference.swr[i], (reference.sw * rr[i]).sqrt());
+            for (i, r) in rr.iter().enumerate() {
+                close(o.swr[i], reference.swr[i], (reference.sw * r).sqrt());
             }
             // Sums of positive terms.
             for (a, b) in [

@@ -20,10 +20,13 @@ use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 /// Algorithm 2's candidate: (θ \[rad\], axis point \[m\], unit axis direction, ω \[rad\]).
 type Best = (f64, Vector3<f64>, Vector3<f64>, Vector3<f64>);
 
+/// The reference pose `g(0)`: orientation, position \[m\], and "down" in its frame if known.
+type Reference = (UnitQuaternion<f64>, Vector3<f64>, Option<Vector3<f64>>);
+
 /// Streaming state of the literal algorithm.
 pub(super) struct PaperCore {
     config: Config,
-    reference: Option<(UnitQuaternion<f64>, Vector3<f64>, Option<Vector3<f64>>)>,
+    reference: Option<Reference>,
     /// `g(0)⁻¹`'s rotation, kept to form `g(0)⁻¹ g(t)` per frame.
     reference_inv: UnitQuaternion<f64>,
     previous: Option<(Twist, Option<Screw>, Option<Vector3<f64>>)>,

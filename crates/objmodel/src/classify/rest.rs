@@ -194,9 +194,9 @@ impl Sums {
             return false;
         }
         let mut sum = 0.0;
-        for j in 0..6 {
+        for (j, iv) in inv_var.iter().enumerate() {
             let b = n * self.0[STX + j] - st * self.0[SX + j];
-            sum += b * b * inv_var[j];
+            sum += b * b * iv;
         }
         sum > threshold * n * den
     }
