@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 #[derive(clap::Args)]
 pub struct SynthArgs {
     /// What to generate.
-    #[arg(value_parser = ["topple", "instrumented", "slide", "general"])]
+    #[arg(value_parser = ["topple", "instrumented", "slide", "straight-slide", "general"])]
     pub kind: String,
     /// Output folder.
     #[arg(short, long, default_value = "synth")]
@@ -74,6 +74,7 @@ pub fn make(kind: &str, b: &SynthBox, side: usize, noise: &SynthNoise, seed: u64
         ),
         "instrumented" => synth::instrumented_topple(b, side, 0.2, noise, 30.0, seed),
         "slide" => synth::slide(b, noise, 30.0, seed),
+        "straight-slide" => synth::straight_slide(b, noise, 30.0, seed),
         _ => synth::general(b, noise, 30.0, seed),
     }
 }

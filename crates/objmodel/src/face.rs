@@ -9,7 +9,10 @@
 //! the *sign* (which side of the object the face is on) only with gravity: the face touching
 //! the support has its outward normal along gravity. The offset is known when an edge is known
 //! to lie in the face: a topple about an edge while resting on a face puts that edge in the
-//! face, so `offset = n · edge.point`.
+//! face, so `offset = n · edge.point`. A slide that does not turn (a straight push) gives even
+//! the direction only up to a rotation about the direction of travel; with gravity known and
+//! the poses in the world frame, the classifier completes it with a prior, the face slid on
+//! facing down within [`SUPPORT_LEVEL_SIGMA_RAD`] (see `PlaneStats::with_normal_prior`).
 //!
 //! **What a topple determines.** With gravity known, the faces rested on before and after the
 //! topple are the downward directions in the object frame at those rests, both containing the

@@ -336,6 +336,21 @@ impl PlaneStats {
         self.stt += o.stt;
     }
 
+    /// These statistics with a prior on the normal: `down` (unit) within `sigma` \[rad\] per
+    /// axis, i.e. `χ²(n)` gains `|n × down|²/σ²`. For a unit `n`, `|n × d|² = nᵀ(I - d dᵀ)n`, so
+    /// the prior is `(I - d dᵀ)/σ²` added to `S_tt`, and [`PlaneStats::normal`] and
+    /// [`PlaneStats::normal_covariance`] then give the posterior normal and its covariance
+    /// (the frame count is unchanged). Data that leave the normal undetermined within a plane
+    /// (a straight push: every normal perpendicular to the translation fits) take it from the
+    /// prior there; data that determine it are moved by it only as far as the weights say.
+    pub fn with_normal_prior(&self, down: &Vector3<f64>, sigma: f64) -> Self {
+        let d = down.normalize();
+        Self {
+            stt: self.stt + (Matrix3::identity() - d * d.transpose()) / (sigma * sigma),
+            ..*self
+        }
+    }
+
     /// The best-fitting normal (sign arbitrary), `None` without data.
     pub fn normal(&self) -> Option<Unit<Vector3<f64>>> {
         if self.n < 1.0 {

@@ -374,14 +374,30 @@ pub fn instrumented_topple(
 /// A slide: over `duration` \[s\] the box translates by up to 15 cm and turns by up to ±60°
 /// about a vertical axis through a random point, on its bottom face.
 pub fn slide(b: &SynthBox, noise: &SynthNoise, rate: f64, seed: u64) -> SynthDemo {
+    slide_turning(b, noise, rate, seed, true)
+}
+
+/// A straight push: the box slides on its bottom face by 5 to 21 cm (the translation drawn as
+/// in [`slide`], lengthened to at least 5 cm) without turning, so that the motion leaves the
+/// face normal undetermined about the direction of travel.
+pub fn straight_slide(b: &SynthBox, noise: &SynthNoise, rate: f64, seed: u64) -> SynthDemo {
+    slide_turning(b, noise, rate, seed, false)
+}
+
+/// [`slide`], or with `turn` false [`straight_slide`].
+fn slide_turning(b: &SynthBox, noise: &SynthNoise, rate: f64, seed: u64, turn: bool) -> SynthDemo {
     let mut rng = StdRng::seed_from_u64(seed);
     let world0 = world_start(&mut rng, &b.half);
-    let shift = Vector3::new(
+    let mut shift: Vector3<f64> = Vector3::new(
         rng.random_range(-0.15..0.15),
         rng.random_range(-0.15..0.15),
         0.0,
     );
+    if !turn && shift.norm() < 0.05 {
+        shift *= 0.05 / shift.norm().max(1e-9);
+    }
     let yaw: f64 = rng.random_range(0.3..1.0) * if rng.random::<bool>() { 1.0 } else { -1.0 };
+    let yaw = if turn { yaw } else { 0.0 };
     let pivot = Vector3::new(
         rng.random_range(-0.1..0.1),
         rng.random_range(-0.1..0.1),
@@ -412,7 +428,7 @@ pub fn slide(b: &SynthBox, noise: &SynthNoise, rate: f64, seed: u64) -> SynthDem
     let bottom = b.box_from_tag.inverse() * nalgebra::Point3::new(0.0, 0.0, -b.half.z);
     SynthDemo {
         demo: Demonstration {
-            name: format!("slide_{seed}"),
+            name: format!("{}slide_{seed}", if turn { "" } else { "straight_" }),
             object: add_noise(&poses, noise, &mut rng),
             palm: None,
         },

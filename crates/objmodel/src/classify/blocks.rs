@@ -615,7 +615,8 @@ impl Segmenter {
         let mut segments = Vec::with_capacity(self.segments.len());
         let mut votes = Votes::default();
         for (i, seg) in self.segments.iter().enumerate() {
-            let s = fit::analyse_segment(i, seg, &mut self.blocks, &config, alpha, name);
+            let s =
+                fit::analyse_segment(i, instrumented, seg, &mut self.blocks, &config, alpha, name);
             votes.add(s.kind, 0);
             for (k, n) in [
                 (super::Kind::Topple, s.votes.topple),

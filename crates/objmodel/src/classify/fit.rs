@@ -412,6 +412,7 @@ pub(super) fn group_topples(segments: &[Segment], alpha: f64, demo: &str) -> Vec
 /// Fit, label and summarise one motion segment.
 pub(super) fn analyse_segment(
     index: usize,
+    instrumented: bool,
     seg: &SegState,
     blocks: &mut [Block],
     config: &Config,
@@ -522,6 +523,12 @@ pub(super) fn analyse_segment(
     let face = (kind == Kind::Slide).then(|| {
         let mut s = PlaneStats::default();
         slide_blocks.iter().for_each(|&i| s.merge(&blocks[i].plane));
+        // On a level support (poses relative to the world, gravity known) the face slid on
+        // faces down, to within the support's tilt: a prior on the normal, which decides it
+        // where the motion does not (a straight push without turning).
+        if let (false, Some(d)) = (instrumented, seg.down_ref) {
+            s = s.with_normal_prior(&d, crate::face::SUPPORT_LEVEL_SIGMA_RAD);
+        }
         let mut n = s.normal().map(|n| n.into_inner()).or(plane)?;
         if let Some(d) = seg.down_ref {
             if n.dot(&d) < 0.0 {
