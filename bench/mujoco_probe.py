@@ -1,0 +1,204 @@
+#!/usr/bin/env python3
+"""Probe with another simulator: box demonstrations from MuJoCo, classified and learnt by objmodel.
+
+The learner was developed on its own kinematic generator and on rapier scenes; this makes
+demonstrations with an independent physics engine (MuJoCo: its own contact model, friction
+cones and integrator) and checks the learner against their truth. A kinematic finger (a mocap
+sphere) pushes a box on a table:
+
+* topple: high push (90% of the box height) on high friction, until the box passes its balance
+  point; the truth edge is the far bottom edge;
+* straight slide: low push through the face's centre on low friction (the box does not turn);
+* turning slide: the same, off the centre line (the box turns while it slides).
+
+The tracked frame is a tag on the top face (offset and turned, as a real tag is), recorded at
+30 Hz with tracking noise of 1 mm / 0.5 deg per axis, 3% dropped frames, 5% quaternion sign
+flips and 1% single-frame mirror flips (40 deg about the tag's x axis). Prints per kind the
+kinds classified right, the learnt edge's direction and offset errors (topples) and the face
+normal errors (slides).
+
+    python3 bench/mujoco_probe.py [N per kind, default 10]
+    OBJMODEL=target/release/objmodel python3 bench/mujoco_probe.py 20
+
+Needs numpy, scipy and mujoco (pip install mujoco). Writes into $PROBE_DIR (default
+/tmp/objmodel-mujoco). Not a test: the numbers are for reading (see the notes on issue 3).
+"""
+import json
+import math
+import os
+import subprocess
+import sys
+
+import mujoco
+import numpy as np
+from scipy.spatial.transform import Rotation as R
+
+BIN = os.environ.get("OBJMODEL", "target/release/objmodel")
+DIR = os.environ.get("PROBE_DIR", "/tmp/objmodel-mujoco")
+DEG = math.pi / 180
+RATE = 30.0
+
+
+def scene(half, mu, finger_start):
+    hx, hy, hz = half
+    return f"""
+<mujoco>
+  <option timestep="0.0005" gravity="0 0 -9.81" cone="elliptic"/>
+  <worldbody>
+    <geom type="plane" size="3 3 0.1" friction="{mu} 0.005 0.0001"/>
+    <body name="box" pos="0 0 {hz}">
+      <freejoint/>
+      <geom type="box" size="{hx} {hy} {hz}" mass="0.5" friction="{mu} 0.005 0.0001"/>
+    </body>
+    <body name="finger" mocap="true" pos="{finger_start[0]} {finger_start[1]} {finger_start[2]}">
+      <geom type="sphere" size="0.008" friction="0.1 0.005 0.0001" contype="1" conaffinity="1"/>
+    </body>
+  </worldbody>
+</mujoco>"""
+
+
+def run(kind, rng):
+    """One demonstration: (times, world_from_box poses as (N, 7) [x y z qx qy qz qw], truth)."""
+    half = np.array([rng.uniform(0.03, 0.05), rng.uniform(0.03, 0.05), rng.uniform(0.06, 0.1)])
+    hx, hy, hz = half
+    topple = kind == "topple"
+    mu = 0.9 if topple else 0.25
+    height = (1.8 if topple else 0.3) * hz
+    lateral = rng.uniform(0.3, 0.6) * hy * rng.choice([-1, 1]) if kind == "turning-slide" else 0.0
+    start = np.array([-hx - 0.03, lateral, height])
+    m = mujoco.MjModel.from_xml_string(scene(half, mu, start))
+    d = mujoco.MjData(m)
+    speed = rng.uniform(0.05, 0.12)
+    phi = math.atan2(hx, hz)  # balance angle about the far bottom edge
+    box = m.body("box").id
+    samples, t_next, t, state, t_state = [], 0.0, 0.0, "rest", 0.0
+    rest_before, rest_after = rng.uniform(0.8, 1.5), 1.5
+    pos = start.copy()
+    slide_len = rng.uniform(0.08, 0.15)
+    while True:
+        # Finger script: rest, push along +x, then retract upwards and back.
+        if state == "rest" and t >= rest_before:
+            state, t_state = "push", t
+        elif state == "push":
+            pos[0] += speed * m.opt.timestep
+            tilt = math.acos(np.clip(d.xmat[box][8], -1.0, 1.0))  # box z from vertical
+            pushed = pos[0] - start[0]
+            if (topple and tilt > phi + 8 * DEG) or (not topple and pushed > slide_len + 0.03):
+                state, t_state = "retract", t
+        elif state == "retract":
+            pos[0] -= 0.1 * m.opt.timestep
+            pos[2] += 0.2 * m.opt.timestep
+            if t - t_state > 0.6:
+                state, t_state = "after", t
+        elif state == "after" and t - t_state > rest_after:
+            break
+        d.mocap_pos[0] = pos
+        mujoco.mj_step(m, d)
+        t += m.opt.timestep
+        if t >= t_next:
+            w, x, y, z = d.xquat[box]
+            samples.append([t, *d.xpos[box], x, y, z, w])
+            t_next += 1.0 / RATE
+        if t > 30:
+            break
+    poses = np.array(samples)
+    # Truth in the box frame: the far bottom edge (topple), the bottom face (slides).
+    truth = {"kind": "topple" if topple else "slide",
+             "edge_point": [hx, 0.0, -hz], "edge_direction": [0.0, 1.0, 0.0],
+             "face_normal": [0.0, 0.0, -1.0]}
+    # Did it do what was scripted? (A topple that fell back, a slide that toppled: skip.)
+    final_tilt = math.acos(np.clip(R.from_quat(poses[-1, 4:8]).as_matrix()[2, 2], -1.0, 1.0))
+    done = (final_tilt > 60 * DEG) if topple else (final_tilt < 5 * DEG)
+    return poses, truth, done
+
+
+def tag_track(poses, rng):
+    """The tag's poses (on the top face, offset and turned), with tracking noise."""
+    box_from_tag_t = np.array([rng.uniform(-0.01, 0.01), rng.uniform(-0.01, 0.01), 0.0])
+    box_from_tag_r = R.from_euler("z", rng.uniform(-180, 180), degrees=True)
+    out = []
+    for row in poses:
+        if rng.random() < 0.03:
+            continue  # dropped frame
+        wb_r = R.from_quat(row[4:8])
+        p = row[1:4] + wb_r.apply(box_from_tag_t)
+        r = wb_r * box_from_tag_r
+        p = p + rng.normal(scale=1e-3, size=3)
+        r = r * R.from_rotvec(rng.normal(scale=0.5 * DEG, size=3))
+        if rng.random() < 0.01:
+            r = r * R.from_rotvec([40 * DEG, 0, 0])  # mirror solution for one frame
+        q = r.as_quat()
+        if rng.random() < 0.05:
+            q = -q
+        out.append([row[0], *p, *q])
+    return np.array(out), box_from_tag_t, box_from_tag_r
+
+
+def write(path, a):
+    with open(path, "w") as f:
+        f.write("# timestamp tx ty tz qx qy qz qw  (MuJoCo probe)\n")
+        for r in a:
+            f.write("%.6f " % r[0] + " ".join("%.9f" % x for x in r[1:]) + "\n")
+
+
+def main():
+    n = int(sys.argv[1]) if len(sys.argv) > 1 else 10
+    os.makedirs(DIR, exist_ok=True)
+    rng = np.random.default_rng(11)
+    for kind in ("topple", "straight-slide", "turning-slide"):
+        ok, total, skipped, edge_errs, face_errs = 0, 0, 0, [], []
+        while total < n:
+            poses, truth, done = run(kind, rng)
+            if not done:
+                skipped += 1
+                if skipped > 3 * n:
+                    break
+                continue
+            total += 1
+            track, bt_t, bt_r = tag_track(poses, rng)
+            path = f"{DIR}/{kind}_{total}.tum"
+            write(path, track)
+            # Truth in the tag frame: tag_from_box = (box_from_tag)^-1.
+            to_tag = lambda x: bt_r.inv().apply(np.array(x) - bt_t)
+            with open(path[:-4] + ".truth.json", "w") as f:
+                json.dump({"kind": truth["kind"],
+                           "edge": {"point": list(to_tag(truth["edge_point"])),
+                                    "direction": list(bt_r.inv().apply(truth["edge_direction"]))},
+                           "face_normal": list(bt_r.inv().apply(truth["face_normal"]))}, f)
+            r = subprocess.run([BIN, "classify", path, "--json"], capture_output=True, text=True)
+            if r.returncode != 0:
+                print(f"{path}: exit {r.returncode}: {r.stderr.strip()[:200]}")
+                continue
+            c = json.loads(r.stdout)
+            ok += c["kind"] == truth["kind"]
+            if truth["kind"] == "topple" and c["kind"] == "topple":
+                r = subprocess.run([BIN, "learn", path, "--json"], capture_output=True, text=True)
+                edges = json.loads(r.stdout)["edges"] if r.returncode == 0 else []
+                if edges:
+                    e = edges[0]
+                    u = bt_r.inv().apply(truth["edge_direction"])
+                    p = to_tag(truth["edge_point"])
+                    d = np.array(e["direction"])
+                    ang = math.degrees(math.atan2(np.linalg.norm(np.cross(d, u)), abs(d @ u)))
+                    off = np.array(e["point"]) - p
+                    edge_errs.append((ang, np.linalg.norm(off - u * (off @ u)) * 1e3))
+                    if os.environ.get("VERBOSE"):
+                        print(f"  {path}: edge {edge_errs[-1][0]:.2f} deg, {edge_errs[-1][1]:.1f} mm")
+            if truth["kind"] == "slide" and c["kind"] == "slide":
+                faces = [s["face"] for s in c["segments"] if s.get("face")]
+                if faces:
+                    nt = bt_r.inv().apply(truth["face_normal"])
+                    face_errs.append(min(math.degrees(math.acos(np.clip(np.dot(f["normal"], nt), -1, 1)))
+                                         for f in faces))
+        row = {"classified right": f"{ok}/{total}", "skipped (did not do as scripted)": skipped}
+        if edge_errs:
+            e = np.array(edge_errs)
+            row["edge (median, max)"] = "%.2f°/%.1f mm, %.2f°/%.1f mm" % (
+                np.median(e[:, 0]), np.median(e[:, 1]), e[:, 0].max(), e[:, 1].max())
+        if face_errs:
+            row["face normal (median, max)"] = "%.2f°, %.2f°" % (np.median(face_errs), max(face_errs))
+        print(kind, json.dumps(row, ensure_ascii=False), flush=True)
+
+
+if __name__ == "__main__":
+    main()
