@@ -9,13 +9,16 @@ sphere) pushes a box on a table:
 * topple: high push (90% of the box height) on high friction, until the box passes its balance
   point; the truth edge is the far bottom edge;
 * straight slide: low push through the face's centre on low friction (the box does not turn);
-* turning slide: the same, off the centre line (the box turns while it slides).
+* turning slide: the same, off the centre line (the box turns while it slides);
+* instrumented: the box rests on a palm plate that tilts steadily until the box falls over its
+  downhill edge; the palm's pose (small noise, no flips) is written beside it as NAME.palm.tum.
 
 The tracked frame is a tag on the top face (offset and turned, as a real tag is), recorded at
 30 Hz with tracking noise of 1 mm / 0.5 deg per axis, 3% dropped frames, 5% quaternion sign
 flips and 1% single-frame mirror flips (40 deg about the tag's x axis). Prints per kind the
 kinds classified right, the learnt edge's direction and offset errors (topples) and the face
-normal errors (slides).
+normal errors (slides), and the error of the pendulum's CoM angle φ against the homogeneous box's
+atan(half length / half height) (topples).
 
     python3 bench/mujoco_probe.py [N per kind, default 10]
     OBJMODEL=target/release/objmodel python3 bench/mujoco_probe.py 20
@@ -55,6 +58,67 @@ def scene(half, mu, finger_start):
     </body>
   </worldbody>
 </mujoco>"""
+
+
+def palm_scene(half, mu):
+    """A box resting on a palm plate (mocap, 0.6 m square) 0.3 m above the floor, its sides
+    along the plate's, 5 cm uphill of the plate's centre."""
+    hx, hy, hz = half
+    return f"""
+<mujoco>
+  <option timestep="0.0005" gravity="0 0 -9.81" cone="elliptic"/>
+  <worldbody>
+    <geom type="plane" size="3 3 0.1" friction="{mu} 0.005 0.0001"/>
+    <body name="palm" mocap="true" pos="0 0 0.3">
+      <geom type="box" size="0.3 0.3 0.005" friction="{mu} 0.005 0.0001"/>
+    </body>
+    <body name="box" pos="-0.05 0 {0.305 + hz}">
+      <freejoint/>
+      <geom type="box" size="{hx} {hy} {hz}" mass="0.5" friction="{mu} 0.005 0.0001"/>
+    </body>
+  </worldbody>
+</mujoco>"""
+
+
+def run_palm(rng):
+    """An instrumented topple: the palm tilts about its y axis at a steady rate until the box
+    turns on it (it has passed its balance point), then holds while the box falls.
+    Returns (box poses, palm poses, truth, done) as [t x y z qx qy qz qw] rows."""
+    half = np.array([rng.uniform(0.025, 0.04), rng.uniform(0.025, 0.04), rng.uniform(0.06, 0.09)])
+    hx, hy, hz = half
+    m = mujoco.MjModel.from_xml_string(palm_scene(half, 1.5))
+    d = mujoco.MjData(m)
+    box = m.body("box").id
+    rate = rng.uniform(10, 25) * DEG  # tilt rate [rad/s]
+    phi = math.atan2(hx, hz)
+    rest_before, t, t_next, beta, t_hold = rng.uniform(0.8, 1.5), 0.0, 0.0, 0.0, None
+    box_rows, palm_rows = [], []
+    while t < 30:
+        if t >= rest_before and t_hold is None:
+            beta += rate * m.opt.timestep
+            # Hold the tilt once the box has turned 10 degrees on the palm (it falls on its own).
+            tilt = math.acos(np.clip(d.xmat[box][8], -1.0, 1.0))
+            if tilt - beta > 10 * DEG:
+                t_hold = t
+        if t_hold is not None and t - t_hold > 1.5:
+            break
+        # Rotation about the palm's y axis by beta: its +x side goes down.
+        q = R.from_rotvec([0.0, beta, 0.0])
+        d.mocap_quat[0] = np.roll(q.as_quat(), 1)  # (w, x, y, z)
+        d.mocap_pos[0] = [0.0, 0.0, 0.3]
+        mujoco.mj_step(m, d)
+        t += m.opt.timestep
+        if t >= t_next:
+            w, x, y, z = d.xquat[box]
+            box_rows.append([t, *d.xpos[box], x, y, z, w])
+            pq = q.as_quat()
+            palm_rows.append([t, 0.0, 0.0, 0.3, *pq])
+            t_next += 1.0 / RATE
+    box_rows, palm_rows = np.array(box_rows), np.array(palm_rows)
+    truth = {"kind": "topple", "edge_point": [hx, 0.0, -hz], "edge_direction": [0.0, 1.0, 0.0],
+             "face_normal": [0.0, 0.0, -1.0], "phi": phi}
+    final_tilt = math.acos(np.clip(R.from_quat(box_rows[-1, 4:8]).as_matrix()[2, 2], -1.0, 1.0))
+    return box_rows, palm_rows, truth, final_tilt > 45 * DEG
 
 
 def run(kind, rng):
@@ -105,7 +169,7 @@ def run(kind, rng):
     # Truth in the box frame: the far bottom edge (topple), the bottom face (slides).
     truth = {"kind": "topple" if topple else "slide",
              "edge_point": [hx, 0.0, -hz], "edge_direction": [0.0, 1.0, 0.0],
-             "face_normal": [0.0, 0.0, -1.0]}
+             "face_normal": [0.0, 0.0, -1.0], "phi": phi}
     # Did it do what was scripted? (A topple that fell back, a slide that toppled: skip.)
     final_tilt = math.acos(np.clip(R.from_quat(poses[-1, 4:8]).as_matrix()[2, 2], -1.0, 1.0))
     done = (final_tilt > 60 * DEG) if topple else (final_tilt < 5 * DEG)
@@ -145,10 +209,14 @@ def main():
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 10
     os.makedirs(DIR, exist_ok=True)
     rng = np.random.default_rng(11)
-    for kind in ("topple", "straight-slide", "turning-slide"):
-        ok, total, skipped, edge_errs, face_errs = 0, 0, 0, [], []
+    for kind in ("topple", "instrumented", "straight-slide", "turning-slide"):
+        ok, total, skipped, edge_errs, face_errs, phi_errs = 0, 0, 0, [], [], []
         while total < n:
-            poses, truth, done = run(kind, rng)
+            palm = None
+            if kind == "instrumented":
+                poses, palm, truth, done = run_palm(rng)
+            else:
+                poses, truth, done = run(kind, rng)
             if not done:
                 skipped += 1
                 if skipped > 3 * n:
@@ -158,6 +226,13 @@ def main():
             track, bt_t, bt_r = tag_track(poses, rng)
             path = f"{DIR}/{kind}_{total}.tum"
             write(path, track)
+            if palm is not None:
+                # The palm's pose from the arm's kinematics: small noise, no tag flips.
+                noisy = palm.copy()
+                noisy[:, 1:4] += rng.normal(scale=2e-4, size=(len(palm), 3))
+                noisy[:, 4:8] = (R.from_quat(palm[:, 4:8])
+                                 * R.from_rotvec(rng.normal(scale=0.05 * DEG, size=(len(palm), 3)))).as_quat()
+                write(path[:-4] + ".palm.tum", noisy)
             # Truth in the tag frame: tag_from_box = (box_from_tag)^-1.
             to_tag = lambda x: bt_r.inv().apply(np.array(x) - bt_t)
             with open(path[:-4] + ".truth.json", "w") as f:
@@ -176,6 +251,9 @@ def main():
                 edges = json.loads(r.stdout)["edges"] if r.returncode == 0 else []
                 if edges:
                     e = edges[0]
+                    phis = [pd["phi"] for pd in e.get("pendulums", []) if pd.get("phi") is not None]
+                    if phis:
+                        phi_errs.append(abs(phis[0] - truth["phi"]) / DEG)
                     u = bt_r.inv().apply(truth["edge_direction"])
                     p = to_tag(truth["edge_point"])
                     d = np.array(e["direction"])
@@ -195,6 +273,8 @@ def main():
             e = np.array(edge_errs)
             row["edge (median, max)"] = "%.2f°/%.1f mm, %.2f°/%.1f mm" % (
                 np.median(e[:, 0]), np.median(e[:, 1]), e[:, 0].max(), e[:, 1].max())
+        if phi_errs:
+            row["phi (median, max)"] = "%.2f°, %.2f°" % (np.median(phi_errs), max(phi_errs))
         if face_errs:
             row["face normal (median, max)"] = "%.2f°, %.2f°" % (np.median(face_errs), max(face_errs))
         print(kind, json.dumps(row, ensure_ascii=False), flush=True)
