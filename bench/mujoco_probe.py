@@ -22,6 +22,7 @@ atan(half length / half height) (topples).
 
     python3 bench/mujoco_probe.py [N per kind, default 10]
     OBJMODEL=target/release/objmodel python3 bench/mujoco_probe.py 20
+    NOISE=0 python3 bench/mujoco_probe.py      (exact poses: what is the physics, what the noise)
 
 Needs numpy, scipy and mujoco (pip install mujoco). Writes into $PROBE_DIR (default
 /tmp/objmodel-mujoco). Not a test: the numbers are for reading (see the notes on issue 3).
@@ -40,6 +41,8 @@ BIN = os.environ.get("OBJMODEL", "target/release/objmodel")
 DIR = os.environ.get("PROBE_DIR", "/tmp/objmodel-mujoco")
 DEG = math.pi / 180
 RATE = 30.0
+# Tracking noise, as a multiple of 1 mm / 0.5 deg (and of the flip rates): NOISE=0 for exact poses.
+NOISE = float(os.environ.get("NOISE", "1"))
 
 
 def scene(half, mu, finger_start):
@@ -187,9 +190,9 @@ def tag_track(poses, rng):
         wb_r = R.from_quat(row[4:8])
         p = row[1:4] + wb_r.apply(box_from_tag_t)
         r = wb_r * box_from_tag_r
-        p = p + rng.normal(scale=1e-3, size=3)
-        r = r * R.from_rotvec(rng.normal(scale=0.5 * DEG, size=3))
-        if rng.random() < 0.01:
+        p = p + rng.normal(scale=1e-3 * NOISE, size=3)
+        r = r * R.from_rotvec(rng.normal(scale=0.5 * DEG * NOISE, size=3))
+        if rng.random() < 0.01 * NOISE:
             r = r * R.from_rotvec([40 * DEG, 0, 0])  # mirror solution for one frame
         q = r.as_quat()
         if rng.random() < 0.05:
@@ -229,9 +232,9 @@ def main():
             if palm is not None:
                 # The palm's pose from the arm's kinematics: small noise, no tag flips.
                 noisy = palm.copy()
-                noisy[:, 1:4] += rng.normal(scale=2e-4, size=(len(palm), 3))
-                noisy[:, 4:8] = (R.from_quat(palm[:, 4:8])
-                                 * R.from_rotvec(rng.normal(scale=0.05 * DEG, size=(len(palm), 3)))).as_quat()
+                noisy[:, 1:4] += rng.normal(scale=2e-4 * NOISE, size=(len(palm), 3))
+                noisy[:, 4:8] = (R.from_quat(palm[:, 4:8]) * R.from_rotvec(
+                    rng.normal(scale=0.05 * DEG * NOISE, size=(len(palm), 3)))).as_quat()
                 write(path[:-4] + ".palm.tum", noisy)
             # Truth in the tag frame: tag_from_box = (box_from_tag)^-1.
             to_tag = lambda x: bt_r.inv().apply(np.array(x) - bt_t)
@@ -239,7 +242,8 @@ def main():
                 json.dump({"kind": truth["kind"],
                            "edge": {"point": list(to_tag(truth["edge_point"])),
                                     "direction": list(bt_r.inv().apply(truth["edge_direction"]))},
-                           "face_normal": list(bt_r.inv().apply(truth["face_normal"]))}, f)
+                           "face_normal": list(bt_r.inv().apply(truth["face_normal"])),
+                           "phi": truth["phi"]}, f)
             r = subprocess.run([BIN, "classify", path, "--json"], capture_output=True, text=True)
             if r.returncode != 0:
                 print(f"{path}: exit {r.returncode}: {r.stderr.strip()[:200]}")
@@ -254,6 +258,8 @@ def main():
                     phis = [pd["phi"] for pd in e.get("pendulums", []) if pd.get("phi") is not None]
                     if phis:
                         phi_errs.append(abs(phis[0] - truth["phi"]) / DEG)
+                        if os.environ.get("VERBOSE"):
+                            print(f"  {path}: phi {phis[0] / DEG:.2f} deg, truth {truth['phi'] / DEG:.2f}")
                     u = bt_r.inv().apply(truth["edge_direction"])
                     p = to_tag(truth["edge_point"])
                     d = np.array(e["direction"])

@@ -254,21 +254,24 @@ fn fit_line(
 }
 
 /// The segment's fixed plane of motion (slide hypothesis): MSAC over the normals of the most
-/// informative blocks and the fit to all.
+/// informative blocks and the fit to all, each with the level-support prior on the normal when
+/// `down` is given (see [`slide_normal`]); the costs are the data's alone.
 fn fit_plane(
     blocks: &[Block],
     idx: &[usize],
     valid: impl Fn(&Vector3<f64>) -> bool,
+    down: Option<&Vector3<f64>>,
     th: &mut Thresholds,
 ) -> Option<Vector3<f64>> {
+    let normal = |s: &PlaneStats| slide_normal(s, down).normal().map(|n| n.into_inner());
     let mut all = PlaneStats::default();
     idx.iter().for_each(|&i| all.merge(&blocks[i].plane));
     let info = |i: usize| blocks[i].plane.sww.trace() + blocks[i].plane.stt.trace();
     let mut candidates: Vec<Vector3<f64>> = top_k(idx, MSAC_CANDIDATES, info)
         .iter()
-        .filter_map(|&i| blocks[i].plane.normal().map(|n| n.into_inner()))
+        .filter_map(|&i| normal(&blocks[i].plane))
         .collect();
-    candidates.extend(all.normal().map(|n| n.into_inner()));
+    candidates.extend(normal(&all));
     msac(
         idx,
         candidates,
@@ -279,9 +282,22 @@ fn fit_plane(
         |inliers| {
             let mut s = PlaneStats::default();
             inliers.iter().for_each(|&i| s.merge(&blocks[i].plane));
-            s.normal().map(|n| n.into_inner())
+            normal(&s)
         },
     )
+}
+
+/// Slide statistics with the level-support prior when `down` (unit, in the frame of the
+/// statistics) is given: on a level support the face slid on faces down, to within the
+/// support's tilt ([`crate::face::SUPPORT_LEVEL_SIGMA_RAD`]). The prior decides the normal where
+/// the motion does not (a straight push leaves it free about the direction of travel, and the
+/// slight rocking of a pushed box, about the horizontal axis across the push, then pulls it
+/// sideways); where the motion decides, the prior barely moves it.
+fn slide_normal(s: &PlaneStats, down: Option<&Vector3<f64>>) -> PlaneStats {
+    match down {
+        Some(d) => s.with_normal_prior(d, crate::face::SUPPORT_LEVEL_SIGMA_RAD),
+        None => *s,
+    }
 }
 
 /// Change-point trimming of a fitted edge: at the end of a topple the object may leave or slip
@@ -441,7 +457,9 @@ pub(super) fn analyse_segment(
             .sum();
         support >= MIN_EDGE_FRAMES
     });
-    let plane = fit_plane(blocks, &idx, valid_plane, &mut th);
+    // The level-support prior: poses in the world frame (not instrumented) and gravity known.
+    let level_down = seg.down_ref.filter(|_| !instrumented);
+    let plane = fit_plane(blocks, &idx, valid_plane, level_down.as_ref(), &mut th);
     // Blocks cut off as "after (or before) the pure rotation": labelled general.
     let mut cut: std::collections::HashSet<usize> = std::collections::HashSet::new();
     if let Some(l) = line {
@@ -523,12 +541,7 @@ pub(super) fn analyse_segment(
     let face = (kind == Kind::Slide).then(|| {
         let mut s = PlaneStats::default();
         slide_blocks.iter().for_each(|&i| s.merge(&blocks[i].plane));
-        // On a level support (poses relative to the world, gravity known) the face slid on
-        // faces down, to within the support's tilt: a prior on the normal, which decides it
-        // where the motion does not (a straight push without turning).
-        if let (false, Some(d)) = (instrumented, seg.down_ref) {
-            s = s.with_normal_prior(&d, crate::face::SUPPORT_LEVEL_SIGMA_RAD);
-        }
+        let s = slide_normal(&s, level_down.as_ref());
         let mut n = s.normal().map(|n| n.into_inner()).or(plane)?;
         if let Some(d) = seg.down_ref {
             if n.dot(&d) < 0.0 {
