@@ -252,10 +252,52 @@ pub const MAX_FIT_SPAN_S: f64 = 60.0;
 /// Integrate `ψ̈ = k sin(ψ - φ)` from `(t0, ψ0, ψ̇0)` and return ψ at the times `t` (sorted,
 /// >= t0), with RK4 steps of at most 2 ms.
 pub fn simulate(phi: f64, k: f64, t0: f64, psi0: f64, dpsi0: f64, t: &[f64]) -> Vec<f64> {
+    let mut out = Vec::with_capacity(t.len());
+    integrate(phi, k, t0, psi0, dpsi0, t, |_, x| {
+        out.push(x);
+        true
+    });
+    out
+}
+
+/// `Σ (psi_i - ψ(t_i))²` over the [`simulate`]d ψ, summed in order; once the partial sum
+/// reaches `bound` the integration stops and that partial sum (>= `bound`) is returned. A grid
+/// search that keeps the smallest sum thus skips most of its candidates' integration, with
+/// the same winner: a sum of squares only grows.
+#[allow(clippy::too_many_arguments)]
+fn sse_below(
+    phi: f64,
+    k: f64,
+    t0: f64,
+    psi0: f64,
+    dpsi0: f64,
+    t: &[f64],
+    psi: &[f64],
+    bound: f64,
+) -> f64 {
+    let mut acc = 0.0;
+    integrate(phi, k, t0, psi0, dpsi0, t, |i, x| {
+        let d = psi[i] - x;
+        acc += d * d;
+        acc < bound
+    });
+    acc
+}
+
+/// [`simulate`]'s integration, passing `(i, ψ(t_i))` to `sample`, which stops it by returning
+/// false.
+fn integrate(
+    phi: f64,
+    k: f64,
+    t0: f64,
+    psi0: f64,
+    dpsi0: f64,
+    t: &[f64],
+    mut sample: impl FnMut(usize, f64) -> bool,
+) {
     let f = |psi: f64| k * (psi - phi).sin();
     let (mut tc, mut x, mut v) = (t0, psi0, dpsi0);
-    let mut out = Vec::with_capacity(t.len());
-    for &target in t {
+    for (i, &target) in t.iter().enumerate() {
         while tc < target - 1e-12 {
             let h = (target - tc).min(0.002);
             let (k1x, k1v) = (v, f(x));
@@ -266,9 +308,10 @@ pub fn simulate(phi: f64, k: f64, t0: f64, psi0: f64, dpsi0: f64, t: &[f64]) -> 
             v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
             tc += h;
         }
-        out.push(x);
+        if !sample(i, x) {
+            return;
+        }
     }
-    out
 }
 
 /// Fit the pendulum to ψ(t) \[rad\] with noise `sigma` \[rad\], starting from the guess `phi0`.
@@ -286,7 +329,6 @@ pub fn fit_fall(t: &[f64], psi: &[f64], sigma: f64, phi0: f64) -> Option<FallFit
         let m = simulate(p[0], p[1], t0, p[2], p[3], t);
         m.iter().zip(psi).map(|(a, b)| b - a).collect()
     };
-    let sse = |r: &[f64]| r.iter().map(|x| x * x).sum::<f64>();
     // Initial (φ, k): a coarse grid, as the problem is far from linear.
     let mut best = (f64::INFINITY, p[0], p[1]);
     for i in -12..=12 {
@@ -294,7 +336,7 @@ pub fn fit_fall(t: &[f64], psi: &[f64], sigma: f64, phi0: f64) -> Option<FallFit
         for kk in [
             5.0, 8.0, 12.0, 18.0, 27.0, 40.0, 60.0, 90.0, 135.0, 200.0, 300.0, 450.0,
         ] {
-            let s = sse(&resid(&[ph, kk, p[2], p[3]]));
+            let s = sse_below(ph, kk, t0, p[2], p[3], t, psi, best.0);
             if s < best.0 {
                 best = (s, ph, kk);
             }
@@ -350,10 +392,50 @@ fn fit_result(
 /// support's tilt `beta` (smoothed, at the sample times) is below φ; from the first crossing
 /// on, `θ̈ = k sin(θ + β(t) - φ)` from rest, with β interpolated linearly between samples.
 pub fn simulate_on_support(phi: f64, k: f64, t: &[f64], beta: &[f64]) -> Vec<f64> {
-    let mut out = vec![0.0; t.len()];
-    let Some(c) = (1..t.len()).find(|&i| beta[i] >= phi) else {
-        return out;
-    };
+    let mut out = Vec::with_capacity(t.len());
+    integrate_on_support(phi, k, t, beta, |_, x| {
+        out.push(x);
+        true
+    });
+    out
+}
+
+/// [`sse_below`] for [`simulate_on_support`] against `theta`.
+fn sse_on_support_below(
+    phi: f64,
+    k: f64,
+    t: &[f64],
+    beta: &[f64],
+    theta: &[f64],
+    bound: f64,
+) -> f64 {
+    let mut acc = 0.0;
+    integrate_on_support(phi, k, t, beta, |i, x| {
+        let d = theta[i] - x;
+        acc += d * d;
+        acc < bound
+    });
+    acc
+}
+
+/// [`simulate_on_support`]'s integration, passing `(i, θ(t_i))` to `sample`, which stops it
+/// by returning false.
+fn integrate_on_support(
+    phi: f64,
+    k: f64,
+    t: &[f64],
+    beta: &[f64],
+    mut sample: impl FnMut(usize, f64) -> bool,
+) {
+    let c = (1..t.len()).find(|&i| beta[i] >= phi).unwrap_or(t.len());
+    for i in 0..c {
+        if !sample(i, 0.0) {
+            return;
+        }
+    }
+    if c == t.len() {
+        return;
+    }
     // Crossing time by linear interpolation.
     let s = ((phi - beta[c - 1]) / (beta[c] - beta[c - 1])).clamp(0.0, 1.0);
     let mut tc = t[c - 1] + s * (t[c] - t[c - 1]);
@@ -363,9 +445,9 @@ pub fn simulate_on_support(phi: f64, k: f64, t: &[f64], beta: &[f64]) -> Vec<f64
         let w = ((tt - t[i - 1]) / (t[i] - t[i - 1])).clamp(0.0, 1.0);
         beta[i - 1] + w * (beta[i] - beta[i - 1])
     };
-    for i in c..t.len() {
-        while tc < t[i] - 1e-12 {
-            let h = (t[i] - tc).min(0.002);
+    for (i, &ti) in t.iter().enumerate().skip(c) {
+        while tc < ti - 1e-12 {
+            let h = (ti - tc).min(0.002);
             let f = |tt: f64, xx: f64| k * (xx + beta_at(tt, i) - phi).sin();
             let (k1x, k1v) = (v, f(tc, x));
             let (k2x, k2v) = (v + 0.5 * h * k1v, f(tc + 0.5 * h, x + 0.5 * h * k1x));
@@ -375,9 +457,10 @@ pub fn simulate_on_support(phi: f64, k: f64, t: &[f64], beta: &[f64]) -> Vec<f64
             v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
             tc += h;
         }
-        out[i] = x;
+        if !sample(i, x) {
+            return;
+        }
     }
-    out
 }
 
 /// φ and k from an instrumented topple: the object's rotation relative to the palm, `theta`
@@ -403,14 +486,13 @@ pub fn fit_on_support(
             .map(|(m, y)| y - m)
             .collect()
     };
-    let sse = |r: &[f64]| r.iter().map(|x| x * x).sum::<f64>();
     let mut best = (f64::INFINITY, [phi0, 40.0]);
     for i in -40..=40 {
         let ph = phi0 + 0.002 * i as f64;
         for kk in [
             5.0, 8.0, 12.0, 18.0, 27.0, 40.0, 60.0, 90.0, 135.0, 200.0, 300.0,
         ] {
-            let s = sse(&resid([ph, kk]));
+            let s = sse_on_support_below(ph, kk, t, beta, theta, best.0);
             if s < best.0 {
                 best = (s, [ph, kk]);
             }
