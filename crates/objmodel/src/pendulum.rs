@@ -515,6 +515,40 @@ mod tests {
     use super::*;
 
     #[test]
+    fn bounded_sums_of_squares_decide_as_the_full_ones() {
+        let t: Vec<f64> = (0..40).map(|i| i as f64 / 30.0).collect();
+        let psi = simulate(0.4, 40.0, 0.0, 0.45, 0.3, &t);
+        let beta: Vec<f64> = t.iter().map(|x| 0.3 * x).collect();
+        let theta = simulate_on_support(0.2, 30.0, &t, &beta);
+        for (phi, k) in [(0.3, 20.0), (0.4, 40.0), (0.5, 90.0), (0.1, 5.0)] {
+            let full: f64 = simulate(phi, k, 0.0, 0.45, 0.3, &t)
+                .iter()
+                .zip(&psi)
+                .map(|(m, y)| (y - m) * (y - m))
+                .sum();
+            let support: f64 = simulate_on_support(phi / 2.0, k, &t, &beta)
+                .iter()
+                .zip(&theta)
+                .map(|(m, y)| (y - m) * (y - m))
+                .sum();
+            // Unbounded: the same sum, bit for bit.
+            let unbounded = sse_below(phi, k, 0.0, 0.45, 0.3, &t, &psi, f64::INFINITY);
+            assert_eq!(unbounded.to_bits(), full.to_bits());
+            let on = sse_on_support_below(phi / 2.0, k, &t, &beta, &theta, f64::INFINITY);
+            assert_eq!(on.to_bits(), support.to_bits());
+            // Bounded: below the bound exactly when the full sum is.
+            for bound in [full * 0.5, full, full * 2.0 + 1e-12] {
+                let b = sse_below(phi, k, 0.0, 0.45, 0.3, &t, &psi, bound);
+                assert_eq!(b < bound, full < bound, "{phi} {k} {bound}");
+            }
+            for bound in [support * 0.5, support * 2.0 + 1e-12] {
+                let b = sse_on_support_below(phi / 2.0, k, &t, &beta, &theta, bound);
+                assert_eq!(b < bound, support < bound);
+            }
+        }
+    }
+
+    #[test]
     fn spans_longer_than_a_topple_are_not_fitted() {
         // A fall sampled at 30 Hz, stamped in nanoseconds: refused at once (integrating it in
         // 2 ms steps would not end), while the same fall in seconds is fitted.
