@@ -65,7 +65,9 @@ fn phi_from_instrumented_topples() {
 
 #[test]
 fn phi_from_direct_topples_by_the_fall() {
-    for (noise, limit) in [(NoiseModel::clean(), 1.0), (NoiseModel::real(), 7.0)] {
+    // Clean: within 0.1°. A fall fitted from before the balance point takes in frames in which
+    // the finger still drives the box, and came out 0.4-0.6° low here.
+    for (noise, limit) in [(NoiseModel::clean(), 0.1), (NoiseModel::real(), 7.0)] {
         for seed in 1..=2 {
             let (_, dy, truth) = learn(SceneKind::Topple, "tall", &noise, seed);
             let Some(f) = dy[0].fall else {

@@ -184,30 +184,71 @@ impl Tree {
                 planes.push((m, m.dot(&e.point), 1.0 / sigma));
             }
         }
-        if planes.len() < 3 {
-            return None;
-        }
-        let mut a = nalgebra::Matrix3::zeros();
-        let mut b = Vector3::zeros();
-        for (m, d, w) in &planes {
-            a += m * m.transpose() * (w * w);
-            b += m * (d * w * w);
-        }
-        let eig = a.symmetric_eigenvalues();
-        if eig.min() < CONDITION_MIN * eig.max() {
-            return None;
-        }
-        let x = a.try_inverse()? * b;
-        let rms = (planes
-            .iter()
-            .map(|(m, d, _)| (m.dot(&x) - d).powi(2))
-            .sum::<f64>()
-            / planes.len() as f64)
-            .sqrt();
-        Some(CentreOfMass {
-            point: x,
-            rms_residual_m: rms,
-            pendulums: planes.len(),
-        })
+        com_from_planes(&planes)
+    }
+}
+
+/// The point closest, in the weighted least-squares sense, to planes `m · x = d` given as
+/// `(unit m, d [m], weight [1/rad])`; `None` with fewer than three planes or when their normals
+/// are too close to parallel to fix a point ([`CONDITION_MIN`] on `Σ m mᵀ`: the geometry decides
+/// whether the planes meet in a point, the weights only how well each is known).
+fn com_from_planes(planes: &[(Vector3<f64>, f64, f64)]) -> Option<CentreOfMass> {
+    if planes.len() < 3 {
+        return None;
+    }
+    let mut a = nalgebra::Matrix3::zeros();
+    let mut b = Vector3::zeros();
+    let mut geometry = nalgebra::Matrix3::zeros();
+    for (m, d, w) in planes {
+        a += m * m.transpose() * (w * w);
+        b += m * (d * w * w);
+        geometry += m * m.transpose();
+    }
+    let eig = geometry.symmetric_eigenvalues();
+    if eig.min() < CONDITION_MIN * eig.max() {
+        return None;
+    }
+    let x = a.try_inverse()? * b;
+    let rms = (planes
+        .iter()
+        .map(|(m, d, _)| (m.dot(&x) - d).powi(2))
+        .sum::<f64>()
+        / planes.len() as f64)
+        .sqrt();
+    Some(CentreOfMass {
+        point: x,
+        rms_residual_m: rms,
+        pendulums: planes.len(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Three planes along z known well and one across z known poorly still fix the point: the
+    /// geometry is good, only the weights differ (by 200 here).
+    #[test]
+    fn planes_of_unequal_weight_fix_a_point() {
+        let x = Vector3::new(0.01, -0.02, 0.03);
+        let plane = |m: Vector3<f64>, w: f64| {
+            let m = m.normalize();
+            (m, m.dot(&x), w)
+        };
+        let planes = [
+            plane(Vector3::new(1.0, 0.0, 0.1), 1000.0),
+            plane(Vector3::new(0.0, 1.0, 0.1), 1000.0),
+            plane(Vector3::new(1.0, 1.0, 0.0), 1000.0),
+            plane(Vector3::new(0.1, 0.0, 1.0), 5.0),
+        ];
+        let com = com_from_planes(&planes).expect("a point");
+        assert!((com.point - x).norm() < 1e-12, "{}", com.point);
+        // Three planes through one line do not.
+        let line = [
+            plane(Vector3::new(1.0, 0.0, 0.0), 1.0),
+            plane(Vector3::new(0.0, 1.0, 0.0), 1.0),
+            plane(Vector3::new(1.0, 1.0, 0.0), 1.0),
+        ];
+        assert!(com_from_planes(&line).is_none());
     }
 }
