@@ -45,42 +45,43 @@ RATE = 30.0
 NOISE = float(os.environ.get("NOISE", "1"))
 
 
-def scene(half, mu, finger_start):
-    hx, hy, hz = half
+def mjcf(mu, bodies):
+    """A MuJoCo model: a floor of friction `mu` under `bodies` (MJCF body elements)."""
     return f"""
 <mujoco>
   <option timestep="0.0005" gravity="0 0 -9.81" cone="elliptic"/>
   <worldbody>
     <geom type="plane" size="3 3 0.1" friction="{mu} 0.005 0.0001"/>
+    {bodies}
+  </worldbody>
+</mujoco>"""
+
+
+def scene(half, mu, finger_start):
+    """A box on the floor and a finger (a mocap sphere) at `finger_start`."""
+    hx, hy, hz = half
+    return mjcf(mu, f"""
     <body name="box" pos="0 0 {hz}">
       <freejoint/>
       <geom type="box" size="{hx} {hy} {hz}" mass="0.5" friction="{mu} 0.005 0.0001"/>
     </body>
     <body name="finger" mocap="true" pos="{finger_start[0]} {finger_start[1]} {finger_start[2]}">
       <geom type="sphere" size="0.008" friction="0.1 0.005 0.0001" contype="1" conaffinity="1"/>
-    </body>
-  </worldbody>
-</mujoco>"""
+    </body>""")
 
 
 def palm_scene(half, mu):
     """A box resting on a palm plate (mocap, 0.6 m square) 0.3 m above the floor, its sides
     along the plate's, 5 cm uphill of the plate's centre."""
     hx, hy, hz = half
-    return f"""
-<mujoco>
-  <option timestep="0.0005" gravity="0 0 -9.81" cone="elliptic"/>
-  <worldbody>
-    <geom type="plane" size="3 3 0.1" friction="{mu} 0.005 0.0001"/>
+    return mjcf(mu, f"""
     <body name="palm" mocap="true" pos="0 0 0.3">
       <geom type="box" size="0.3 0.3 0.005" friction="{mu} 0.005 0.0001"/>
     </body>
     <body name="box" pos="-0.05 0 {0.305 + hz}">
       <freejoint/>
       <geom type="box" size="{hx} {hy} {hz}" mass="0.5" friction="{mu} 0.005 0.0001"/>
-    </body>
-  </worldbody>
-</mujoco>"""
+    </body>""")
 
 
 def run_palm(rng):

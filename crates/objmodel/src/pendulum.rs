@@ -260,28 +260,37 @@ pub fn simulate(phi: f64, k: f64, t0: f64, psi0: f64, dpsi0: f64, t: &[f64]) -> 
     out
 }
 
-/// `Σ (psi_i - ψ(t_i))²` over the [`simulate`]d ψ, summed in order; once the partial sum
-/// reaches `bound` the integration stops and that partial sum (>= `bound`) is returned. A grid
-/// search that keeps the smallest sum thus skips most of its candidates' integration, with
-/// the same winner: a sum of squares only grows.
-#[allow(clippy::too_many_arguments)]
-fn sse_below(
-    phi: f64,
-    k: f64,
-    t0: f64,
-    psi0: f64,
-    dpsi0: f64,
-    t: &[f64],
-    psi: &[f64],
+/// `Σ (y_i - m_i)²` in order over the model values `m_i` that `run` passes to the sampler it is
+/// given (e.g. [`integrate`]'s), stopping it (the sampler returns false) once the sum reaches
+/// `bound`; the partial sum, `>= bound`, is then returned. A grid search that keeps the
+/// smallest sum thus skips most of its candidates' integration with the same winner: a sum of
+/// squares only grows.
+fn squares_below(
+    y: &[f64],
     bound: f64,
+    run: impl FnOnce(&mut dyn FnMut(usize, f64) -> bool),
 ) -> f64 {
     let mut acc = 0.0;
-    integrate(phi, k, t0, psi0, dpsi0, t, |i, x| {
-        let d = psi[i] - x;
+    run(&mut |i, m| {
+        let d = y[i] - m;
         acc += d * d;
         acc < bound
     });
     acc
+}
+
+/// One classical Runge-Kutta step of `ẍ = a(t, x)` from `(t, x, ẋ = v)` over `h`: the new
+/// `(x, v)`.
+#[inline(always)]
+fn rk4_step(t: f64, x: f64, v: f64, h: f64, a: impl Fn(f64, f64) -> f64) -> (f64, f64) {
+    let (k1x, k1v) = (v, a(t, x));
+    let (k2x, k2v) = (v + 0.5 * h * k1v, a(t + 0.5 * h, x + 0.5 * h * k1x));
+    let (k3x, k3v) = (v + 0.5 * h * k2v, a(t + 0.5 * h, x + 0.5 * h * k2x));
+    let (k4x, k4v) = (v + h * k3v, a(t + h, x + h * k3x));
+    (
+        x + h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x),
+        v + h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v),
+    )
 }
 
 /// [`simulate`]'s integration, passing `(i, ψ(t_i))` to `sample`, which stops it by returning
@@ -300,12 +309,7 @@ fn integrate(
     for (i, &target) in t.iter().enumerate() {
         while tc < target - 1e-12 {
             let h = (target - tc).min(0.002);
-            let (k1x, k1v) = (v, f(x));
-            let (k2x, k2v) = (v + 0.5 * h * k1v, f(x + 0.5 * h * k1x));
-            let (k3x, k3v) = (v + 0.5 * h * k2v, f(x + 0.5 * h * k2x));
-            let (k4x, k4v) = (v + h * k3v, f(x + h * k3x));
-            x += h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
-            v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+            (x, v) = rk4_step(tc, x, v, h, |_, psi| f(psi));
             tc += h;
         }
         if !sample(i, x) {
@@ -336,7 +340,9 @@ pub fn fit_fall(t: &[f64], psi: &[f64], sigma: f64, phi0: f64) -> Option<FallFit
         for kk in [
             5.0, 8.0, 12.0, 18.0, 27.0, 40.0, 60.0, 90.0, 135.0, 200.0, 300.0, 450.0,
         ] {
-            let s = sse_below(ph, kk, t0, p[2], p[3], t, psi, best.0);
+            let s = squares_below(psi, best.0, |sample| {
+                integrate(ph, kk, t0, p[2], p[3], t, sample)
+            });
             if s < best.0 {
                 best = (s, ph, kk);
             }
@@ -400,24 +406,6 @@ pub fn simulate_on_support(phi: f64, k: f64, t: &[f64], beta: &[f64]) -> Vec<f64
     out
 }
 
-/// [`sse_below`] for [`simulate_on_support`] against `theta`.
-fn sse_on_support_below(
-    phi: f64,
-    k: f64,
-    t: &[f64],
-    beta: &[f64],
-    theta: &[f64],
-    bound: f64,
-) -> f64 {
-    let mut acc = 0.0;
-    integrate_on_support(phi, k, t, beta, |i, x| {
-        let d = theta[i] - x;
-        acc += d * d;
-        acc < bound
-    });
-    acc
-}
-
 /// [`simulate_on_support`]'s integration, passing `(i, θ(t_i))` to `sample`, which stops it
 /// by returning false.
 fn integrate_on_support(
@@ -448,13 +436,7 @@ fn integrate_on_support(
     for (i, &ti) in t.iter().enumerate().skip(c) {
         while tc < ti - 1e-12 {
             let h = (ti - tc).min(0.002);
-            let f = |tt: f64, xx: f64| k * (xx + beta_at(tt, i) - phi).sin();
-            let (k1x, k1v) = (v, f(tc, x));
-            let (k2x, k2v) = (v + 0.5 * h * k1v, f(tc + 0.5 * h, x + 0.5 * h * k1x));
-            let (k3x, k3v) = (v + 0.5 * h * k2v, f(tc + 0.5 * h, x + 0.5 * h * k2x));
-            let (k4x, k4v) = (v + h * k3v, f(tc + h, x + h * k3x));
-            x += h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
-            v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+            (x, v) = rk4_step(tc, x, v, h, |tt, xx| k * (xx + beta_at(tt, i) - phi).sin());
             tc += h;
         }
         if !sample(i, x) {
@@ -492,7 +474,9 @@ pub fn fit_on_support(
         for kk in [
             5.0, 8.0, 12.0, 18.0, 27.0, 40.0, 60.0, 90.0, 135.0, 200.0, 300.0,
         ] {
-            let s = sse_on_support_below(ph, kk, t, beta, theta, best.0);
+            let s = squares_below(theta, best.0, |sample| {
+                integrate_on_support(ph, kk, t, beta, sample)
+            });
             if s < best.0 {
                 best = (s, [ph, kk]);
             }
@@ -532,17 +516,25 @@ mod tests {
                 .map(|(m, y)| (y - m) * (y - m))
                 .sum();
             // Unbounded: the same sum, bit for bit.
-            let unbounded = sse_below(phi, k, 0.0, 0.45, 0.3, &t, &psi, f64::INFINITY);
+            let sse_below = |bound: f64| {
+                squares_below(&psi, bound, |s| integrate(phi, k, 0.0, 0.45, 0.3, &t, s))
+            };
+            let on_support_below = |bound: f64| {
+                squares_below(&theta, bound, |s| {
+                    integrate_on_support(phi / 2.0, k, &t, &beta, s)
+                })
+            };
+            let unbounded = sse_below(f64::INFINITY);
             assert_eq!(unbounded.to_bits(), full.to_bits());
-            let on = sse_on_support_below(phi / 2.0, k, &t, &beta, &theta, f64::INFINITY);
+            let on = on_support_below(f64::INFINITY);
             assert_eq!(on.to_bits(), support.to_bits());
             // Bounded: below the bound exactly when the full sum is.
             for bound in [full * 0.5, full, full * 2.0 + 1e-12] {
-                let b = sse_below(phi, k, 0.0, 0.45, 0.3, &t, &psi, bound);
+                let b = sse_below(bound);
                 assert_eq!(b < bound, full < bound, "{phi} {k} {bound}");
             }
             for bound in [support * 0.5, support * 2.0 + 1e-12] {
-                let b = sse_on_support_below(phi / 2.0, k, &t, &beta, &theta, bound);
+                let b = on_support_below(bound);
                 assert_eq!(b < bound, support < bound);
             }
         }

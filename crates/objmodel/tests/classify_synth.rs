@@ -11,6 +11,11 @@ fn line_angle_deg(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
     a.cross(b).norm().atan2(a.dot(b).abs()).to_degrees()
 }
 
+/// The angle between two directions \[deg\], sign included (0 to 180).
+fn angle_deg(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+    a.cross(b).norm().atan2(a.dot(b)).to_degrees()
+}
+
 fn demos(kind: usize, n: usize, noise: &SynthNoise) -> Vec<SynthDemo> {
     (0..n as u64)
         .map(|seed| {
@@ -171,12 +176,7 @@ fn slide_gives_the_face_normal_and_topples_give_its_offset() {
     let (n, offset) = truth.unwrap();
     assert_eq!(tree.faces.len(), 1);
     let f = &tree.faces[0];
-    let err = f
-        .normal
-        .cross(&n)
-        .norm()
-        .atan2(f.normal.dot(&n))
-        .to_degrees();
+    let err = angle_deg(&f.normal, &n);
     eprintln!(
         "slide face normal error {err:.3} deg (sign included), offset {:?}",
         f.offset
@@ -237,13 +237,7 @@ fn straight_pushes_give_the_bottom_face() {
                 .iter()
                 .find_map(|s| s.face.as_ref())
                 .expect("a face");
-            let err = f
-                .normal
-                .cross(&n)
-                .norm()
-                .atan2(f.normal.dot(&n))
-                .to_degrees();
-            worst = worst.max(err);
+            worst = worst.max(angle_deg(&f.normal, &n));
             tree.add(&c);
         }
         eprintln!("straight pushes: largest face normal error {worst:.3} deg (sign included)");
