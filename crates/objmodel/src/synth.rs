@@ -424,15 +424,14 @@ fn slide_turning(b: &SynthBox, noise: &SynthNoise, rate: f64, seed: u64, turn: b
             let w0 = world0.translation.vector;
             let to_origin = Isometry3::translation(-w0.x, -w0.y, 0.0);
             let world_from_box = to_origin.inverse() * move_world * to_origin * world0;
+            if turn {
+                return StampedPose::new(t, world_from_box * b.box_from_tag);
+            }
             // A pushed box pitches a little about the horizontal axis across the push (soft
             // contacts, friction torque): 0.02° at most, about its bottom centre.
             let bottom = world_from_box * nalgebra::Point3::new(0.0, 0.0, -b.half.z);
             let across = Vector3::z().cross(&shift).normalize();
-            let pitch = if turn {
-                0.0
-            } else {
-                PUSH_PITCH_RAD * (std::f64::consts::PI * x).sin()
-            };
+            let pitch = PUSH_PITCH_RAD * (std::f64::consts::PI * x).sin();
             let rock = Isometry3::translation(bottom.x, bottom.y, bottom.z)
                 * Isometry3::rotation(across * pitch)
                 * Isometry3::translation(-bottom.x, -bottom.y, -bottom.z);
