@@ -42,8 +42,9 @@ pub const MATCH_ALPHA: f64 = 1e-4;
 pub const SYSTEMATIC_POINT_M: f64 = 3e-3;
 /// Per-demonstration systematic error \[rad\] of a direction (2°), used only when matching.
 pub const SYSTEMATIC_DIRECTION_RAD: f64 = 0.034_906_585_039_886_59;
-/// Smallest ratio of the smallest to the largest eigenvalue of the CoM normal equations: below
-/// it the pendulums' planes are too close to parallel to fix a point, and no CoM is reported.
+/// Smallest ratio of the smallest to the largest eigenvalue of `Σ m mᵀ` over the unit normals
+/// `m` of the pendulums' CoM planes: below it the planes are too close to parallel to fix a
+/// point, and no CoM is reported (the planes' weights do not enter: see `com_from_planes`).
 pub const CONDITION_MIN: f64 = 1e-2;
 /// Resting-face normals closer than this \[rad\] (20°) are one face, for pendulums: faces of a
 /// polyhedron that share an edge differ by far more.
