@@ -614,9 +614,11 @@ impl Segmenter {
         config.robust.noise = self.noise;
         let mut segments = Vec::with_capacity(self.segments.len());
         let mut votes = Votes::default();
+        let mut warnings = Vec::new();
         for (i, seg) in self.segments.iter().enumerate() {
-            let s =
+            let (s, warning) =
                 fit::analyse_segment(i, instrumented, seg, &mut self.blocks, &config, alpha, name);
+            warnings.extend(warning);
             votes.add(s.kind, 0);
             for (k, n) in [
                 (super::Kind::Topple, s.votes.topple),
@@ -645,7 +647,7 @@ impl Segmenter {
             topples,
             labels: runs(&self.blocks),
             paper_edge,
-            warnings: Vec::new(),
+            warnings,
         })
     }
 }

@@ -425,7 +425,9 @@ pub(super) fn group_topples(segments: &[Segment], alpha: f64, demo: &str) -> Vec
         .collect()
 }
 
-/// Fit, label and summarise one motion segment.
+/// Fit, label and summarise one motion segment; with it, a warning when the segment is general
+/// only because of the given gravity (see [`gravity_warning`]).
+#[allow(clippy::too_many_arguments)]
 pub(super) fn analyse_segment(
     index: usize,
     instrumented: bool,
@@ -434,7 +436,7 @@ pub(super) fn analyse_segment(
     config: &Config,
     alpha: f64,
     demo: &str,
-) -> Segment {
+) -> (Segment, Option<String>) {
     let idx: Vec<usize> = (0..blocks.len())
         .filter(|&i| blocks[i].segment == Some(index) && blocks[i].phase == Phase::Moving)
         .collect();
@@ -514,6 +516,19 @@ pub(super) fn analyse_segment(
         }
     }
     let kind = votes.winner().unwrap_or(Kind::General);
+    // Relative to a palm, "up" moves with it: the check is for poses in the world.
+    let warning = match (kind, up) {
+        (Kind::General, Some(up)) if !instrumented => {
+            gravity_warning(blocks, &idx, &up, config, &mut th).map(|w| {
+                format!(
+                    "segment {index} ({:.2}-{:.2} s) is general under the given gravity, but \
+                     {w}; if the tracker's world frame is not z-up, give its gravity (--gravity)",
+                    seg.t_start, seg.t_end
+                )
+            })
+        }
+        _ => None,
+    };
     let max_angle = idx.iter().map(|&i| blocks[i].max_angle).fold(0.0, f64::max);
     let blocks: &[Block] = blocks;
     let with_label = |l: Label| -> Vec<usize> {
@@ -560,7 +575,7 @@ pub(super) fn analyse_segment(
         })
     });
 
-    Segment {
+    let segment = Segment {
         topple_stats,
         topple_best,
         t_start: seg.t_start,
@@ -572,7 +587,71 @@ pub(super) fn analyse_segment(
         face: face.flatten(),
         resting_normal_before: seg.rest_before,
         resting_normal_after: seg.rest_after,
+    };
+    (segment, warning)
+}
+
+/// For a general segment with gravity known: whether the motion would be a topple or a slide
+/// but for the gravity constraints (a topple's axis within
+/// [`super::RobustConfig::max_axis_tilt_rad`] of horizontal, a slide's normal as close to
+/// vertical). The line and the plane are fitted again without them; a sentence for the user
+/// when one explains nearly all ([`WARN_EXPLAINED_FRACTION`]) of at least [`WARN_MIN_FRAMES`]
+/// measurably moving frames, as a real topple or slide does (a general motion's frames fit one
+/// plane in part, by chance). A tracker in a camera frame with the default gravity (z up) gives
+/// exactly this. A diagnostic only: nothing is relabelled.
+/// Fraction of a general segment's measurably moving frames that a line or plane fitted
+/// without the gravity constraints must explain for [`gravity_warning`] to speak.
+pub const WARN_EXPLAINED_FRACTION: f64 = 0.9;
+/// Fewest measurably moving frames in a segment for [`gravity_warning`] to speak.
+pub const WARN_MIN_FRAMES: u64 = 10;
+
+fn gravity_warning(
+    blocks: &[Block],
+    idx: &[usize],
+    up: &Vector3<f64>,
+    config: &Config,
+    th: &mut Thresholds,
+) -> Option<String> {
+    let total: u64 = idx.iter().map(|&i| blocks[i].significant).sum();
+    if total < WARN_MIN_FRAMES {
+        return None;
     }
+    let enough = |n: u64| n as f64 >= WARN_EXPLAINED_FRACTION * total as f64;
+    let explained = |inlier: &mut dyn FnMut(&Block) -> bool| -> u64 {
+        idx.iter()
+            .filter(|&&i| inlier(&blocks[i]))
+            .map(|&i| blocks[i].significant)
+            .sum()
+    };
+    let r_palm = config.paper.r_palm;
+    let max_tilt = config.robust.max_axis_tilt_rad.to_degrees();
+    if let Some(l) = fit_line(blocks, idx, |l| l.point.norm() <= r_palm, th) {
+        let n = explained(&mut |b: &Block| b.line.n > 0.0 && line_inlier(&b.line, &l, th));
+        let tilt = l
+            .direction
+            .dot(up)
+            .abs()
+            .clamp(0.0, 1.0)
+            .asin()
+            .to_degrees();
+        if enough(n) && tilt > max_tilt {
+            return Some(format!(
+                "{:.0}% of its moving frames turn about one fixed line like a topple's edge, \
+                 {tilt:.0}° from horizontal (an edge must be within {max_tilt:.0}°)",
+                100.0 * n as f64 / total as f64
+            ));
+        }
+    }
+    let normal = fit_plane(blocks, idx, |_| true, None, th)?;
+    let n = explained(&mut |b: &Block| plane_inlier(&b.plane, &normal, th));
+    let tilt = normal.dot(up).abs().clamp(0.0, 1.0).acos().to_degrees();
+    (enough(n) && tilt > max_tilt).then(|| {
+        format!(
+            "{:.0}% of its moving frames slide on one plane, its normal {tilt:.0}° from vertical \
+             (a slide's must be within {max_tilt:.0}°)",
+            100.0 * n as f64 / total as f64
+        )
+    })
 }
 
 #[cfg(test)]
