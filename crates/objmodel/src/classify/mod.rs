@@ -30,6 +30,7 @@ mod files;
 mod fit;
 mod front;
 mod moving;
+mod msac;
 mod paper;
 mod rest;
 mod stream;
