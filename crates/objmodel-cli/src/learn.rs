@@ -142,15 +142,20 @@ fn summary(c: &Classification, frames: bool) -> String {
     s
 }
 
+/// The classification's warnings about its input, on standard error, each with its file.
+fn print_warnings(demo: &Path, c: &Classification) {
+    for w in &c.warnings {
+        eprintln!("warning: {}: {w}", demo.display());
+    }
+}
+
 /// Run `objmodel classify`.
 pub fn run_classify(a: &ClassifyArgs) -> Result<()> {
     let config = a.opts.config()?;
     let palm = palm_for(&a.demo, a.palm.as_deref(), a.no_palm);
     let c = classify_files(&a.demo, palm.as_deref(), &config)?;
     if a.json {
-        for w in &c.warnings {
-            eprintln!("warning: {}: {w}", a.demo.display());
-        }
+        print_warnings(&a.demo, &c);
         let mut v = serde_json::to_value(&c)?;
         v["file"] = serde_json::json!(a.demo.display().to_string());
         v["palm_file"] = serde_json::json!(palm.map(|p| p.display().to_string()));
@@ -182,9 +187,7 @@ pub fn learn_into(
     for d in objects {
         let p = palm_for(d, palm, false);
         let c = classify_files(d, p.as_deref(), config)?;
-        for w in &c.warnings {
-            eprintln!("warning: {}: {w}", d.display());
-        }
+        print_warnings(d, &c);
         tree.add(&c);
         if let Some(dynamics) = dynamics_of(d, p.as_deref(), &c, config)? {
             tree.add_dynamics(&c, &dynamics);

@@ -286,14 +286,14 @@ pub fn analyse(
                 // pendulum fitted through those frames lowers φ (by 0.6° on exact rapier pushes,
                 // 3° at 1 mm / 0.5° noise; in MuJoCo 19 of 20 low); past it the object falls
                 // away from the pusher.
+                let passes = |f: &pendulum::FallFit| {
+                    f.chi2_per_dof
+                        <= crate::stats::chi2_threshold(f.frames as f64 - 4.0, 0.01)
+                            / (f.frames as f64 - 4.0)
+                };
                 let mut best = None;
                 let mut k0 = last_pivot.saturating_sub(6);
                 while k0 >= first_pivot && k0 + 6 <= last_pivot {
-                    let passes = |f: &pendulum::FallFit| {
-                        f.chi2_per_dof
-                            <= crate::stats::chi2_threshold(f.frames as f64 - 4.0, 0.01)
-                                / (f.frames as f64 - 4.0)
-                    };
                     match fit_from(k0, series.object[k0]) {
                         Some(f) if passes(&f) && best.is_some() && series.object[k0] < f.phi => {
                             break
