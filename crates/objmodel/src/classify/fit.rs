@@ -174,25 +174,27 @@ pub(super) fn analyse_segment(
     };
     let valid_plane = |n: &Vector3<f64>| up.is_none_or(|u| n.dot(&u).abs() >= cos_tilt);
     let mut th = Thresholds::new(alpha);
-    let mut line = fit_line(blocks, &idx, valid_line, &mut th).filter(|l| {
-        let support: f64 = idx
-            .iter()
-            .filter(|&&i| blocks[i].line.n > 0.0 && line_inlier(&blocks[i].line, l, &mut th))
-            .map(|&i| blocks[i].line.n)
-            .sum();
-        support >= MIN_EDGE_FRAMES
-    });
+    // The fixed line and its inlier blocks in time order; a line that explains fewer than
+    // MIN_EDGE_FRAMES frames is no line.
+    let fitted = fit_line(blocks, &idx, valid_line, &mut th)
+        .map(|l| {
+            let inliers: Vec<usize> = idx
+                .iter()
+                .copied()
+                .filter(|&i| line_inlier(&blocks[i].line, &l, &mut th))
+                .collect();
+            (l, inliers)
+        })
+        .filter(|(_, inliers)| {
+            inliers.iter().map(|&i| blocks[i].line.n).sum::<f64>() >= MIN_EDGE_FRAMES
+        });
+    let mut line = fitted.as_ref().map(|(l, _)| *l);
     // The level-support prior: poses in the world frame (not instrumented) and gravity known.
     let level_down = seg.down_ref.filter(|_| !instrumented);
     let plane = fit_plane(blocks, &idx, valid_plane, level_down.as_ref(), &mut th);
     // Blocks cut off as "after (or before) the pure rotation": labelled general.
     let mut cut: std::collections::HashSet<usize> = std::collections::HashSet::new();
-    if let Some(l) = line {
-        let order: Vec<usize> = idx
-            .iter()
-            .copied()
-            .filter(|&i| line_inlier(&blocks[i].line, &l, &mut th))
-            .collect();
+    if let Some((l, order)) = fitted {
         let noise = config.robust.noise.unwrap_or(crate::noise::NoiseModel {
             sigma_position: 0.0,
             sigma_rotation: 0.0,
@@ -314,6 +316,12 @@ pub(super) fn analyse_segment(
     (segment, warning)
 }
 
+/// Fraction of a general segment's measurably moving frames that a line or plane fitted
+/// without the gravity constraints must explain for [`gravity_warning`] to speak.
+pub const WARN_EXPLAINED_FRACTION: f64 = 0.9;
+/// Fewest measurably moving frames in a segment for [`gravity_warning`] to speak.
+pub const WARN_MIN_FRAMES: u64 = 10;
+
 /// For a general segment with gravity known: whether the motion would be a topple or a slide
 /// but for the gravity constraints (a topple's axis within
 /// [`super::RobustConfig::max_axis_tilt_rad`] of horizontal, a slide's normal as close to
@@ -322,12 +330,6 @@ pub(super) fn analyse_segment(
 /// measurably moving frames, as a real topple or slide does (a general motion's frames fit one
 /// plane in part, by chance). A tracker in a camera frame with the default gravity (z up) gives
 /// exactly this. A diagnostic only: nothing is relabelled.
-/// Fraction of a general segment's measurably moving frames that a line or plane fitted
-/// without the gravity constraints must explain for [`gravity_warning`] to speak.
-pub const WARN_EXPLAINED_FRACTION: f64 = 0.9;
-/// Fewest measurably moving frames in a segment for [`gravity_warning`] to speak.
-pub const WARN_MIN_FRAMES: u64 = 10;
-
 fn gravity_warning(
     blocks: &[Block],
     idx: &[usize],
@@ -349,7 +351,7 @@ fn gravity_warning(
     let r_palm = config.paper.r_palm;
     let max_tilt = config.robust.max_axis_tilt_rad.to_degrees();
     if let Some(l) = fit_line(blocks, idx, |l| l.point.norm() <= r_palm, th) {
-        let n = explained(&mut |b: &Block| b.line.n > 0.0 && line_inlier(&b.line, &l, th));
+        let n = explained(&mut |b: &Block| line_inlier(&b.line, &l, th));
         let tilt = l
             .direction
             .dot(up)
