@@ -131,6 +131,7 @@ fn summary(c: &Classification, frames: bool) -> String {
                 Label::Topple => "topple",
                 Label::Slide => "slide",
                 Label::General => "general",
+                Label::Landing => "landing",
                 Label::Unlabelled => "unlabelled",
             };
             s += &format!(

@@ -77,6 +77,31 @@ fn trim_change_points(
     kept
 }
 
+/// Whether a segment whose edge rotation about `line` ends with block `end` is a completed
+/// topple: the object came to rest on a face adjacent to the one it started on, across that
+/// edge. Then the frames after the rotation's end are its landing (it left the edge, fell and
+/// settled), a consequence of the topple and not a motion of their own, and they do not vote.
+///
+/// An edge lies in both faces it joins, so both resting "down" directions (in the object
+/// frame, from the rests before and after the segment) must be normal to the line within
+/// `sin_tilt` (the sine of [`super::RobustConfig::max_axis_tilt_rad`], the bound the line
+/// already met against the first face). The faces must differ by more than that angle, and the
+/// down direction must have turned about the line against the rotation: a body turned by θ
+/// about `u` sees a fixed direction turned by -θ, so `(d_before × d_after) · ω < 0` with ω the
+/// largest rotation of the edge's last block.
+fn completed_topple(line: &Line, end: &Block, seg: &SegState, sin_tilt: f64) -> bool {
+    let (Some(before), Some(after), Some((_, omega))) =
+        (seg.rest_before, seg.rest_after, end.max_line)
+    else {
+        return false;
+    };
+    let u = line.direction;
+    before.dot(&u).abs() <= sin_tilt
+        && after.dot(&u).abs() <= sin_tilt
+        && before.cross(&after).norm() > sin_tilt
+        && before.cross(&after).dot(&omega) < 0.0
+}
+
 /// The edge observation from pooled per-frame line statistics and the frame of largest
 /// rotation `(angle, line, ω)` (the paper's estimate; its ω also fixes the direction's sign).
 pub(super) fn edge_observation(
@@ -194,6 +219,8 @@ pub(super) fn analyse_segment(
     let plane = fit_plane(blocks, &idx, valid_plane, level_down.as_ref(), &mut th);
     // Blocks cut off as "after (or before) the pure rotation": labelled general.
     let mut cut: std::collections::HashSet<usize> = std::collections::HashSet::new();
+    // The last block of the pure edge rotation (after trimming), in time order.
+    let mut rotation_end = fitted.as_ref().and_then(|(_, order)| order.last().copied());
     if let Some((l, order)) = fitted {
         let noise = config.robust.noise.unwrap_or(crate::noise::NoiseModel {
             sigma_position: 0.0,
@@ -207,6 +234,7 @@ pub(super) fn analyse_segment(
         let mut s = LineStats::default();
         kept.iter().for_each(|&i| s.merge(&blocks[i].line));
         if let Some(trimmed) = s.mean().filter(|t| valid_line(t)) {
+            rotation_end = kept.last().copied();
             let kept: std::collections::HashSet<usize> = kept.into_iter().collect();
             cut = order.into_iter().filter(|i| !kept.contains(i)).collect();
             line = Some(trimmed);
@@ -236,7 +264,18 @@ pub(super) fn analyse_segment(
             Label::General
         };
         blocks[i].label = label;
-        if let Some(k) = label.vote() {
+    }
+    if let (Some(l), Some(end)) = (line, rotation_end) {
+        if completed_topple(&l, &blocks[end], seg, sin_tilt) {
+            for &i in &idx {
+                if blocks[i].t0 > blocks[end].t1 && blocks[i].label == Label::General {
+                    blocks[i].label = Label::Landing;
+                }
+            }
+        }
+    }
+    for &i in &idx {
+        if let Some(k) = blocks[i].label.vote() {
             votes.add(k, blocks[i].significant);
         }
     }

@@ -23,7 +23,9 @@
 //!      [`RobustConfig::max_axis_tilt_rad`] of horizontal, and a slide's plane normal within the
 //!      same angle of vertical, when the direction of gravity is known;
 //!   5. the label of a frame is topple if it fits the line, else slide if it fits the plane, else
-//!      general; the demonstration's kind is the most frequent label (ties: topple, slide).
+//!      general; the demonstration's kind is the most frequent label (ties: topple, slide);
+//!   6. the frames after a completed topple's edge rotation (it ended at rest on the adjacent
+//!      face across the edge) are its landing and do not vote (see `fit::completed_topple`).
 
 mod blocks;
 mod files;
@@ -197,6 +199,9 @@ pub enum Label {
     Slide,
     /// Neither.
     General,
+    /// After the end of a completed topple's edge rotation: the object leaves its edge, falls
+    /// and lands on the adjacent face (no vote; step 6 above).
+    Landing,
     /// (Paper method) moving, but neither the axis nor the normal matched the previous frame's
     /// (no vote).
     Unlabelled,
