@@ -36,6 +36,11 @@ pub const REST_MARGIN_S: f64 = 0.3;
 pub const MAX_REST_FRAMES: usize = 60;
 /// Half-width \[s\] of the local linear smoothing of the palm tilt.
 pub const SMOOTH_S: f64 = 0.25;
+/// Standard deviation \[rad\] of φ uniform on its admissible range (0, π/2) for an object
+/// resting on a face: `π / (2√12)` ≈ 0.45 rad. A model fit whose φ is less certain than that
+/// tells less than the bounds themselves (a fall of a few frames leaves φ and `k` trading off
+/// against the unknown start state); its φ is not used.
+pub const PHI_PRIOR_SIGMA_RAD: f64 = std::f64::consts::FRAC_PI_2 / 3.464_101_615_137_754_6;
 
 /// Local linear regression smoothing of `y(t)` with half-width `h` \[s\].
 fn smooth(t: &[f64], y: &[f64], h: f64) -> Vec<f64> {
@@ -344,12 +349,13 @@ pub fn analyse(
                 )
             })
             .flatten();
-        // The best φ: the inverse-variance weighted mean of the model fits that exist (the
-        // pendulum on the palm and the free fall), else the palm tilt at the onset.
+        // The best φ: the inverse-variance weighted mean of the model fits that exist and
+        // determine φ better than its bounds do (the pendulum on the palm and the free fall),
+        // else the palm tilt at the onset.
         let fits: Vec<(f64, f64)> = [on_support, fall]
             .iter()
             .flatten()
-            .filter(|f| f.phi_sigma > 0.0)
+            .filter(|f| f.phi_sigma > 0.0 && f.phi_sigma < PHI_PRIOR_SIGMA_RAD)
             .map(|f| (f.phi, f.phi_sigma))
             .collect();
         let (phi, phi_sigma) = if !fits.is_empty() {

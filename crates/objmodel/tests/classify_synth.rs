@@ -431,7 +431,11 @@ fn precise_demo(
 ) -> Demonstration {
     let wander = |s: f64| {
         // Bounces (rocking about a horizontal axis, back to level) while sliding and turning.
-        let x = (s / tail).clamp(0.0, 1.0);
+        let x = if tail > 0.0 {
+            (s / tail).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
         Isometry3::from_parts(
             Translation3::new(0.04 * x, 0.015 * (PI * x).sin(), 0.0),
             UnitQuaternion::from_scaled_axis(Vector3::z() * 0.4 * x)
@@ -523,4 +527,35 @@ fn a_topples_landing_does_not_vote() {
 fn smoothstep(x: f64) -> f64 {
     let x = x.clamp(0.0, 1.0);
     x * x * (3.0 - 2.0 * x)
+}
+
+/// A φ is reported only when a fit determines it better than its bounds (0, π/2) do. A box
+/// turned over its edge at a steady, smooth pace (`gen_tum.py`'s motion: a smoothstep from 0 to
+/// 90°, no free fall anywhere) gives a "fall" fit whose φ is anything: it must not be reported.
+#[test]
+fn an_undetermined_phi_is_not_reported() {
+    use objmodel::dynamics::{analyse, PHI_PRIOR_SIGMA_RAD};
+    let mut rng = StdRng::seed_from_u64(77);
+    let b = SynthBox::random(&mut rng);
+    let edge = synth::topple(&b, &ToppleParams::default(), &SynthNoise::CLEAN, 30.0, 0)
+        .truth
+        .edge
+        .unwrap();
+    let about_edge = |alpha: f64| {
+        let r = UnitQuaternion::from_scaled_axis(edge.direction * alpha);
+        Isometry3::from_parts(Translation3::from(edge.point - r * edge.point), r)
+    };
+    let start = Isometry3::from_parts(
+        Translation3::new(0.1, -0.1, b.half.z),
+        UnitQuaternion::identity(),
+    ) * b.box_from_tag;
+    let over = |s: f64| about_edge(FRAC_PI_2 * smoothstep(s / 20.0));
+    let d = precise_demo(&start, over, 20.0, 0.0, 7);
+    let c = classify(&d, &Config::default()).unwrap();
+    assert_eq!(c.kind, Kind::Topple);
+    let dy = analyse(&d, &c, &Vector3::new(0.0, 0.0, -1.0));
+    let fall = dy[0].fall.expect("a fall fit");
+    eprintln!("fall fit: phi {:.3} ± {:.3} rad", fall.phi, fall.phi_sigma);
+    assert!(fall.phi_sigma > PHI_PRIOR_SIGMA_RAD);
+    assert_eq!(dy[0].phi, None);
 }
