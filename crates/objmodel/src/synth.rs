@@ -132,7 +132,8 @@ fn times(rate: f64, rest: f64, duration: f64) -> Vec<f64> {
     (0..n).map(|k| 1_700_000_000.0 + k as f64 / rate).collect()
 }
 
-fn smoothstep(x: f64) -> f64 {
+/// The smooth ramp `3x² - 2x³` from 0 (x <= 0) to 1 (x >= 1), with zero slope at both ends.
+pub fn smoothstep(x: f64) -> f64 {
     let x = x.clamp(0.0, 1.0);
     x * x * (3.0 - 2.0 * x)
 }

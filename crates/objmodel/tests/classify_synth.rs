@@ -3,7 +3,7 @@
 
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use objmodel::classify::{classify, Config, Kind, Label, Method};
-use objmodel::synth::{self, SynthBox, SynthDemo, SynthNoise, ToppleParams};
+use objmodel::synth::{self, smoothstep, SynthBox, SynthDemo, SynthNoise, ToppleParams};
 use objmodel::trajectory::{Demonstration, StampedPose};
 use objmodel::tree::Tree;
 use rand::{rngs::StdRng, Rng, SeedableRng};
@@ -445,11 +445,11 @@ fn precise_demo(
     };
     let rate = 30.0;
     let n = ((1.0 + motion_s + tail + 1.0) * rate) as usize;
+    let end = start * motion(motion_s);
     let poses: Vec<StampedPose> = (0..n)
         .map(|i| {
             let t = i as f64 / rate;
             let s = t - 1.0;
-            let end = start * motion(motion_s);
             let pose = if s < motion_s {
                 start * motion(s.max(0.0))
             } else {
@@ -481,16 +481,9 @@ fn precise_demo(
 fn a_topples_landing_does_not_vote() {
     for seed in 0..6u64 {
         let mut rng = StdRng::seed_from_u64(500 + seed);
-        let b = SynthBox::random(&mut rng);
-        let edge = synth::topple(&b, &ToppleParams::default(), &SynthNoise::CLEAN, 30.0, seed)
-            .truth
-            .edge
-            .unwrap();
+        let yaw = rng.random_range(-3.0..3.0);
+        let (edge, start) = box_on_table(&mut rng, yaw);
         let about_edge = |alpha: f64| about_line(&edge, alpha);
-        let start = Isometry3::from_parts(
-            Translation3::new(0.1, -0.1, b.half.z),
-            UnitQuaternion::from_scaled_axis(Vector3::z() * rng.random_range(-3.0..3.0)),
-        ) * b.box_from_tag;
         // Over onto the next face (half a second, smooth), then 2 s of landing.
         let over = |s: f64| about_edge(FRAC_PI_2 * smoothstep(s / 0.5));
         let d = precise_demo(&start, over, 0.5, 2.0, seed);
@@ -521,15 +514,25 @@ fn a_topples_landing_does_not_vote() {
     }
 }
 
+/// A random box resting on a level table, turned by `yaw` \[rad\]: the edge the generator
+/// topples it about (side 0, in the tag frame) and the tag's pose in the world.
+fn box_on_table(rng: &mut StdRng, yaw: f64) -> (objmodel::geometry::Line, Isometry3<f64>) {
+    let b = SynthBox::random(rng);
+    let edge = synth::topple(&b, &ToppleParams::default(), &SynthNoise::CLEAN, 30.0, 0)
+        .truth
+        .edge
+        .unwrap();
+    let start = Isometry3::from_parts(
+        Translation3::new(0.1, -0.1, b.half.z),
+        UnitQuaternion::from_scaled_axis(Vector3::z() * yaw),
+    ) * b.box_from_tag;
+    (edge, start)
+}
+
 /// The rotation by `alpha` \[rad\] about `line`: `x -> R (x - p) + p`.
 fn about_line(line: &objmodel::geometry::Line, alpha: f64) -> Isometry3<f64> {
     let r = UnitQuaternion::from_scaled_axis(line.direction * alpha);
     Isometry3::from_parts(Translation3::from(line.point - r * line.point), r)
-}
-
-fn smoothstep(x: f64) -> f64 {
-    let x = x.clamp(0.0, 1.0);
-    x * x * (3.0 - 2.0 * x)
 }
 
 /// A φ is reported only when a fit determines it better than its bounds (0, π/2) do. A box
@@ -538,17 +541,8 @@ fn smoothstep(x: f64) -> f64 {
 #[test]
 fn an_undetermined_phi_is_not_reported() {
     use objmodel::dynamics::{analyse, PHI_PRIOR_SIGMA_RAD};
-    let mut rng = StdRng::seed_from_u64(77);
-    let b = SynthBox::random(&mut rng);
-    let edge = synth::topple(&b, &ToppleParams::default(), &SynthNoise::CLEAN, 30.0, 0)
-        .truth
-        .edge
-        .unwrap();
+    let (edge, start) = box_on_table(&mut StdRng::seed_from_u64(77), 0.0);
     let about_edge = |alpha: f64| about_line(&edge, alpha);
-    let start = Isometry3::from_parts(
-        Translation3::new(0.1, -0.1, b.half.z),
-        UnitQuaternion::identity(),
-    ) * b.box_from_tag;
     let over = |s: f64| about_edge(FRAC_PI_2 * smoothstep(s / 20.0));
     let d = precise_demo(&start, over, 20.0, 0.0, 7);
     let c = classify(&d, &Config::default()).unwrap();
