@@ -19,6 +19,8 @@ mod csv;
 mod mapped;
 mod number;
 mod reader;
+#[cfg(target_arch = "x86_64")]
+mod simd;
 #[cfg(test)]
 mod tests;
 mod tum;

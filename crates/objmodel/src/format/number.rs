@@ -3,13 +3,13 @@
 //! the common TUM line ([`scan_field`]) and a word-at-a-time newline search.
 
 /// Exact powers of ten representable as `f64` (10^0 ..= 10^22).
-const POW10: [f64; 23] = [
+pub(super) const POW10: [f64; 23] = [
     1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
     1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
 ];
 
 /// Largest integer up to which every integer is exactly representable as `f64`.
-const MAX_EXACT: u64 = 1 << 53;
+pub(super) const MAX_EXACT: u64 = 1 << 53;
 
 /// Scan a plain decimal (`[+-]digits[.digits]`) starting at `s[start]`.
 ///

@@ -5,6 +5,8 @@
 use super::check::not_a_number;
 use super::csv::{self, Header};
 use super::number::{find_newline, parse_f64};
+#[cfg(target_arch = "x86_64")]
+use super::simd::Shapes;
 use super::tum::{scan_tum, scan_tum_fast, TumScan};
 use super::{detect_format, Format};
 use crate::trajectory::StampedPose;
@@ -70,6 +72,9 @@ pub(super) struct State {
     /// The current line is longer than `MAX_LINE`: drop bytes until its end.
     overlong: bool,
     done: bool,
+    /// The line shapes of the AVX2 scanner, once it runs.
+    #[cfg(target_arch = "x86_64")]
+    shapes: Option<Box<Shapes>>,
 }
 
 impl<R: BufRead> PoseReader<R> {
@@ -100,6 +105,8 @@ impl<R: BufRead> PoseReader<R> {
             carry: Vec::new(),
             overlong: false,
             done: false,
+            #[cfg(target_arch = "x86_64")]
+            shapes: None,
         };
         PoseReader {
             reader,
@@ -370,6 +377,89 @@ fn tum_run(
     st: &mut State,
     s: &[u8],
     out: &mut Vec<StampedPose>,
+    lines: Option<&mut Vec<usize>>,
+    max: usize,
+) -> (usize, usize) {
+    #[cfg(target_arch = "x86_64")]
+    if simd_lines() {
+        let mut shapes = st.shapes.take().unwrap_or_default();
+        // SAFETY: the processor runs AVX2, BMI1 and POPCNT code (checked just above).
+        let r = unsafe { tum_run_avx2(st, &mut shapes, s, out, lines, max) };
+        st.shapes = Some(shapes);
+        return r;
+    }
+    tum_run_with(st, &mut ScalarLines, s, out, lines, max)
+}
+
+/// Whether this processor runs [`super::simd`]'s line scanner (x86-64 with AVX2, BMI1 and
+/// POPCNT; checked once, then cached by `std`).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn simd_lines() -> bool {
+    std::arch::is_x86_feature_detected!("avx2")
+        && std::arch::is_x86_feature_detected!("bmi1")
+        && std::arch::is_x86_feature_detected!("popcnt")
+}
+
+/// [`tum_run`] with the AVX2 line scanner ([`Shapes::scan`]), falling back to
+/// [`scan_tum_fast`] for the lines it does not take.
+///
+/// # Safety
+/// The processor must run AVX2, BMI1 and POPCNT code.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,bmi1,popcnt")]
+unsafe fn tum_run_avx2(
+    st: &mut State,
+    shapes: &mut Shapes,
+    s: &[u8],
+    out: &mut Vec<StampedPose>,
+    lines: Option<&mut Vec<usize>>,
+    max: usize,
+) -> (usize, usize) {
+    tum_run_with(st, shapes, s, out, lines, max)
+}
+
+/// A line scanner for [`tum_run_with`]: [`scan_tum_fast`] or one that takes the same lines
+/// with the same values (a type, not a closure, so that it is inlined into its caller's
+/// target features).
+trait LineScanner {
+    /// The values and the `\n` of the common TUM line at the start of `s`, or `None`.
+    ///
+    /// # Safety
+    /// The processor must run the code the scanner is built for.
+    unsafe fn scan(&mut self, s: &[u8]) -> Option<([f64; 8], usize)>;
+}
+
+/// [`scan_tum_fast`], for every processor.
+struct ScalarLines;
+
+impl LineScanner for ScalarLines {
+    #[inline(always)]
+    unsafe fn scan(&mut self, s: &[u8]) -> Option<([f64; 8], usize)> {
+        scan_tum_fast(s)
+    }
+}
+
+/// [`Shapes::scan`], and [`scan_tum_fast`] for the lines it does not take.
+#[cfg(target_arch = "x86_64")]
+impl LineScanner for Shapes {
+    #[inline(always)]
+    unsafe fn scan(&mut self, s: &[u8]) -> Option<([f64; 8], usize)> {
+        // SAFETY: passed on from the caller.
+        match unsafe { Shapes::scan(self, s) } {
+            Some(r) => Some(r),
+            None => scan_tum_fast(s),
+        }
+    }
+}
+
+/// [`tum_run`] with the line scanner `scanner`, whose code this processor must run.
+#[inline(always)]
+fn tum_run_with<L: LineScanner>(
+    st: &mut State,
+    scanner: &mut L,
+    s: &[u8],
+    out: &mut Vec<StampedPose>,
     mut lines: Option<&mut Vec<usize>>,
     max: usize,
 ) -> (usize, usize) {
@@ -382,7 +472,8 @@ fn tum_run(
         let mut k = 0;
         let mut at = off;
         while k < AHEAD && n + k < max {
-            let Some((v, len)) = scan_tum_fast(&s[at..]) else {
+            // SAFETY: the caller checked that this processor runs `L`'s code.
+            let Some((v, len)) = (unsafe { scanner.scan(&s[at..]) }) else {
                 break;
             };
             vals[k] = v;
