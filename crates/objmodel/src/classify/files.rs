@@ -1,6 +1,6 @@
 //! Classifying demonstrations straight from their files, streaming.
 
-use super::{Analyzer, Classification, Config, Judged, RestFront, RotatingCleaner, ToJudged};
+use super::{Analyzer, Classification, Config, RotatingCleaner};
 use crate::clean::RawFrame;
 use crate::format;
 use crate::trajectory::StampedPose;
@@ -70,19 +70,20 @@ pub fn classify_files(
     let mut a = Analyzer::new(&name, config, palm.is_some());
     match palm {
         None => {
-            // Robust: three threads in a pipeline. Parsing, cleaning and the accumulated
-            // rotation on one; rest detection on another ([`Judgements`]); segments and
-            // blocks on this one. On 2 cores the kernel shares the cores between the three as
-            // each has work: measured on 10^6 poses, the parsing thread and this one each took
-            // about 55-65 ms of CPU with rest detection here, so one waited for the other;
-            // with it on its own thread, the wall time fell from 107-126 to 93-95 ms
-            // (`perf stat -r 10`, three alternations, same outputs).
-            // (The rest front end is there exactly when the object cleaner is.)
-            let rest = a.take_rest_front();
-            if let (Some(rest), Some(cleaner)) = (rest, a.take_object_cleaner()) {
-                let cleaned =
-                    CleanedFrames::spawn(format::open(object)?, RotatingCleaner::new(cleaner));
-                Judgements::spawn(cleaned, rest).for_each(|j| a.push_judged(*j))?;
+            // Robust: parsing, cleaning and the accumulated rotation on the background
+            // thread; rest detection, segments and blocks on this one. Measured on 10^6 poses:
+            // the background thread alone (this one idle) takes 0.08 s, this one about 0.065 s
+            // of CPU; with the rotation here instead, the wall time did not improve; with the
+            // whole rest detection there (`ObjectFront`), that thread is much the busier.
+            if let Some(cleaner) = a.take_object_cleaner() {
+                let front = RotatingCleaner::new(cleaner);
+                let mut index = 0;
+                CleanedFrames::spawn(format::open(object)?, front).for_each(|h| {
+                    // Read in place, in the hand-over chunk (see `ItemRef`).
+                    let frame = (!h.rot.x.is_nan()).then_some((&h.q, &h.p, &h.rot));
+                    a.push_cleaned_rotated(index, h.t, frame);
+                    index += 1;
+                })?;
             } else {
                 for p in ThreadedPoses::spawn(format::open(object)?) {
                     a.push_object(&p?);
@@ -195,8 +196,8 @@ impl Iterator for ThreadedPoses {
 }
 
 /// Poses parsed and put through a [`Front`] stage (the tag-flip cleaner and the accumulated
-/// rotation) on a background thread, its output handed over in bounded chunks (see
-/// [`classify_files`]).
+/// rotation) on a background thread, its output handed over in bounded chunks: on 2 cores this
+/// balances the two threads best (see [`classify_files`]).
 struct CleanedFrames<T> {
     rx: std::sync::mpsc::Receiver<(Vec<T>, Option<crate::Error>)>,
     /// Emptied chunks go back to the producer for reuse (fresh ones would cost page faults).
@@ -258,65 +259,6 @@ impl<T> CleanedFrames<T> {
     /// Pass every item to `f` in order, by reference into its hand-over chunk; an error from
     /// the parsing thread ends the stream and is returned.
     fn for_each(self, mut f: impl FnMut(&T)) -> Result<()> {
-        while let Ok((mut chunk, error)) = self.rx.recv() {
-            chunk.iter().for_each(&mut f);
-            if let Some(e) = error {
-                return Err(e);
-            }
-            chunk.clear();
-            let _ = self.recycle.send(chunk);
-        }
-        Ok(())
-    }
-}
-
-/// The rest front end ([`RestFront`]) on a thread of its own, between the parsing thread
-/// ([`CleanedFrames`]) and the calling one: what it judges is handed over in bounded chunks
-/// (the first one early, as in [`CleanedFrames`]), and an error of the parsing thread after
-/// the items before it.
-struct Judgements {
-    rx: std::sync::mpsc::Receiver<(Vec<Judged>, Option<crate::Error>)>,
-    recycle: std::sync::mpsc::Sender<Vec<Judged>>,
-}
-
-impl Judgements {
-    fn spawn(cleaned: CleanedFrames<Handed>, mut rest: RestFront) -> Self {
-        let (tx, rx) = std::sync::mpsc::sync_channel(CHANNEL_CHUNKS);
-        let (recycle, recycled) = std::sync::mpsc::channel::<Vec<Judged>>();
-        std::thread::spawn(move || {
-            let fresh = || {
-                recycled
-                    .try_recv()
-                    .unwrap_or_else(|_| Vec::with_capacity(CHUNK_POSES))
-            };
-            let mut chunk = fresh();
-            let mut chunk_len = FIRST_CHUNK_POSES;
-            let mut index = 0;
-            let mut gone = false;
-            let r = cleaned.for_each(|h| {
-                let mut out = ToJudged(|j| chunk.push(j));
-                if h.rot.x.is_nan() {
-                    rest.push_outlier(index, h.t, &mut out);
-                } else {
-                    rest.push_frame(index, h.t, &h.q, &h.p, &h.rot, &mut out);
-                }
-                index += 1;
-                if chunk.len() >= chunk_len && !gone {
-                    chunk_len = CHUNK_POSES;
-                    gone = tx
-                        .send((std::mem::replace(&mut chunk, fresh()), None))
-                        .is_err();
-                }
-            });
-            rest.finish(&mut ToJudged(|j| chunk.push(j)));
-            let _ = tx.send((chunk, r.err()));
-        });
-        Self { rx, recycle }
-    }
-
-    /// Pass every judged item to `f` in order; an error from the parsing thread ends the
-    /// stream and is returned.
-    fn for_each(self, mut f: impl FnMut(&Judged)) -> Result<()> {
         while let Ok((mut chunk, error)) = self.rx.recv() {
             chunk.iter().for_each(&mut f);
             if let Some(e) = error {

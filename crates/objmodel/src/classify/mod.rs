@@ -38,7 +38,7 @@ mod rest;
 mod stream;
 
 pub use files::classify_files;
-pub use front::{Judged, RestFront, ToJudged, Verdicts};
+pub use front::Judged;
 pub use rest::{Item, RotationSum};
 pub use stream::{Analyzer, ObjectCleaner, ObjectFront, RotatingCleaner};
 

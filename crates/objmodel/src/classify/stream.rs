@@ -424,22 +424,6 @@ impl Analyzer {
         })
     }
 
-    /// Take the rest front end alone, to run it on its own thread between an
-    /// [`ObjectCleaner`]'s thread (with the accumulated rotation, see [`RotatingCleaner`]) and
-    /// this one: feed it with [`RestFront::push_frame`] and [`RestFront::push_outlier`] and
-    /// pass what it emits to [`Analyzer::push_judged`]. `None` where
-    /// [`Analyzer::take_object_front`] is.
-    pub fn take_rest_front(&mut self) -> Option<RestFront> {
-        let Back::Robust(core) = &mut self.back else {
-            return None;
-        };
-        if self.instrumented || self.object.is_none() || core.front.is_none() {
-            return None;
-        }
-        core.seg.down = self.down_world;
-        core.front.take()
-    }
-
     /// Take what an [`ObjectFront`] emits.
     pub fn push_judged(&mut self, j: Judged) {
         if let Judged::Item(i, _, _) = &j {
