@@ -19,40 +19,57 @@ mkdir -p "$DATA"
 cargo build --release -q -p objmodel-cli
 BIN=target/release/objmodel
 
-measure() { # measure FILE CMD...: prints "wall_s cpu_s rss_mb" (medians of $REPS runs of CMD,
-  # FILE read into the page cache before each; CPU = user + sys; max RSS)
-  local walls=() cpus=() rss=0 w u s r file=$1
+# One timed run: `run FILE CMD...` prints "wall_s cpu_s rss_kb" (FILE read into the page cache
+# first; CPU = user + sys).
+run() {
+  local file=$1 t0 t1 w u s r
   shift
-  for _ in $(seq "$REPS"); do
-    local t0 t1
-    cat "$file" >/dev/null
-    t0=$(date +%s%N)
-    /usr/bin/time -o "$DATA/.time" -f "%e %U %S %M" "$@" >/dev/null 2>&1
-    t1=$(date +%s%N)
-    read -r w u s r < <(tail -1 "$DATA/.time")
-    # Wall clock to the millisecond (GNU time's %e has 10 ms steps).
-    w=$(echo "($t1 - $t0) / 1000000000" | bc -l | xargs printf "%.3f")
-    walls+=("$w")
-    cpus+=("$(echo "$u + $s" | bc -l | xargs printf "%.2f")")
-    (( r > rss )) && rss=$r
-  done
-  median() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END{print a[int((NR+1)/2)]}'; }
-  echo "$(median "${walls[@]}") $(median "${cpus[@]}") $((rss / 1024))"
+  cat "$file" >/dev/null
+  t0=$(date +%s%N)
+  /usr/bin/time -o "$DATA/.time" -f "%e %U %S %M" "$@" >/dev/null 2>&1
+  t1=$(date +%s%N)
+  read -r w u s r < <(tail -1 "$DATA/.time")
+  # Wall clock to the millisecond (GNU time's %e has 10 ms steps).
+  echo "$(echo "($t1 - $t0) / 1000000000" | bc -l | xargs printf "%.3f") $(echo "$u + $s" | bc -l | xargs printf "%.2f") $r"
 }
 
+median() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END{print a[int((NR+1)/2)]}'; }
+
+# The three programs take turns, REPS rounds (numpy, paper, robust, numpy, ...), so that a
+# slow spell of the machine hits all of them; besides the ratio of the medians, the median of
+# the rounds' own ratios (numpy's wall over objmodel's in the same round) is reported.
 {
-  echo "| poses | file MB | program | wall s | CPU s | peak RSS MB | speed-up vs numpy (wall) |"
-  echo "|---|---|---|---|---|---|---|"
+  echo "| poses | file MB | program | wall s | CPU s | peak RSS MB | speed-up vs numpy (wall) | median of per-round speed-ups |"
+  echo "|---|---|---|---|---|---|---|---|"
   for n in $SIZES; do
     f="$DATA/box_$n.tum"
     [ -f "$f" ] || python3 "$SHARED/gen_tum.py" "$n" "$f"
     mb=$(du -m "$f" | cut -f1)
-    read -r np_w np_c np_m < <(measure "$f" python3 "$SHARED/screw_numpy.py" "$f" --json)
-    read -r pa_w pa_c pa_m < <(measure "$f" "$BIN" learn "$f" --method paper --json)
-    read -r ro_w ro_c ro_m < <(measure "$f" "$BIN" learn "$f" --json)
+    declare -A wall=() cpu=() rss=([np]=0 [pa]=0 [ro]=0) per=()
+    for i in $(seq "$REPS"); do
+      for p in np pa ro; do
+        case $p in
+          np) cmd=(python3 "$SHARED/screw_numpy.py" "$f" --json) ;;
+          pa) cmd=("$BIN" learn "$f" --method paper --json) ;;
+          ro) cmd=("$BIN" learn "$f" --json) ;;
+        esac
+        read -r w c r < <(run "$f" "${cmd[@]}")
+        wall[$p]+="$w " cpu[$p]+="$c "
+        (( r > rss[$p] )) && rss[$p]=$r
+        [ "$p" = np ] && np_round=$w
+        [ "$p" != np ] && per[$p]+="$(echo "$np_round / $w" | bc -l | xargs printf '%.1f') "
+      done
+    done
+    # shellcheck disable=SC2086
+    for p in np pa ro; do
+      eval "${p}_w=$(median ${wall[$p]}) ${p}_c=$(median ${cpu[$p]}) ${p}_m=$(( rss[$p] / 1024 ))"
+    done
     ratio() { echo "$np_w / $1" | bc -l | xargs printf '%.1f'; }
-    echo "| $n | $mb | numpy baseline (screw_numpy.py) | $np_w | $np_c | $np_m | 1.0 |"
-    echo "| $n | $mb | objmodel learn --method paper | $pa_w | $pa_c | $pa_m | $(ratio "$pa_w") |"
-    echo "| $n | $mb | objmodel learn (robust, default) | $ro_w | $ro_c | $ro_m | $(ratio "$ro_w") |"
+    # shellcheck disable=SC2086,SC2154
+    {
+      echo "| $n | $mb | numpy baseline (screw_numpy.py) | $np_w | $np_c | $np_m | 1.0 | |"
+      echo "| $n | $mb | objmodel learn --method paper | $pa_w | $pa_c | $pa_m | $(ratio "$pa_w") | $(median ${per[pa]}) |"
+      echo "| $n | $mb | objmodel learn (robust, default) | $ro_w | $ro_c | $ro_m | $(ratio "$ro_w") | $(median ${per[ro]}) |"
+    }
   done
 } | tee bench/results.md
