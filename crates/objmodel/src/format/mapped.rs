@@ -52,12 +52,7 @@ fn map_window(file: &File, next: u64) -> std::io::Result<Option<Window>> {
     let n = (len - start).min(WINDOW as u64) as usize;
     // SAFETY: the mapping is read-only and private to this reader; the only hazard is a
     // concurrent truncation of the file, which the module documentation states (SIGBUS).
-    let map = unsafe {
-        MmapOptions::new()
-            .offset(start)
-            .len(n)
-            .map(file)?
-    };
+    let map = unsafe { MmapOptions::new().offset(start).len(n).map(file)? };
     Ok(Some(Window {
         map,
         pos: (next - start) as usize,
