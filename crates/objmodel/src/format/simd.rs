@@ -14,8 +14,9 @@
 //! 2. **Digits.** The digits of each field (a *run*; a field longer than 16 bytes gives two,
 //!    its integer and its fraction digits) are loaded into a 128-bit lane, `'0'` subtracted,
 //!    and one byte shuffle (`pshufb`, its control computed once for the shape) drops sign and
-//!    point and right-aligns the digits over zeros. Three multiply-adds and one 64-bit multiply
-//!    give each lane's value: two runs per 256-bit register.
+//!    point and right-aligns the digits over zeros: two runs per 256-bit register. Three
+//!    multiply-adds give each run as two eight-digit halves, joined as doubles (`10^8 hi + lo`,
+//!    exact below 2^53), four runs at a time; a field of two runs is `int · 10^k + frac`.
 //! 3. **Value.** As in [`super::number::scan_field`]: with `m` the digits as an integer (at
 //!    most 19 of them, `m <= 2^53`) and `k` fraction digits, `±m / 10^k` is one correctly
 //!    rounded IEEE division of two exact doubles: the value `str::parse` gives.
