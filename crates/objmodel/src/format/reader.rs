@@ -381,7 +381,7 @@ fn tum_run(
     max: usize,
 ) -> (usize, usize) {
     #[cfg(target_arch = "x86_64")]
-    if simd_lines() {
+    if super::simd::available() {
         let mut shapes = st.shapes.take().unwrap_or_default();
         // SAFETY: the processor runs AVX2, BMI1 and POPCNT code (checked just above).
         let r = unsafe { tum_run_avx2(st, &mut shapes, s, out, lines, max) };
@@ -389,16 +389,6 @@ fn tum_run(
         return r;
     }
     tum_run_with(st, &mut ScalarLines, s, out, lines, max)
-}
-
-/// Whether this processor runs [`super::simd`]'s line scanner (x86-64 with AVX2, BMI1 and
-/// POPCNT; checked once, then cached by `std`).
-#[cfg(target_arch = "x86_64")]
-#[inline(always)]
-fn simd_lines() -> bool {
-    std::arch::is_x86_feature_detected!("avx2")
-        && std::arch::is_x86_feature_detected!("bmi1")
-        && std::arch::is_x86_feature_detected!("popcnt")
 }
 
 /// [`tum_run`] with the AVX2 line scanner ([`Shapes::scan`]), falling back to

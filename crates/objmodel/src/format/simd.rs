@@ -29,6 +29,7 @@
 //! [`Shapes::scan`]).
 
 use super::number::{MAX_EXACT, POW10};
+use super::tum::tum_field;
 use std::arch::x86_64::*;
 
 /// Bytes from a line's start that [`Shapes::scan`] reads: 128 for the line and its `\n`, and
@@ -43,6 +44,15 @@ const LANE: usize = 16;
 
 /// Slots of the shape table (a power of two).
 const SLOTS: usize = 64;
+
+/// Whether this processor runs the scanner's code (AVX2, BMI1 and POPCNT; checked once, then
+/// cached by `std`).
+#[inline(always)]
+pub(super) fn available() -> bool {
+    std::arch::is_x86_feature_detected!("avx2")
+        && std::arch::is_x86_feature_detected!("bmi1")
+        && std::arch::is_x86_feature_detected!("popcnt")
+}
 
 /// One shape of line: its template and what is known about its fields.
 #[derive(Clone)]
@@ -93,12 +103,6 @@ impl Default for Shapes {
     }
 }
 
-/// Digits as ASCII bytes in `'0'..='9'`.
-#[inline(always)]
-fn is_digit(b: u8) -> bool {
-    b.is_ascii_digit()
-}
-
 impl Shape {
     /// The shape of `line` (whose `\n` is at `end < 128`): taken when its bytes before the `\n`
     /// are eight fields `[+-]digits[.digits]` (at least one digit, at most 19, a field's part
@@ -107,7 +111,7 @@ impl Shape {
     fn new(line: &[u8; SIMD_WINDOW], end: usize) -> Shape {
         let mut template = [0u8; LINE];
         for (t, &b) in template.iter_mut().zip(&line[..=end]) {
-            *t = if is_digit(b) { b'0' } else { b };
+            *t = if b.is_ascii_digit() { b'0' } else { b };
         }
         let mut need = [0u32; 4];
         for i in 0..=end {
@@ -131,27 +135,18 @@ impl Shape {
     }
 
     /// Fill in the fields of `line` (without its `\n`); `None` if it is not a shape read here.
+    /// Fields are split as [`tum_field`] splits them; a comment is left to the scalar scanners.
     fn fields(&mut self, line: &[u8]) -> Option<()> {
-        let space = |b: u8| matches!(b, b' ' | b'\t' | b'\r');
+        let spans: Vec<(usize, usize)> = (0..9).map_while(|k| tum_field(line, k)).collect();
+        if spans.len() != 8 || line.contains(&b'#') {
+            return None;
+        }
         let mut seconds = 0;
-        let mut k = 0;
-        let mut i = 0;
-        while i < line.len() {
-            if space(line[i]) {
-                i += 1;
-                continue;
-            }
-            let a = i;
-            while i < line.len() && !space(line[i]) {
-                i += 1;
-            }
-            if k == 8 {
-                return None;
-            }
+        for (k, &(a, i)) in spans.iter().enumerate() {
             let field = &line[a..i];
             let sg = usize::from(matches!(field[0], b'-' | b'+'));
             let body = &field[sg..];
-            if !body.iter().all(|&b| is_digit(b) || b == b'.') {
+            if !body.iter().all(|&b| b.is_ascii_digit() || b == b'.') {
                 return None;
             }
             let dots: Vec<usize> = (0..body.len()).filter(|&j| body[j] == b'.').collect();
@@ -179,10 +174,6 @@ impl Shape {
                 self.keep[k] = u64::MAX;
                 seconds += 1;
             }
-            k += 1;
-        }
-        if k != 8 {
-            return None;
         }
         self.groups = 4 + seconds.div_ceil(2);
         // Lanes without a run: load them from anywhere (their shuffle is all zeros).
@@ -379,12 +370,6 @@ mod tests {
     use super::super::tum::scan_tum;
     use super::*;
 
-    fn avx2() -> bool {
-        std::arch::is_x86_feature_detected!("avx2")
-            && std::arch::is_x86_feature_detected!("bmi1")
-            && std::arch::is_x86_feature_detected!("popcnt")
-    }
-
     /// `scan` on `text` line by line (each padded as in a buffer), against `scan_tum`: every
     /// line taken must be one `scan_tum` reads as eight numbers with the same bits, and every
     /// [`plain`] line must be taken while the table is in use. Returns the number of lines
@@ -503,7 +488,7 @@ mod tests {
     /// `scan_tum` reads it, bit for bit, and most lines are taken.
     #[test]
     fn takes_what_scan_tum_reads_and_nothing_else() {
-        if !avx2() {
+        if !available() {
             return;
         }
         let mut rng = Rng(0x2545_f491_4f6c_dd1d);
@@ -524,7 +509,7 @@ mod tests {
     /// A file whose lines all have new shapes stops being looked up after 256 lines.
     #[test]
     fn gives_up_on_ever_changing_shapes() {
-        if !avx2() {
+        if !available() {
             return;
         }
         let mut shapes = Shapes::default();
@@ -574,7 +559,7 @@ mod tests {
 
     #[test]
     fn takes_the_lines_of_a_pose_file() {
-        if !avx2() {
+        if !available() {
             return;
         }
         let text = "1700000000.008333 0.500133158 -0.200139966 0.899898932 -0.000001866 \
