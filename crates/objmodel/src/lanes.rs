@@ -102,6 +102,25 @@ impl F4 {
         ])
     }
 
+    /// [`f64::max`] of each lane (a NaN lane takes the other operand).
+    #[inline(always)]
+    pub fn max(self, o: F4) -> Self {
+        let (a, b) = (self.0, o.0);
+        F4([
+            a[0].max(b[0]),
+            a[1].max(b[1]),
+            a[2].max(b[2]),
+            a[3].max(b[3]),
+        ])
+    }
+
+    /// The sum of the four lanes, as `(a₀ + a₁) + (a₂ + a₃)`.
+    #[inline(always)]
+    pub fn sum(self) -> f64 {
+        let a = self.0;
+        (a[0] + a[1]) + (a[2] + a[3])
+    }
+
     /// `self < o`, lane by lane (false where either is NaN).
     #[inline(always)]
     pub fn lt(self, o: F4) -> M4 {
