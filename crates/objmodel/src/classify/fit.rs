@@ -7,7 +7,7 @@ use super::msac::{fit_line, fit_plane, line_inlier, plane_inlier, slide_normal, 
 use super::{Config, Kind, Label, Segment, Votes};
 use crate::edge::EdgeObservation;
 use crate::face::{FaceObservation, FaceSource};
-use crate::geometry::{Line, LineStats, PlaneStats};
+use crate::geometry::{Line, LineChi2, LineStats, PlaneStats};
 use nalgebra::Vector3;
 
 /// Change-point trimming keeps at least this many blocks of a topple...
@@ -47,15 +47,17 @@ fn trim_change_points(
     let mut kept: Vec<usize> = order.to_vec();
     let u = line.direction;
     let p_mat = nalgebra::Matrix3::identity() - u * u.transpose();
+    // The sums the test needs, over all kept blocks (the prefix at the cut of the previous
+    // pass: the same additions in the same order, so the same values).
+    let mut total = PointSums::default();
+    kept.iter().for_each(|&i| total.add(&blocks[i].line));
     while kept.len() >= 3 {
         let cuts = kept.len() - 1;
         let threshold = -2.0 * (alpha / cuts as f64).ln();
-        let mut total = LineStats::default();
-        kept.iter().for_each(|&i| total.merge(&blocks[i].line));
-        let mut before = LineStats::default();
-        let mut best: Option<(f64, usize)> = None;
+        let mut before = PointSums::default();
+        let mut best: Option<(f64, usize, PointSums)> = None;
         for (k, &i) in kept.iter().enumerate().take(cuts) {
-            before.merge(&blocks[i].line);
+            before.add(&blocks[i].line);
             let (wb, wa) = (before.sw, total.sw - before.sw);
             if wb <= 0.0
                 || wa <= 0.0
@@ -68,13 +70,34 @@ fn trim_change_points(
             let dc = before.sw_inv_chord / wb - (total.sw_inv_chord - before.sw_inv_chord) / wa;
             let t = d.norm_squared() / (1.0 / wb + 1.0 / wa + (sigma_ref * dc).powi(2));
             if t > threshold && best.is_none_or(|b| t > b.0) {
-                best = Some((t, k + 1));
+                best = Some((t, k + 1, before));
             }
         }
-        let Some((_, n_before)) = best else { break };
+        let Some((_, n_before, sums)) = best else { break };
         kept.truncate(n_before);
+        total = sums;
     }
     kept
+}
+
+/// The parts of [`LineStats`] that [`trim_change_points`] tests, summed as
+/// [`LineStats::merge`] sums them.
+#[derive(Clone, Copy, Default)]
+struct PointSums {
+    n: f64,
+    sw: f64,
+    swr: Vector3<f64>,
+    sw_inv_chord: f64,
+}
+
+impl PointSums {
+    #[inline]
+    fn add(&mut self, s: &LineStats) {
+        self.n += s.n;
+        self.sw += s.sw;
+        self.swr += s.swr;
+        self.sw_inv_chord += s.sw_inv_chord;
+    }
 }
 
 /// Whether a segment whose edge rotation about `line` ends with block `end` is a completed
@@ -203,10 +226,11 @@ pub(super) fn analyse_segment(
     // MIN_EDGE_FRAMES frames is no line.
     let fitted = fit_line(blocks, &idx, valid_line, &mut th)
         .map(|l| {
+            let lc = LineChi2::new(&l);
             let inliers: Vec<usize> = idx
                 .iter()
                 .copied()
-                .filter(|&i| line_inlier(&blocks[i].line, &l, &mut th))
+                .filter(|&i| line_inlier(&blocks[i].line, &lc, &mut th))
                 .collect();
             (l, inliers)
         })
@@ -242,15 +266,16 @@ pub(super) fn analyse_segment(
     }
 
     let mut votes = Votes::default();
+    let line_chi2 = line.map(|l| (l, LineChi2::new(&l)));
     for &i in &idx {
         let b = &blocks[i];
         let label = if b.significant == 0 {
             Label::Still
         } else if cut.contains(&i) {
             Label::General
-        } else if line.is_some_and(|l| {
+        } else if line_chi2.is_some_and(|(l, lc)| {
             if b.line.n > 0.0 {
-                line_inlier(&b.line, &l, &mut th)
+                line_inlier(&b.line, &lc, &mut th)
             } else {
                 // Too little rotation to have an axis: consistent with the edge if its motion
                 // lies in the plane normal to the edge.
@@ -390,7 +415,8 @@ fn gravity_warning(
     let r_palm = config.paper.r_palm;
     let max_tilt = config.robust.max_axis_tilt_rad.to_degrees();
     if let Some(l) = fit_line(blocks, idx, |l| l.point.norm() <= r_palm, th) {
-        let n = explained(&mut |b: &Block| line_inlier(&b.line, &l, th));
+        let lc = LineChi2::new(&l);
+        let n = explained(&mut |b: &Block| line_inlier(&b.line, &lc, th));
         let tilt = l
             .direction
             .dot(up)

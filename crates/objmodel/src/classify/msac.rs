@@ -3,7 +3,7 @@
 //! hypothesis), with χ² thresholds by degrees of freedom, the block costs and inlier tests.
 
 use super::blocks::Block;
-use crate::geometry::{Line, LineStats, PlaneStats};
+use crate::geometry::{Line, LineChi2, LineStats, PlaneStats};
 use crate::lanes::F4;
 use nalgebra::Vector3;
 
@@ -239,10 +239,12 @@ fn plane_cost(blocks: &[Block], idx: &[usize], n: &Vector3<f64>, th: &mut Thresh
         .sum()
 }
 
-pub(super) fn line_inlier(s: &LineStats, line: &Line, th: &mut Thresholds) -> bool {
-    s.n > 0.0 && s.chi2(line) < th.get(5.0 * s.n)
+/// Whether a block's lines are consistent with `line` (prepared once for many blocks).
+pub(super) fn line_inlier(s: &LineStats, line: &LineChi2, th: &mut Thresholds) -> bool {
+    s.n > 0.0 && s.chi2_to(line) < th.get(5.0 * s.n)
 }
 
+/// Whether a block's motion is consistent with the plane normal to `n`.
 pub(super) fn plane_inlier(s: &PlaneStats, n: &Vector3<f64>, th: &mut Thresholds) -> bool {
     s.n > 0.0 && s.chi2(n) < th.get(3.0 * s.n)
 }
@@ -260,14 +262,14 @@ fn top_k(idx: &[usize], k: usize, key: impl Fn(usize) -> f64) -> Vec<usize> {
 }
 
 /// MSAC: the valid candidate with the smallest truncated cost, then refinement: refit on its
-/// inlier blocks until the inlier set stops changing (or the refit is no longer valid).
+/// inlier blocks (`inliers`: their indices, in order) until the inlier set stops changing (or
+/// the refit is no longer valid).
 fn msac<H>(
-    idx: &[usize],
     candidates: Vec<H>,
     valid: impl Fn(&H) -> bool,
     th: &mut Thresholds,
     cost: impl Fn(&H, &mut Thresholds) -> f64,
-    inlier: impl Fn(usize, &H, &mut Thresholds) -> bool,
+    inliers: impl Fn(&H, &mut Thresholds) -> Vec<usize>,
     refit: impl Fn(&[usize]) -> Option<H>,
 ) -> Option<H> {
     let mut best = candidates
@@ -278,11 +280,7 @@ fn msac<H>(
         .1;
     let mut previous: Vec<usize> = Vec::new();
     for _ in 0..REFINE_ITERATIONS {
-        let inliers: Vec<usize> = idx
-            .iter()
-            .copied()
-            .filter(|&i| inlier(i, &best, th))
-            .collect();
+        let inliers = inliers(&best, th);
         if inliers.is_empty() || inliers == previous {
             break;
         }
@@ -312,12 +310,17 @@ pub(super) fn fit_line(
     candidates.extend(all.mean());
     let costs = LineCosts::new(blocks, idx, th);
     msac(
-        idx,
         candidates,
         valid,
         th,
         |l, _| costs.cost(l),
-        |i, l, th| line_inlier(&blocks[i].line, l, th),
+        |l, th| {
+            let l = LineChi2::new(l);
+            idx.iter()
+                .copied()
+                .filter(|&i| line_inlier(&blocks[i].line, &l, th))
+                .collect()
+        },
         |inliers| {
             let mut s = LineStats::default();
             inliers.iter().for_each(|&i| s.merge(&blocks[i].line));
@@ -346,12 +349,16 @@ pub(super) fn fit_plane(
         .collect();
     candidates.extend(normal(&all));
     msac(
-        idx,
         candidates,
         valid,
         th,
         |n, th| plane_cost(blocks, idx, n, th),
-        |i, n, th| plane_inlier(&blocks[i].plane, n, th),
+        |n, th| {
+            idx.iter()
+                .copied()
+                .filter(|&i| plane_inlier(&blocks[i].plane, n, th))
+                .collect()
+        },
         |inliers| {
             let mut s = PlaneStats::default();
             inliers.iter().for_each(|&i| s.merge(&blocks[i].plane));
@@ -377,7 +384,6 @@ pub(super) fn slide_normal(s: &PlaneStats, down: Option<&Vector3<f64>>) -> Plane
 mod tests {
     use super::*;
     use crate::classify::blocks::Phase;
-    use crate::geometry::LineChi2;
 
     /// The cost of a line over blocks, term by term with [`LineStats::chi2_to`].
     fn line_cost(blocks: &[Block], idx: &[usize], line: &Line, th: &mut Thresholds) -> f64 {
