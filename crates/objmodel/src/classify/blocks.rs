@@ -344,7 +344,10 @@ impl Segmenter {
             config: *config,
             noise: None,
             model: None,
-            blocks: Vec::new(),
+            // All the blocks there can be, at once: growing by doubling copied up to 2 MB
+            // and faulted the copies' pages in, on the per-frame path. Pages never used are
+            // never touched, so a short file costs no more memory.
+            blocks: Vec::with_capacity(MAX_BLOCKS),
             open: OpenSums::default(),
             block_size: 1,
             segments: Vec::new(),

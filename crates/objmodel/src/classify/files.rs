@@ -33,6 +33,7 @@ struct Handed {
 
 impl Front for RotatingCleaner {
     type Out = Handed;
+    #[inline(always)]
     fn push_pose(&mut self, p: &StampedPose, out: &mut impl FnMut(Handed)) {
         self.push(p, &mut |f, o, r| out(handed(&f, o, r)))
     }
@@ -228,9 +229,7 @@ impl<T: Copy + Send + 'static> CleanedFrames<T> {
                     Ok(more) => (more, None),
                     Err(e) => (false, Some(e)),
                 };
-                for p in &batch {
-                    cleaner.push_pose(p, &mut |j| chunk.push(j));
-                }
+                push_batch(&mut cleaner, &batch, &mut chunk);
                 if let Some(e) = error {
                     let _ = tx.send((std::mem::take(&mut chunk), Some(e)));
                     return;
@@ -252,6 +251,37 @@ impl<T: Copy + Send + 'static> CleanedFrames<T> {
             let _ = tx.send((chunk, None));
         });
         Self { rx, recycle }
+    }
+}
+
+/// Put a batch of poses through `front`, its output appended to `chunk` (in AVX2 code where
+/// the processor has it: the cleaner's and the rotation's quaternion products and series
+/// compile to fewer instructions, with the same bits, as no multiply and add are fused).
+/// Measured on 10^6 poses (`examples/clean_bench`): 23.4 -> 20 ns/pose.
+#[inline(always)]
+fn push_batch<F: Front>(front: &mut F, batch: &[StampedPose], chunk: &mut Vec<F::Out>) {
+    #[cfg(target_arch = "x86_64")]
+    if crate::lanes::avx2() {
+        // SAFETY: the processor runs AVX2 code (checked just above).
+        return unsafe { push_batch_avx2(front, batch, chunk) };
+    }
+    push_batch_with(front, batch, chunk)
+}
+
+/// [`push_batch`] compiled for AVX2.
+///
+/// # Safety
+/// The processor must run AVX2 code.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn push_batch_avx2<F: Front>(front: &mut F, batch: &[StampedPose], chunk: &mut Vec<F::Out>) {
+    push_batch_with(front, batch, chunk)
+}
+
+#[inline(always)]
+fn push_batch_with<F: Front>(front: &mut F, batch: &[StampedPose], chunk: &mut Vec<F::Out>) {
+    for p in batch {
+        front.push_pose(p, &mut |j| chunk.push(j));
     }
 }
 

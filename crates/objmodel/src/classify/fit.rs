@@ -73,7 +73,9 @@ fn trim_change_points(
                 best = Some((t, k + 1, before));
             }
         }
-        let Some((_, n_before, sums)) = best else { break };
+        let Some((_, n_before, sums)) = best else {
+            break;
+        };
         kept.truncate(n_before);
         total = sums;
     }

@@ -162,8 +162,16 @@ impl LineCosts {
         .map(|x| _mm256_set1_pd(x));
         let pu = p.dot(&u);
         let ppp = _mm256_set1_pd(p.dot(&p) - pu * pu);
-        let (px, py, pz) = (_mm256_set1_pd(p.x), _mm256_set1_pd(p.y), _mm256_set1_pd(p.z));
-        let (ux, uy, uz) = (_mm256_set1_pd(u.x), _mm256_set1_pd(u.y), _mm256_set1_pd(u.z));
+        let (px, py, pz) = (
+            _mm256_set1_pd(p.x),
+            _mm256_set1_pd(p.y),
+            _mm256_set1_pd(p.z),
+        );
+        let (ux, uy, uz) = (
+            _mm256_set1_pd(u.x),
+            _mm256_set1_pd(u.y),
+            _mm256_set1_pd(u.z),
+        );
         let (pu, two, zero) = (_mm256_set1_pd(pu), _mm256_set1_pd(2.0), _mm256_setzero_pd());
         let (add, sub, mul) = (_mm256_add_pd, _mm256_sub_pd, _mm256_mul_pd);
         let mut sum = zero;
@@ -172,8 +180,14 @@ impl LineCosts {
             let r = |k: usize| unsafe { _mm256_loadu_pd(g[k].0.as_ptr()) };
             let quad = |at: usize| {
                 add(
-                    add(add(mul(c[0], r(at)), mul(c[1], r(at + 1))), mul(c[2], r(at + 2))),
-                    add(add(mul(c[3], r(at + 3)), mul(c[4], r(at + 4))), mul(c[5], r(at + 5))),
+                    add(
+                        add(mul(c[0], r(at)), mul(c[1], r(at + 1))),
+                        mul(c[2], r(at + 2)),
+                    ),
+                    add(
+                        add(mul(c[3], r(at + 3)), mul(c[4], r(at + 4))),
+                        mul(c[5], r(at + 5)),
+                    ),
                 )
             };
             let ps = add(add(mul(px, r(7)), mul(py, r(8))), mul(pz, r(9)));
