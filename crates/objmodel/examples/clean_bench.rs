@@ -4,7 +4,9 @@
 //!
 //! `cargo run --release --example clean_bench -p objmodel [FILE.tum] [REPS]`
 
+use nalgebra::{UnitQuaternion, Vector3};
 use objmodel::classify::{Analyzer, Config, RotatingCleaner};
+use objmodel::trajectory::StampedPose;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -67,8 +69,25 @@ fn main() {
             });
         }
     });
+    // As `learn` runs it: the loop compiled for AVX2 where the processor has it.
+    let rotated_avx2 = best(reps, |chunk| {
+        let cleaner = Analyzer::new("bench", &config, false)
+            .take_object_cleaner()
+            .expect("robust");
+        let mut c = RotatingCleaner::new(cleaner);
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the processor runs AVX2 code (checked just above).
+            unsafe { rotate_avx2(&mut c, &poses, chunk) }
+        } else {
+            rotate(&mut c, &poses, chunk)
+        }
+    });
     let n = poses.len() as f64;
-    for (what, s) in [("clean", clean), ("clean + rotation", rotated)] {
+    for (what, s) in [
+        ("clean", clean),
+        ("clean + rotation", rotated),
+        ("clean + rotation (AVX2 code)", rotated_avx2),
+    ] {
         println!(
             "{what} + hand-over: {:.1} ms = {:.1} ns/pose",
             s * 1e3,
@@ -76,3 +95,25 @@ fn main() {
         );
     }
 }
+
+/// Cleaner and rotation over `poses`, into `chunk`.
+#[inline(always)]
+fn rotate(c: &mut RotatingCleaner, poses: &[StampedPose], chunk: &mut Chunk<Handed>) {
+    for p in poses {
+        c.push(p, &mut |f, o, r| {
+            chunk.keep((f.t, f.q, f.p, if o { r * f64::NAN } else { r }))
+        });
+    }
+}
+
+/// [`rotate`] compiled for AVX2.
+///
+/// # Safety
+/// The processor must run AVX2 code.
+#[target_feature(enable = "avx2")]
+unsafe fn rotate_avx2(c: &mut RotatingCleaner, poses: &[StampedPose], chunk: &mut Chunk<Handed>) {
+    rotate(c, poses, chunk)
+}
+
+/// What the parsing thread hands over per frame.
+type Handed = (f64, UnitQuaternion<f64>, Vector3<f64>, Vector3<f64>);
