@@ -256,10 +256,11 @@ impl<T: Copy + Send + 'static> CleanedFrames<T> {
 
 /// Put a batch of poses through `front`, its output appended to `chunk`: the whole stage
 /// inlined into one loop, compiled for AVX2 where the processor has it (the same bits: no
-/// multiply and add are fused). Measured on 10^6 poses, parsing thread CPU over 12 interleaved
-/// runs: median 67.5 -> 61.6 ms against a loop that called the stage per pose in baseline
-/// code; the AVX2 code alone is worth ~1 ns/pose (`examples/clean_bench`), the rest is the
-/// stage no longer being a call per pose.
+/// multiply and add are fused). Parsing thread CPU on 10^6 poses, 12 interleaved runs each,
+/// least: 68.0 ms with the stage called per pose in baseline code, 68.3 ms inlined in baseline
+/// code, 60.0 ms inlined in AVX2 code (the 88-byte hand-over stores and the quaternion
+/// arithmetic take 256-bit registers; `examples/clean_bench`, which keeps its own items, sees
+/// only 1 ns/pose of it).
 #[inline(always)]
 fn push_batch<F: Front>(front: &mut F, batch: &[StampedPose], chunk: &mut Vec<F::Out>) {
     #[cfg(target_arch = "x86_64")]
