@@ -163,7 +163,36 @@ impl RestAcc {
     /// rotations, from [`super::rest::RestDetector`]): over a rest it differs from the log of the rotation
     /// from the first frame only at second order in the (small) angles, and it stays linear in
     /// time for a slow turn about a fixed axis, which the drift test is about.
+    #[inline(always)]
     fn add(&mut self, f: &RawFrame, rot: &Vector3<f64>, head_s: f64) {
+        #[cfg(target_arch = "x86_64")]
+        if crate::lanes::avx2() {
+            // SAFETY: the processor runs AVX2 code (checked just above).
+            return unsafe { self.add_avx2(f, rot, head_s) };
+        }
+        self.add_base(f, rot, head_s)
+    }
+
+    /// [`RestAcc::add`] in baseline code.
+    #[inline(never)]
+    fn add_base(&mut self, f: &RawFrame, rot: &Vector3<f64>, head_s: f64) {
+        self.add_with(f, rot, head_s)
+    }
+
+    /// [`RestAcc::add`] compiled for AVX2 (the same operations and bits; half the time of the
+    /// baseline code, measured in `learn` on 10^6 poses with 72k rest frames).
+    ///
+    /// # Safety
+    /// The processor must run AVX2 code.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    #[inline(never)]
+    unsafe fn add_avx2(&mut self, f: &RawFrame, rot: &Vector3<f64>, head_s: f64) {
+        self.add_with(f, rot, head_s)
+    }
+
+    #[inline(always)]
+    fn add_with(&mut self, f: &RawFrame, rot: &Vector3<f64>, head_s: f64) {
         if self.n == 0.0 {
             self.t0 = f.t;
             self.q0 = Some(f.q);
@@ -412,7 +441,8 @@ impl Segmenter {
                     self.block(f.index, f.t, Phase::Rest, segment);
                 }
             }
-            ItemRef::Frame(f) => self.moving(f, false),
+            // The common case, inlined into the caller (the rest front end's loop), in its code.
+            ItemRef::Frame(f) => self.moving_with(f, false),
         }
     }
 
@@ -478,6 +508,26 @@ impl Segmenter {
     /// The frame enters its block's statistics through [`OpenSums::push`] (which also says
     /// how they are computed).
     fn moving(&mut self, f: &RawFrame, slow_start: bool) {
+        #[cfg(target_arch = "x86_64")]
+        if crate::lanes::avx2() {
+            // SAFETY: the processor runs AVX2 code (checked just above).
+            return unsafe { self.moving_avx2(f, slow_start) };
+        }
+        self.moving_with(f, slow_start)
+    }
+
+    /// [`Segmenter::moving`] compiled for AVX2 (the same operations and bits).
+    ///
+    /// # Safety
+    /// The processor must run AVX2 code.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn moving_avx2(&mut self, f: &RawFrame, slow_start: bool) {
+        self.moving_with(f, slow_start)
+    }
+
+    #[inline(always)]
+    fn moving_with(&mut self, f: &RawFrame, slow_start: bool) {
         if !self.in_motion {
             self.in_motion = true;
             self.start_motion(f, slow_start);

@@ -1,7 +1,7 @@
 //! The robust classifier's front end: the noise warm-up, then the [`RestDetector`], and what
 //! they pass on ([`Verdicts`], [`Judged`]).
 
-use super::rest::{Item, ItemRef, RestDetector, RotationSum};
+use super::rest::{Item, ItemRef, ItemSink, RestDetector, RotationSum};
 use super::Config;
 use crate::clean::RawFrame;
 use crate::noise::{self, NoiseModel};
@@ -26,6 +26,17 @@ pub trait Verdicts {
     /// An item, `moving` or not, with its accumulated rotation `rot` \[rad\] (zero for
     /// outliers).
     fn item(&mut self, item: ItemRef<'_>, moving: bool, rot: &Vector3<f64>);
+}
+
+/// A [`Verdicts`] as the [`RestDetector`]'s [`ItemSink`], its `item` inlined into the
+/// detector's loop.
+struct ToVerdicts<'a, V>(&'a mut V);
+
+impl<V: Verdicts> ItemSink for ToVerdicts<'_, V> {
+    #[inline(always)]
+    fn item(&mut self, item: ItemRef<'_>, moving: bool, rot: &Vector3<f64>) {
+        self.0.item(item, moving, rot)
+    }
 }
 
 /// [`Verdicts`] as owned [`Judged`] values passed to a closure (to keep them, or to send them
@@ -93,7 +104,7 @@ impl RestFront {
             r.alpha,
         );
         for (item, rot) in std::mem::take(&mut self.warm) {
-            rest.push(&item, &rot, &mut |i, m, r| out.item(i, m, r));
+            rest.push(&item, &rot, &mut ToVerdicts(out));
         }
         self.rest = Some(rest);
     }
@@ -113,8 +124,9 @@ impl RestFront {
     /// accumulated rotation \[rad\], taken elsewhere (with a [`RotationSum`] over the frames,
     /// outliers left out); what is judged goes to `out`. The parts are read where the caller
     /// has them (see [`ItemRef`]).
-    // Not inlined into the caller's loop: measured faster (register pressure).
-    #[inline(never)]
+    // The work is not inlined into the caller's loop (measured faster: register pressure),
+    // only the choice of code.
+    #[inline(always)]
     pub fn push_frame(
         &mut self,
         index: usize,
@@ -124,8 +136,60 @@ impl RestFront {
         rot: &Vector3<f64>,
         out: &mut impl Verdicts,
     ) {
+        #[cfg(target_arch = "x86_64")]
+        if crate::lanes::avx2() {
+            // SAFETY: the processor runs AVX2 code (checked just above).
+            return unsafe { self.push_frame_avx2(index, t, q, p, rot, out) };
+        }
+        self.push_frame_base(index, t, q, p, rot, out)
+    }
+
+    /// [`RestFront::push_frame`] in baseline code.
+    #[inline(never)]
+    fn push_frame_base(
+        &mut self,
+        index: usize,
+        t: f64,
+        q: &UnitQuaternion<f64>,
+        p: &Vector3<f64>,
+        rot: &Vector3<f64>,
+        out: &mut impl Verdicts,
+    ) {
+        self.push_frame_with(index, t, q, p, rot, out)
+    }
+
+    /// [`RestFront::push_frame`] compiled for AVX2 (with what it inlines: the rest test and
+    /// the consumer's per-frame code), the same operations and bits.
+    ///
+    /// # Safety
+    /// The processor must run AVX2 code.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    #[inline(never)]
+    unsafe fn push_frame_avx2(
+        &mut self,
+        index: usize,
+        t: f64,
+        q: &UnitQuaternion<f64>,
+        p: &Vector3<f64>,
+        rot: &Vector3<f64>,
+        out: &mut impl Verdicts,
+    ) {
+        self.push_frame_with(index, t, q, p, rot, out)
+    }
+
+    #[inline(always)]
+    fn push_frame_with(
+        &mut self,
+        index: usize,
+        t: f64,
+        q: &UnitQuaternion<f64>,
+        p: &Vector3<f64>,
+        rot: &Vector3<f64>,
+        out: &mut impl Verdicts,
+    ) {
         match self.rest.as_mut() {
-            Some(rest) => rest.push_frame(index, t, q, p, rot, &mut |i, m, r| out.item(i, m, r)),
+            Some(rest) => rest.push_frame(index, t, q, p, rot, &mut ToVerdicts(out)),
             None => {
                 let f = RawFrame {
                     index,
@@ -142,7 +206,7 @@ impl RestFront {
     /// goes to `out`.
     pub fn push_outlier(&mut self, index: usize, t: f64, out: &mut impl Verdicts) {
         match self.rest.as_mut() {
-            Some(rest) => rest.push_outlier(index, t, &mut |i, m, r| out.item(i, m, r)),
+            Some(rest) => rest.push_outlier(index, t, &mut ToVerdicts(out)),
             None => self.warm_up(Item::Outlier(index, t), &Vector3::zeros(), out),
         }
     }
@@ -162,7 +226,7 @@ impl RestFront {
             self.start(out);
         }
         if let Some(rest) = self.rest.take() {
-            rest.finish(&mut |i, m, r| out.item(i, m, r));
+            rest.finish(&mut ToVerdicts(out));
         }
     }
 }

@@ -71,6 +71,22 @@ impl ItemRef<'_> {
     }
 }
 
+/// Where a [`RestDetector`] passes its items, in order, each with its verdict (`moving`, false
+/// for outliers) and its accumulated rotation \[rad\] (zero for outliers). Any
+/// `FnMut(ItemRef, bool, &Vector3<f64>)` is one; a type of its own can promise that its method
+/// is inlined into the detector's loop, which a closure cannot.
+pub trait ItemSink {
+    /// Take the next judged item.
+    fn item(&mut self, item: ItemRef<'_>, moving: bool, rot: &Vector3<f64>);
+}
+
+impl<F: FnMut(ItemRef<'_>, bool, &Vector3<f64>)> ItemSink for F {
+    #[inline(always)]
+    fn item(&mut self, item: ItemRef<'_>, moving: bool, rot: &Vector3<f64>) {
+        self(item, moving, rot)
+    }
+}
+
 /// `sin²(θ/2)` below which [`step_log`] uses its series (rotations below 1.15°).
 const STEP_SERIES_S2: f64 = 1e-4;
 
@@ -368,7 +384,7 @@ impl RestDetector {
         q: &UnitQuaternion<f64>,
         p: &Vector3<f64>,
         r: &Vector3<f64>,
-        out: &mut impl FnMut(ItemRef<'_>, bool, &Vector3<f64>),
+        out: &mut impl ItemSink,
     ) {
         let x = [r.x, r.y, r.z, p.x, p.y, p.z];
         let origin = self.origin;
@@ -389,12 +405,7 @@ impl RestDetector {
 
     /// Push the next item, a frame rejected as an outlier (see [`RestDetector::push`]).
     #[inline(always)]
-    pub fn push_outlier(
-        &mut self,
-        index: usize,
-        t: f64,
-        out: &mut impl FnMut(ItemRef<'_>, bool, &Vector3<f64>),
-    ) {
+    pub fn push_outlier(&mut self, index: usize, t: f64, out: &mut impl ItemSink) {
         let total = self.total;
         let slot = self.next_slot();
         slot.before = total;
@@ -410,12 +421,7 @@ impl RestDetector {
     /// see [`RotationSum`]; ignored for outliers); judged items are passed to `out` with
     /// `moving` (false for outliers) and that rotation (zero for outliers).
     #[inline(always)]
-    pub fn push(
-        &mut self,
-        item: &Item,
-        rot: &Vector3<f64>,
-        out: &mut impl FnMut(ItemRef<'_>, bool, &Vector3<f64>),
-    ) {
+    pub fn push(&mut self, item: &Item, rot: &Vector3<f64>, out: &mut impl ItemSink) {
         match item {
             Item::Frame(f) => self.push_frame(f.index, f.t, &f.q, &f.p, rot, out),
             Item::Outlier(index, t) => self.push_outlier(*index, *t, out),
@@ -423,12 +429,12 @@ impl RestDetector {
     }
 
     /// Flush the remaining items at the end of the stream.
-    pub fn finish(mut self, out: &mut impl FnMut(ItemRef<'_>, bool, &Vector3<f64>)) {
+    pub fn finish(mut self, out: &mut impl ItemSink) {
         self.drain(true, out);
     }
 
     #[inline(always)]
-    fn drain(&mut self, at_end: bool, out: &mut impl FnMut(ItemRef<'_>, bool, &Vector3<f64>)) {
+    fn drain(&mut self, at_end: bool, out: &mut impl ItemSink) {
         while self.center < self.tail {
             let tc = self.slot(self.center).f.t;
             // Extend the right window [tc, tc + w].
@@ -459,7 +465,7 @@ impl RestDetector {
                     .before(self.hi)
                     .minus(&e.before)
                     .exceeds(&self.inv_var, self.threshold);
-            out(e.item(), moving, &e.rot);
+            out.item(e.item(), moving, &e.rot);
             self.center += 1;
         }
     }
@@ -640,11 +646,13 @@ mod tests {
                 p: Vector3::zeros(),
             };
             let rot = rotation.next(&f.q);
-            d.push(&Item::Frame(f), &rot, &mut |i, m, _| {
-                verdicts.push((i.to_item(), m))
-            });
+            d.push(
+                &Item::Frame(f),
+                &rot,
+                &mut |i: ItemRef<'_>, m, _: &Vector3<f64>| verdicts.push((i.to_item(), m)),
+            );
         }
-        d.finish(&mut |i, m, _| verdicts.push((i.to_item(), m)));
+        d.finish(&mut |i: ItemRef<'_>, m, _: &Vector3<f64>| verdicts.push((i.to_item(), m)));
         assert_eq!(verdicts.len(), 120);
         let moving: Vec<bool> = verdicts.iter().map(|v| v.1).collect();
         assert!(moving[..20].iter().all(|m| !m), "{moving:?}");
