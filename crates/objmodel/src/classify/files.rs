@@ -79,12 +79,8 @@ pub fn classify_files(
             if let Some(cleaner) = a.take_object_cleaner() {
                 let front = RotatingCleaner::new(cleaner);
                 let mut index = 0;
-                CleanedFrames::spawn(format::open(object)?, front).for_each(|h| {
-                    // Read in place, in the hand-over chunk (see `ItemRef`).
-                    let frame = (!h.rot.x.is_nan()).then_some((&h.q, &h.p, &h.rot));
-                    a.push_cleaned_rotated(index, h.t, frame);
-                    index += 1;
-                })?;
+                CleanedFrames::spawn(format::open(object)?, front)
+                    .for_each_chunk(|chunk| push_handed(&mut a, chunk, &mut index))?;
             } else {
                 for p in ThreadedPoses::spawn(format::open(object)?) {
                     a.push_object(&p?);
@@ -288,12 +284,45 @@ fn push_batch_with<F: Front>(front: &mut F, batch: &[StampedPose], chunk: &mut V
     }
 }
 
+/// Pass a hand-over chunk to the analysis, `index` being the number of the first frame in it
+/// (advanced past the chunk): in AVX2 code where the processor has it, as [`push_batch`]
+/// (the choice of code in the rest front end then folds away).
+#[inline(always)]
+fn push_handed(a: &mut Analyzer, chunk: &[Handed], index: &mut usize) {
+    #[cfg(target_arch = "x86_64")]
+    if crate::lanes::avx2() {
+        // SAFETY: the processor runs AVX2 code (checked just above).
+        return unsafe { push_handed_avx2(a, chunk, index) };
+    }
+    push_handed_with(a, chunk, index)
+}
+
+/// [`push_handed`] compiled for AVX2.
+///
+/// # Safety
+/// The processor must run AVX2 code.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn push_handed_avx2(a: &mut Analyzer, chunk: &[Handed], index: &mut usize) {
+    push_handed_with(a, chunk, index)
+}
+
+#[inline(always)]
+fn push_handed_with(a: &mut Analyzer, chunk: &[Handed], index: &mut usize) {
+    for h in chunk {
+        // Read in place, in the hand-over chunk (see `ItemRef`).
+        let frame = (!h.rot.x.is_nan()).then_some((&h.q, &h.p, &h.rot));
+        a.push_cleaned_rotated(*index, h.t, frame);
+        *index += 1;
+    }
+}
+
 impl<T> CleanedFrames<T> {
-    /// Pass every item to `f` in order, by reference into its hand-over chunk; an error from
-    /// the parsing thread ends the stream and is returned.
-    fn for_each(self, mut f: impl FnMut(&T)) -> Result<()> {
+    /// Pass every hand-over chunk to `f` in order; an error from the parsing thread ends the
+    /// stream and is returned.
+    fn for_each_chunk(self, mut f: impl FnMut(&[T])) -> Result<()> {
         while let Ok((mut chunk, error)) = self.rx.recv() {
-            chunk.iter().for_each(&mut f);
+            f(&chunk);
             if let Some(e) = error {
                 return Err(e);
             }
