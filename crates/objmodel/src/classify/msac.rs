@@ -85,48 +85,42 @@ impl LineCosts {
                 m[(1, 2)],
             ]
         };
-        let rows: Vec<[f64; LINE_TERMS]> = idx
-            .iter()
-            .map(|&i| &blocks[i].line)
-            .filter(|s| s.n > 0.0)
-            .map(|s| {
-                let (m, a) = (sym6(&s.swrr), sym6(&s.sauu));
-                [
-                    s.swrr.trace(),
-                    m[0],
-                    m[1],
-                    m[2],
-                    m[3],
-                    m[4],
-                    m[5],
-                    s.swr.x,
-                    s.swr.y,
-                    s.swr.z,
-                    s.sw,
-                    s.sa,
-                    a[0],
-                    a[1],
-                    a[2],
-                    a[3],
-                    a[4],
-                    a[5],
-                    s.pitch_chi2,
-                    th.get(5.0 * s.n),
-                ]
-            })
-            .collect();
-        let groups = rows
-            .chunks(4)
-            .map(|four| {
-                let mut g = [F4::splat(0.0); LINE_TERMS];
-                for (lane, row) in four.iter().enumerate() {
-                    for (term, x) in g.iter_mut().zip(row) {
-                        term.0[lane] = *x;
-                    }
-                }
-                g
-            })
-            .collect();
+        // Straight into the groups, allocated once: gathering rows first and regrouping them
+        // cost two growing vectors' copies and fresh pages (0.5 ms for 4096 blocks).
+        let mut groups: Vec<[F4; LINE_TERMS]> = Vec::with_capacity(idx.len().div_ceil(4));
+        let lines = idx.iter().map(|&i| &blocks[i].line).filter(|s| s.n > 0.0);
+        for (k, s) in lines.enumerate() {
+            let (m, a) = (sym6(&s.swrr), sym6(&s.sauu));
+            let row = [
+                s.swrr.trace(),
+                m[0],
+                m[1],
+                m[2],
+                m[3],
+                m[4],
+                m[5],
+                s.swr.x,
+                s.swr.y,
+                s.swr.z,
+                s.sw,
+                s.sa,
+                a[0],
+                a[1],
+                a[2],
+                a[3],
+                a[4],
+                a[5],
+                s.pitch_chi2,
+                th.get(5.0 * s.n),
+            ];
+            if k % 4 == 0 {
+                groups.push([F4::splat(0.0); LINE_TERMS]);
+            }
+            let g = groups.last_mut().expect("pushed above");
+            for (term, x) in g.iter_mut().zip(row) {
+                term.0[k % 4] = x;
+            }
+        }
         Self { groups }
     }
 
