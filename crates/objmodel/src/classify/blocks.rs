@@ -411,11 +411,16 @@ impl Segmenter {
                 let segment = self.segments.len().checked_sub(1);
                 self.block(index, t, Phase::Outlier, segment);
             }
-            ItemRef::Frame(f) if self.slow.is_some() => {
-                self.moving(f, false);
-                self.probe_slow(f, rot, moving);
+            // A moving frame, or any frame of a slow motion (all of which count as moving): the
+            // common cases, inlined into the caller (the rest front end's loop), in its code.
+            ItemRef::Frame(f) if moving || self.slow.is_some() => {
+                let slow = self.slow.is_some();
+                self.moving_with(f, false);
+                if slow {
+                    self.probe_slow(f, rot, moving);
+                }
             }
-            ItemRef::Frame(f) if !moving => {
+            ItemRef::Frame(f) => {
                 if self.in_motion {
                     self.in_motion = false;
                     self.rest_acc = RestAcc::default();
@@ -441,8 +446,6 @@ impl Segmenter {
                     self.block(f.index, f.t, Phase::Rest, segment);
                 }
             }
-            // The common case, inlined into the caller (the rest front end's loop), in its code.
-            ItemRef::Frame(f) => self.moving_with(f, false),
         }
     }
 
@@ -463,6 +466,7 @@ impl Segmenter {
 
     /// In a slow motion, look for a real rest: frames the windowed test calls rest, over a
     /// span as long as the one that revealed the slow motion, without drift.
+    #[inline(always)]
     fn probe_slow(&mut self, f: &RawFrame, rot: &Vector3<f64>, moving: bool) {
         let Some(slow) = self.slow.as_mut() else {
             return;
