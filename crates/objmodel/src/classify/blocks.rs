@@ -15,6 +15,7 @@ use super::rest::{Item, ItemRef};
 use super::{Classification, Config, Label, LabelRun, Method, Votes};
 use crate::clean::RawFrame;
 use crate::geometry::{Line, LineStats, PlaneStats};
+use crate::lanes::F4;
 use crate::noise::NoiseModel;
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3, Vector4};
 
@@ -115,40 +116,78 @@ impl Block {
 
 /// Mean pose over a rest, and the least-squares drift of the pose over the whole rest (to tell
 /// a real rest from a motion too slow for the windowed rest test).
+///
+/// The sums that every frame adds to are kept in whole lanes ([`RestAcc::sums`]): a frame is
+/// seven four-lane additions, whose loads and stores are the same from frame to frame. With
+/// the sums in separate fields, the compiler combined fields into vectors differently for
+/// loads and stores, and one load straddled a store of the frame before: the processor could
+/// not forward it, and each call waited for the store (half of the time of `RestAcc::add`, which
+/// the 10^6-pose benchmark calls for nearly every frame, its whole topple being a slow motion).
 #[derive(Clone, Copy, Debug, Default)]
 struct RestAcc {
-    n: f64,
-    q: Vector4<f64>,
-    p: Vector3<f64>,
+    /// Σx (two lanes), Σ dt·x (two), Σq (sign-aligned, `(x, y, z, w)`), `(Σp, 0)` and
+    /// `(n, Σdt, Σdt², 0)`, with `x` the fitted coordinates about [`RestAcc::origin`] (see
+    /// [`fitted`]) and `dt = t - t0`.
+    sums: [F4; 7],
     t0: f64,
     t1: f64,
-    q0: Option<UnitQuaternion<f64>>,
-    p0: Vector3<f64>,
-    /// Accumulated rotation at the first frame.
-    r0: Vector3<f64>,
+    /// The fitted coordinates at the first frame.
+    origin: [F4; 2],
     /// Mean pose and frame count over the rest's first `head_s` seconds (taken when a frame
     /// beyond them arrives): the pose a slow motion started from.
     head: Option<(UnitQuaternion<f64>, Vector3<f64>, f64)>,
-    st: f64,
-    stt: f64,
-    sx: [f64; 6],
-    stx: [f64; 6],
+}
+
+/// Lanes of [`RestAcc::sums`].
+const SUM_X: usize = 0;
+const SUM_TX: usize = 2;
+const SUM_Q: usize = 4;
+const SUM_P: usize = 5;
+const SUM_N: usize = 6;
+
+/// The six coordinates whose drift a [`RestAcc`] fits, the accumulated rotation `r` \[rad\]
+/// and the position `p` \[m\], in two groups of four lanes: `(r, p_x)` and `(p_y, p_z, 0, 0)`.
+#[inline(always)]
+fn fitted(r: &Vector3<f64>, p: &Vector3<f64>) -> [F4; 2] {
+    [F4([r.x, r.y, r.z, p.x]), F4([p.y, p.z, 0.0, 0.0])]
 }
 
 impl RestAcc {
+    /// Number of frames.
+    #[inline(always)]
+    fn n(&self) -> f64 {
+        self.sums[SUM_N].0[0]
+    }
+
+    /// Σq, sign-aligned.
+    #[inline(always)]
+    fn sum_q(&self) -> Vector4<f64> {
+        Vector4::from(self.sums[SUM_Q].0)
+    }
+
+    /// Σp \[m\].
+    #[inline(always)]
+    fn sum_p(&self) -> Vector3<f64> {
+        let p = self.sums[SUM_P].0;
+        Vector3::new(p[0], p[1], p[2])
+    }
+
     /// χ²₆ statistic of the pose's drift (least-squares slope) over the whole rest. The slope's
     /// variance is the noise's, `σ²/S_tt`, plus the model tolerance spread over the rest,
     /// `(tol/T)²`: contacts settle by that much without the object being moved.
     fn drift_chi2(&self, m: &FrameModel) -> f64 {
-        let den = self.n * self.stt - self.st * self.st;
+        let [n, st, stt, _] = self.sums[SUM_N].0;
+        let den = n * stt - st * st;
         let duration = self.t1 - self.t0;
-        if self.n < 3.0 || den <= 0.0 || duration <= 0.0 {
+        if n < 3.0 || den <= 0.0 || duration <= 0.0 {
             return 0.0;
         }
-        let stt_c = den / self.n;
+        let stt_c = den / n;
         (0..6)
             .map(|j| {
-                let beta = (self.n * self.stx[j] - self.st * self.sx[j]) / den;
+                let sx = self.sums[SUM_X + j / 4].0[j % 4];
+                let stx = self.sums[SUM_TX + j / 4].0[j % 4];
+                let beta = (n * stx - st * sx) / den;
                 let (var, tol2) = if j < 3 {
                     (m.var_r, m.tol_r2)
                 } else {
@@ -179,8 +218,7 @@ impl RestAcc {
         self.add_with(f, rot, head_s)
     }
 
-    /// [`RestAcc::add`] compiled for AVX2 (the same operations and bits; half the time of the
-    /// baseline code, measured in `learn` on 10^6 poses with 72k rest frames).
+    /// [`RestAcc::add`] compiled for AVX2 (the same operations and bits).
     ///
     /// # Safety
     /// The processor must run AVX2 code.
@@ -193,40 +231,42 @@ impl RestAcc {
 
     #[inline(always)]
     fn add_with(&mut self, f: &RawFrame, rot: &Vector3<f64>, head_s: f64) {
-        if self.n == 0.0 {
+        let x = fitted(rot, &f.p);
+        let n = self.n();
+        if n == 0.0 {
             self.t0 = f.t;
-            self.q0 = Some(f.q);
-            self.p0 = f.p;
-            self.r0 = *rot;
+            self.origin = x;
         }
         self.t1 = f.t;
         let dt = f.t - self.t0;
         if dt > head_s && self.head.is_none() {
-            self.head = self.mean().map(|(q, p)| (q, p, self.n));
-        }
-        let w = rot - self.r0;
-        let d = f.p - self.p0;
-        let x = [w.x, w.y, w.z, d.x, d.y, d.z];
-        self.st += dt;
-        self.stt += dt * dt;
-        for ((sx, stx), xj) in self.sx.iter_mut().zip(&mut self.stx).zip(x) {
-            *sx += xj;
-            *stx += dt * xj;
+            self.head = self.mean().map(|(q, p)| (q, p, n));
         }
         let mut q = f.q.into_inner().coords;
-        if self.n > 0.0 && q.dot(&self.q) < 0.0 {
+        if n > 0.0 && q.dot(&self.sum_q()) < 0.0 {
             q = -q;
         }
-        self.n += 1.0;
-        self.q += q;
-        self.p += f.p;
+        let (xa, xb) = (x[0] - self.origin[0], x[1] - self.origin[1]);
+        let terms = [
+            xa,
+            xb,
+            dt * xa,
+            dt * xb,
+            F4([q.x, q.y, q.z, q.w]),
+            F4([f.p.x, f.p.y, f.p.z, 0.0]),
+            F4([1.0, dt, dt * dt, 0.0]),
+        ];
+        for (s, t) in self.sums.iter_mut().zip(terms) {
+            *s = *s + t;
+        }
     }
 
     fn mean(&self) -> Option<(UnitQuaternion<f64>, Vector3<f64>)> {
-        (self.n > 0.0).then(|| {
+        let n = self.n();
+        (n > 0.0).then(|| {
             (
-                UnitQuaternion::from_quaternion(Quaternion::from(self.q)),
-                self.p / self.n,
+                UnitQuaternion::from_quaternion(Quaternion::from(self.sum_q())),
+                self.sum_p() / n,
             )
         })
     }
@@ -235,7 +275,7 @@ impl RestAcc {
     /// (or over all of it while it is short), and the number of frames averaged.
     fn start(&self) -> Option<(UnitQuaternion<f64>, Vector3<f64>, f64)> {
         self.head
-            .or_else(|| self.mean().map(|(q, p)| (q, p, self.n)))
+            .or_else(|| self.mean().map(|(q, p)| (q, p, self.n())))
     }
 
     /// "Down" in object coordinates at the mean pose, given it (`down`) in the frame the poses
@@ -429,7 +469,7 @@ impl Segmenter {
                 let min_rest = self.config.robust.min_rest_s;
                 self.rest_acc.add(f, rot, min_rest);
                 let full = self.rest_acc.t1 - self.rest_acc.t0;
-                if self.recent.n > 0.0 && self.recent.t1 - self.recent.t0 >= 0.5 * full {
+                if self.recent.n() > 0.0 && self.recent.t1 - self.recent.t0 >= 0.5 * full {
                     self.recent = RestAcc::default();
                 }
                 self.recent.add(f, rot, min_rest);
@@ -457,7 +497,7 @@ impl Segmenter {
         let (r, recent) = (&self.rest_acc, &self.recent);
         let m = self.model.unwrap();
         let full = r.t1 - r.t0;
-        (r.n as u64).is_multiple_of(SLOW_CHECK_FRAMES)
+        (r.n() as u64).is_multiple_of(SLOW_CHECK_FRAMES)
             && full >= self.config.robust.min_rest_s
             && recent.t1 - recent.t0 >= 0.25 * full
             && r.drift_chi2(&m) > m.displaced
@@ -472,14 +512,14 @@ impl Segmenter {
             return;
         };
         if moving {
-            if slow.probe.n > 0.0 {
+            if slow.probe.n() > 0.0 {
                 slow.probe = RestAcc::default();
             }
             return;
         }
         slow.probe.add(f, rot, self.config.robust.min_rest_s);
         let p = &slow.probe;
-        if p.t1 - p.t0 < slow.span_s || !(p.n as u64).is_multiple_of(SLOW_CHECK_FRAMES) {
+        if p.t1 - p.t0 < slow.span_s || !(p.n() as u64).is_multiple_of(SLOW_CHECK_FRAMES) {
             return;
         }
         let m = self.model.unwrap();
@@ -554,7 +594,7 @@ impl Segmenter {
     #[inline(never)]
     fn start_motion(&mut self, f: &RawFrame, slow_start: bool) {
         let m = self.model.unwrap();
-        let long_rest = self.rest_acc.n > 0.0
+        let long_rest = self.rest_acc.n() > 0.0
             && self.rest_acc.t1 - self.rest_acc.t0 >= self.config.robust.min_rest_s
             && self.rest_acc.drift_chi2(&m) <= m.displaced;
         if !(self.segments.is_empty()
@@ -565,7 +605,7 @@ impl Segmenter {
         let start = if slow_start {
             self.rest_acc.start()
         } else {
-            self.rest_acc.mean().map(|(q, p)| (q, p, self.rest_acc.n))
+            self.rest_acc.mean().map(|(q, p)| (q, p, self.rest_acc.n()))
         };
         let rest_down = start
             .zip(self.down)
