@@ -321,6 +321,23 @@ impl<T> CleanedFrames<T> {
     /// Pass every hand-over chunk to `f` in order; an error from the parsing thread ends the
     /// stream and is returned.
     fn for_each_chunk(self, mut f: impl FnMut(&[T])) -> Result<()> {
+        // While the first chunk is being parsed, give the parsing thread chunks whose pages
+        // are already in place: the first touch of a page costs a fault, and on the parsing
+        // thread it delays the stream.
+        for _ in 0..=CHANNEL_CHUNKS {
+            let mut chunk: Vec<T> = Vec::with_capacity(CHUNK_POSES);
+            let spare = chunk.spare_capacity_mut();
+            let bytes = std::mem::size_of_val(spare);
+            let base = spare.as_mut_ptr().cast::<u8>();
+            for at in (0..bytes).step_by(4096) {
+                // SAFETY: `at` is inside the spare capacity (uninitialised memory this vector
+                // owns); writing a byte there initialises nothing the vector reads.
+                unsafe { base.add(at).write_volatile(0) };
+            }
+            if self.recycle.send(chunk).is_err() {
+                break;
+            }
+        }
         while let Ok((mut chunk, error)) = self.rx.recv() {
             f(&chunk);
             if let Some(e) = error {
