@@ -168,7 +168,7 @@ pub fn chi2_threshold(dof: f64, alpha: f64) -> f64 {
         let ln_f = (half - 1.0) * x.ln() - 0.5 * x - ln_norm;
         // Newton: x - g / (d ln Q/dx) = x + g Q / f.
         let mut next = x + g * (q.ln() - ln_f).exp();
-        if !(next > lo && next < hi) || !next.is_finite() {
+        if !(next > lo && next < hi && next.is_finite()) {
             next = if hi.is_finite() {
                 0.5 * (lo + hi)
             } else {
