@@ -138,11 +138,15 @@ struct RestAcc {
     head: Option<(UnitQuaternion<f64>, Vector3<f64>, f64)>,
 }
 
-/// Lanes of [`RestAcc::sums`].
+/// Where [`RestAcc::sums`] keeps Σx (two groups of lanes),
 const SUM_X: usize = 0;
+/// Σ dt·x (two groups),
 const SUM_TX: usize = 2;
+/// Σq,
 const SUM_Q: usize = 4;
+/// `(Σp, 0)`
 const SUM_P: usize = 5;
+/// and `(n, Σdt, Σdt², 0)`.
 const SUM_N: usize = 6;
 
 /// The six coordinates whose drift a [`RestAcc`] fits, the accumulated rotation `r` \[rad\]

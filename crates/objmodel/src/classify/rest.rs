@@ -29,12 +29,14 @@ use nalgebra::{UnitQuaternion, Vector3};
 /// Frames between two re-computations of the prefix sums from scratch (re-basing).
 ///
 /// A window's sums are differences of prefix sums taken about the origin of the last re-basing,
-/// so their rounding error grows with the distance from it: relative to a window's own spread of
-/// times, about ε (d/w)² with ε = 1.1e-16, d the frames since the origin (at most this many plus
-/// the two windows) and w the frames in a window. At 1024 and the smallest window the test uses
-/// (3 frames) that is below 1e-10; for 18 frames (0.6 s at 30 Hz), 5e-13, far inside any margin
-/// a χ² test can resolve. (Re-basing every 256 frames instead cost 1.3% of `learn`'s samples on
-/// 10^6 poses, and gave the same outputs on every file of the regression set.)
+/// so their rounding error grows with the distance from it. The test's denominator
+/// `n S_tt - S_t²` (about `w⁴ Δt²/12` for `w` frames `Δt` apart) then carries a relative error
+/// of about `12 ε (d/w)³`, with ε = 1.1e-16 and `d` the frames since the origin (at most this
+/// many plus the two windows); the slopes' numerators likewise. At 1024 that is 5e-8 for the
+/// smallest window the test uses (3 frames) and 2e-10 for 18 frames (0.6 s at 30 Hz): far
+/// inside what a χ² test at α = 1e-3 can resolve, whose statistic varies by O(1) from window to
+/// window. (Re-basing every 256 frames instead cost 1.3% of `learn`'s samples on 10^6 poses, and
+/// gave the same outputs on every file of the regression set.)
 pub const REBASE_EVERY: usize = 1024;
 
 /// An item flowing through the detector: a good frame or a rejected one (kept for ordering).
