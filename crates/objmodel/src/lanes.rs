@@ -234,12 +234,25 @@ pub fn scale(a: &V4, s: F4) -> V4 {
     [a[0] * s, a[1] * s, a[2] * s]
 }
 
-/// Whether this processor runs AVX2 code (x86-64 only; checked once, then cached by `std`).
+/// Set by [`set_baseline_only`].
+static BASELINE_ONLY: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Make [`avx2`] answer false from now on (`on`), or again what the processor runs: so that
+/// every kernel that chooses its code at run time takes its baseline code, to test that it
+/// gives the same bits. Process-wide; meant for tests and benchmarks.
+#[doc(hidden)]
+pub fn set_baseline_only(on: bool) {
+    BASELINE_ONLY.store(on, std::sync::atomic::Ordering::Relaxed);
+}
+
+/// Whether this processor runs AVX2 code (x86-64 only; checked once, then cached by `std`),
+/// unless [`set_baseline_only`] said otherwise.
 #[inline]
 pub fn avx2() -> bool {
     #[cfg(target_arch = "x86_64")]
     {
         std::arch::is_x86_feature_detected!("avx2")
+            && !BASELINE_ONLY.load(std::sync::atomic::Ordering::Relaxed)
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
