@@ -75,12 +75,12 @@ fn main() {
             .take_object_cleaner()
             .expect("robust");
         let mut c = RotatingCleaner::new(cleaner);
+        #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the processor runs AVX2 code (checked just above).
-            unsafe { rotate_avx2(&mut c, &poses, chunk) }
-        } else {
-            rotate(&mut c, &poses, chunk)
+            return unsafe { rotate_avx2(&mut c, &poses, chunk) };
         }
+        rotate(&mut c, &poses, chunk)
     });
     let n = poses.len() as f64;
     for (what, s) in [
@@ -110,6 +110,7 @@ fn rotate(c: &mut RotatingCleaner, poses: &[StampedPose], chunk: &mut Chunk<Hand
 ///
 /// # Safety
 /// The processor must run AVX2 code.
+#[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn rotate_avx2(c: &mut RotatingCleaner, poses: &[StampedPose], chunk: &mut Chunk<Handed>) {
     rotate(c, poses, chunk)
