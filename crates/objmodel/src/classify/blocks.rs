@@ -459,7 +459,7 @@ impl Segmenter {
             // common cases, inlined into the caller (the rest front end's loop), in its code.
             ItemRef::Frame(f) if moving || self.slow.is_some() => {
                 let slow = self.slow.is_some();
-                self.moving_with(f, false);
+                self.moving(f, false);
                 if slow {
                     self.probe_slow(f, rot, moving);
                 }
@@ -483,7 +483,7 @@ impl Segmenter {
                         probe: RestAcc::default(),
                     });
                     self.in_motion = false;
-                    self.moving(f, true);
+                    self.slow_motion_found(f);
                 } else {
                     // Rests belong to the segment they follow (None before the first motion).
                     let segment = self.segments.len().checked_sub(1);
@@ -538,6 +538,14 @@ impl Segmenter {
         }
     }
 
+    /// [`Segmenter::moving`] for the frame that reveals a slow motion (once per slow motion; not
+    /// inlined, to keep the per-frame loop small).
+    #[cold]
+    #[inline(never)]
+    fn slow_motion_found(&mut self, f: &RawFrame) {
+        self.moving(f, true)
+    }
+
     /// A moving frame; `slow_start` when it reveals that the rest before it was a slow motion.
     ///
     /// Relative to the segment reference `(R_ref, p_ref)` the frame is
@@ -555,27 +563,11 @@ impl Segmenter {
     ///
     /// The frame enters its block's statistics through [`OpenSums::push`] (which also says
     /// how they are computed).
-    fn moving(&mut self, f: &RawFrame, slow_start: bool) {
-        #[cfg(target_arch = "x86_64")]
-        if crate::lanes::avx2() {
-            // SAFETY: the processor runs AVX2 code (checked just above).
-            return unsafe { self.moving_avx2(f, slow_start) };
-        }
-        self.moving_with(f, slow_start)
-    }
-
-    /// [`Segmenter::moving`] compiled for AVX2 (the same operations and bits).
     ///
-    /// # Safety
-    /// The processor must run AVX2 code.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn moving_avx2(&mut self, f: &RawFrame, slow_start: bool) {
-        self.moving_with(f, slow_start)
-    }
-
+    /// Inlined into its caller (the rest front end's loop, in that loop's code); the one
+    /// rare caller goes through [`Segmenter::slow_motion_found`].
     #[inline(always)]
-    fn moving_with(&mut self, f: &RawFrame, slow_start: bool) {
+    fn moving(&mut self, f: &RawFrame, slow_start: bool) {
         if !self.in_motion {
             self.in_motion = true;
             self.start_motion(f, slow_start);
