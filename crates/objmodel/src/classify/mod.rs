@@ -35,6 +35,7 @@ mod moving;
 mod msac;
 mod paper;
 mod rest;
+mod rest_acc;
 mod stream;
 
 pub use files::classify_files;

@@ -150,7 +150,7 @@ impl OpenSums {
 }
 
 impl MovingSums {
-    /// Add four moving frames' terms, as [`Segmenter::moving`] describes, each into its lane.
+    /// Add four moving frames' terms, as [`super::blocks::Segmenter::moving`] describes, each into its lane.
     #[inline(always)]
     fn add(&mut self, f: &FrameTerms) {
         let o = self;
