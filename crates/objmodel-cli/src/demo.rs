@@ -4,9 +4,10 @@
 //! the toppling pictures (Fig. 8) and a plan for the robot are written to a report folder with
 //! a summary page.
 
-use crate::learn::{dynamics_of, fig8, learn_into, tree_summary};
+use crate::learn::learn_into;
+use crate::plot::fig8;
 use anyhow::{Context, Result};
-use objmodel::classify::{classify_files, Config};
+use objmodel::classify::Config;
 use objmodel::skill::{plan, PlanRequest};
 use objmodel::tree::Tree;
 use objmodel_sim::dataset::standard_boxes;
@@ -58,51 +59,42 @@ pub fn run(a: &DemoArgs) -> Result<()> {
 
     let config = Config::default();
     let mut tree = Tree::default();
-    let cs = learn_into(&mut tree, &files, None, &config)?;
+    let reports = learn_into(&mut tree, &files, None, &config)?;
+    let cs: Vec<_> = reports.iter().map(|r| &r.classification).collect();
     let tree_path = a.output.join("tree.json");
     tree.save(&tree_path)?;
 
     // Fig. 8 for every topple.
     let plots = a.output.join("plots");
     let mut images = Vec::new();
-    for (c, f) in cs.iter().zip(&files) {
-        let palm = objmodel::format::palm_path_for(f);
-        if let Some(dy) = dynamics_of(f, palm.as_deref(), c, &config)? {
-            for d in &dy {
-                let stem = c.name.trim_end_matches(".tum");
-                let (_, png) = objmodel_plot::plot_angles(
-                    &fig8(&c.name, d),
-                    &plots.join(format!("{stem}.angles")),
-                )
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
-                images.push((c.name.clone(), png, d.phi));
-            }
+    for r in &reports {
+        let c = &r.classification;
+        for d in &r.dynamics {
+            let stem = c.name.trim_end_matches(".tum");
+            let (_, png) = objmodel_plot::plot_angles(
+                &fig8(&c.name, d),
+                &plots.join(format!("{stem}.angles")),
+            )
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+            images.push((c.name.clone(), png, d.phi));
         }
     }
 
     // A plan for the box resting on the palm as in the first demonstration.
-    let first = classify_files(
-        &files[0],
-        objmodel::format::palm_path_for(&files[0]).as_deref(),
-        &config,
-    )?;
-    let palm = objmodel::format::read_trajectory(
-        &objmodel::format::palm_path_for(&files[0]).context("palm file")?,
-    )?;
-    let object = objmodel::format::read_trajectory(&files[0])?;
-    let palm_from_object = palm[0].pose.inverse() * object[0].pose;
+    let first = cs[0];
+    let (palm_from_object, gravity_in_palm) =
+        crate::plan::at_first_poses(&files[0], None, &config.gravity.context("gravity")?)?;
     let planned = plan(
         &tree,
         &PlanRequest {
             palm_from_object,
             towards: None,
-            gravity_in_palm: palm[0].pose.rotation.inverse()
-                * nalgebra::Vector3::new(0.0, 0.0, -1.0),
+            gravity_in_palm,
             margin: None,
         },
     );
 
-    let summary = tree_summary(&tree);
+    let summary = crate::text::tree(&tree);
     let mut html = String::from("<!doctype html><meta charset=utf-8><title>objmodel demo</title><style>body{font-family:sans-serif;max-width:70em;margin:2em auto}td,th{padding:2px 8px;text-align:left}img{max-width:100%}</style>");
     let _ = write!(html, "<h1>objmodel demo</h1><p>{} demonstrations of a box with a weight inside, simulated with rapier and tracked with 1 mm / 0.5° noise, dropped frames, sign flips and tag mirror flips.</p>", files.len());
     html += "<h2>Demonstrations</h2><table><tr><th>file</th><th>kind</th><th>frames</th><th>tag flips rejected</th></tr>";
@@ -139,7 +131,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     if a.task_boxes > 0 {
         let task_dir = a.output.join("task");
         println!("the task on the simulated Panda ({} boxes): default policy, one demonstration, the learnt plan", a.task_boxes);
-        crate::task_cmd::run(&crate::task_cmd::TaskArgs {
+        crate::task::run(&crate::task::TaskArgs {
             boxes: a.task_boxes,
             seed: a.seed,
             json: false,

@@ -3,13 +3,18 @@
 //! A thin front end: argument parsing and printing. The work is done by the `objmodel`
 //! library (learning) and `objmodel-sim` (simulation).
 
+mod classify;
+mod dataset;
 mod demo;
+mod evaluate;
 mod learn;
 mod opts;
 mod plan;
-mod sim_cmds;
-mod synth_cmd;
-mod task_cmd;
+mod plot;
+mod simulate;
+mod synth;
+mod task;
+mod text;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -31,40 +36,40 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Tell whether a demonstration is a topple, a slide or a general motion, and why.
-    Classify(learn::ClassifyArgs),
+    Classify(classify::ClassifyArgs),
     /// Learn (or update) an object description tree from demonstrations.
     Learn(learn::LearnArgs),
     /// Run the whole story on built-in data: demonstrations, learning, a report.
     Demo(demo::DemoArgs),
     /// Write synthetic (kinematic) demonstrations with ground truth.
-    Synth(synth_cmd::SynthArgs),
+    Synth(synth::SynthArgs),
     /// Simulate one demonstration with rapier physics (demo files plus ground truth).
-    Simulate(sim_cmds::SimulateArgs),
+    Simulate(simulate::SimulateArgs),
     /// Write the standard simulated dataset (boxes x kinds x noise levels, with a manifest).
-    Dataset(sim_cmds::DatasetArgs),
+    Dataset(dataset::DatasetArgs),
     /// Measure the learner on a simulated dataset against its ground truth.
-    Evaluate(learn::EvaluateArgs),
+    Evaluate(evaluate::EvaluateArgs),
     /// Plot a topple's tilt angles over time with the onset and φ (the paper's Fig. 8).
-    Plot(learn::PlotArgs),
+    Plot(plot::PlotArgs),
     /// Plan a topple on the palm from a learnt tree: the tilt axis and angle.
     Plan(plan::PlanArgs),
     /// Run the toppling task on the simulated arm: default policy, one demonstration, planned topple.
-    Task(task_cmd::TaskArgs),
+    Task(task::TaskArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
-        Command::Classify(a) => learn::run_classify(a),
-        Command::Learn(a) => learn::run_learn(a),
+        Command::Classify(a) => classify::run(a),
+        Command::Learn(a) => learn::run(a),
         Command::Demo(a) => demo::run(a),
-        Command::Synth(a) => synth_cmd::run(a),
-        Command::Simulate(a) => sim_cmds::run_simulate(a),
-        Command::Dataset(a) => sim_cmds::run_dataset(a),
-        Command::Evaluate(a) => learn::run_evaluate(a),
-        Command::Plot(a) => learn::run_plot(a),
+        Command::Synth(a) => synth::run(a),
+        Command::Simulate(a) => simulate::run(a),
+        Command::Dataset(a) => dataset::run(a),
+        Command::Evaluate(a) => evaluate::run(a),
+        Command::Plot(a) => plot::run(a),
         Command::Plan(a) => plan::run(a),
-        Command::Task(a) => task_cmd::run(a),
+        Command::Task(a) => task::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -450,20 +450,28 @@ fn dataset_quick_evaluate_end_to_end() {
         "fused edges expected"
     );
 
-    // the Markdown tables go to a file on request
+    // the Markdown tables go to a file on request, after the file's hand-written header,
+    // which a second run keeps too
     let md = d.join("eval.md");
-    let r = run(&[
-        "evaluate".to_string(),
-        s(&data),
-        "--markdown".into(),
-        s(&md),
-    ])
-    .ok();
-    r.check(
-        r.stdout.contains("Classification accuracy"),
-        "tables on stdout",
-    );
-    assert_eq!(std::fs::read_to_string(&md).unwrap(), r.stdout);
+    let header = "# Our learner\n\nWritten by hand.\n";
+    std::fs::write(&md, header).unwrap();
+    for _ in 0..2 {
+        let r = run(&[
+            "evaluate".to_string(),
+            s(&data),
+            "--markdown".into(),
+            s(&md),
+        ])
+        .ok();
+        r.check(
+            r.stdout.contains("Classification accuracy"),
+            "tables on stdout",
+        );
+        let page = std::fs::read_to_string(&md).unwrap();
+        assert!(page.starts_with(header), "{page}");
+        assert!(page.ends_with(&r.stdout), "{page}");
+        assert_eq!(page.matches("Classification accuracy").count(), 1);
+    }
 
     // a folder that is not a dataset is a clear error
     let r = run(&["evaluate".to_string(), s(d.path())]).fails();

@@ -4,7 +4,9 @@
 use crate::dataset::Manifest;
 use crate::truth::Truth;
 use nalgebra::Vector3;
-use objmodel::classify::{classify_files, Config, Kind};
+use objmodel::classify::{Config, Kind};
+use objmodel::learn::{Learner, Source};
+use objmodel::observation::Observation;
 use objmodel::tree::Tree;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -110,16 +112,16 @@ pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
     let manifest: Manifest =
         serde_json::from_str(&std::fs::read_to_string(dir.join("manifest.json"))?)?;
     let mut demos = Vec::new();
-    type Group = Vec<(
-        objmodel::classify::Classification,
-        Truth,
-        Vec<objmodel::dynamics::ToppleDynamics>,
-    )>;
-    let mut groups: BTreeMap<(String, String), Group> = BTreeMap::new();
+    let mut groups: BTreeMap<(String, String), Vec<(Observation, Truth)>> = BTreeMap::new();
+    let learner = Learner::new(*config);
     for m in &manifest.demos {
         let truth: Truth = serde_json::from_str(&std::fs::read_to_string(dir.join(&m.truth))?)?;
         let palm = m.palm.as_ref().map(|p| dir.join(p));
-        let c = classify_files(&dir.join(&m.tum), palm.as_deref(), config)?;
+        let observation = learner.observe(&Source::Files {
+            object: &dir.join(&m.tum),
+            palm: palm.as_deref(),
+        })?;
+        let c = &observation.classification;
         let edge = edge_errors(c.edges().map(|e| (e.line.point, e.line.direction)), &truth);
         // Slide and compound scenes (a straight push, then a topple) slide on a known face.
         let slid = matches!(truth.kind.as_str(), "slide" | "compound");
@@ -139,12 +141,8 @@ pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
             mut onset_s,
             mut inertia_ratio_m,
         ) = (None, None, None, None, None, None);
-        let mut all_dynamics = Vec::new();
         if let (Some(phi_true), Kind::Topple) = (truth.phi, c.kind) {
-            let demo = objmodel::format::read_demonstration(&dir.join(&m.tum), palm.as_deref())?;
-            let dynamics = objmodel::dynamics::analyse(&demo, &c, &Vector3::new(0.0, 0.0, -1.0));
-            all_dynamics = dynamics.clone();
-            if let Some(d) = dynamics.first() {
+            if let Some(d) = observation.dynamics.first() {
                 phi_onset_deg = d.phi_onset.map(|p| (p - phi_true).to_degrees());
                 phi_support_deg = d.on_support.map(|f| (f.phi - phi_true).to_degrees());
                 phi_fall_deg = d.fall.map(|f| (f.phi - phi_true).to_degrees());
@@ -181,7 +179,7 @@ pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
             groups
                 .entry((m.r#box.clone(), m.noise.clone()))
                 .or_default()
-                .push((c, truth, all_dynamics));
+                .push((observation, truth));
         }
     }
     // Fuse, per box and noise level, all topples; score each true edge against the tree.
@@ -189,11 +187,10 @@ pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
     let mut coms = Vec::new();
     for ((b, noise), items) in groups {
         let mut tree = Tree::default();
-        for (c, _, d) in &items {
-            tree.add(c);
-            tree.add_dynamics(c, d);
+        for (o, _) in &items {
+            tree.add(o);
         }
-        if let (Some(com), Some((_, t, _))) = (&tree.com, items.first()) {
+        if let (Some(com), Some((_, t))) = (&tree.com, items.first()) {
             coms.push(ComResult {
                 r#box: b.clone(),
                 noise: noise.clone(),
@@ -202,7 +199,7 @@ pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
             });
         }
         let mut seen: Vec<Vector3<f64>> = Vec::new();
-        for (_, t, _) in &items {
+        for (_, t) in &items {
             let e = t.edge.unwrap();
             let key = v(e.point);
             if seen.iter().any(|s| (s - key).norm() < 1e-6) {

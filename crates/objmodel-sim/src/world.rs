@@ -59,11 +59,14 @@ pub struct World {
     pub dt: f64,
 }
 
-/// An empty rapier world with gravity `-9.81 e_z` m/s² and the contact settings of `p`
+/// Gravity in the simulated world \[m/s²\]: z is up.
+pub const GRAVITY: [f64; 3] = [0.0, 0.0, -9.81];
+
+/// An empty rapier world with gravity [`GRAVITY`] and the contact settings of `p`
 /// (shared by [`World`] and the arm's [`crate::arm::ArmSim`]).
 pub fn physics_world(p: &PhysicsParams) -> PhysicsWorld {
     let mut pw = PhysicsWorld::new();
-    pw.gravity = Vector::new(0.0, 0.0, -9.81);
+    pw.gravity = Vector::new(GRAVITY[0], GRAVITY[1], GRAVITY[2]);
     let ip = &mut pw.integration_parameters;
     ip.dt = 1.0 / p.step_hz;
     ip.num_solver_iterations = p.solver_iterations;

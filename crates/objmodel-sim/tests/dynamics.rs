@@ -3,22 +3,23 @@
 //! weight inside from its topples over four edges.
 
 use nalgebra::Vector3;
-use objmodel::classify::{classify, Config, Kind};
-use objmodel::dynamics::analyse;
+use objmodel::classify::{Config, Kind};
+use objmodel::learn::{Learner, Source};
+use objmodel::observation::Observation;
 use objmodel::tree::Tree;
 use objmodel::Demonstration;
 use objmodel_sim::dataset::standard_boxes;
 use objmodel_sim::{simulate, NoiseModel, SceneKind};
 
-type Learnt = (
-    objmodel::classify::Classification,
-    Vec<objmodel::dynamics::ToppleDynamics>,
-    objmodel_sim::Truth,
-);
+type Learnt = (Observation, objmodel_sim::Truth);
 
 fn learn(kind: SceneKind, box_name: &str, noise: &NoiseModel, seed: u64) -> Learnt {
     let l = try_learn(kind, box_name, noise, seed);
-    assert_eq!(l.0.kind, Kind::Topple, "{box_name} {kind:?} seed {seed}");
+    assert_eq!(
+        l.0.classification.kind,
+        Kind::Topple,
+        "{box_name} {kind:?} seed {seed}"
+    );
     l
 }
 
@@ -33,9 +34,10 @@ fn try_learn(kind: SceneKind, box_name: &str, noise: &NoiseModel, seed: u64) -> 
         object: d.object.clone(),
         palm: d.palm.clone(),
     };
-    let c = classify(&demo, &Config::default()).unwrap();
-    let dy = analyse(&demo, &c, &Vector3::new(0.0, 0.0, -1.0));
-    (c, dy, d.truth)
+    let o = Learner::new(Config::default())
+        .observe(&Source::Memory(&demo))
+        .unwrap();
+    (o, d.truth)
 }
 
 fn phi_error_deg(dy: &[objmodel::dynamics::ToppleDynamics], truth: &objmodel_sim::Truth) -> f64 {
@@ -48,7 +50,8 @@ fn phi_error_deg(dy: &[objmodel::dynamics::ToppleDynamics], truth: &objmodel_sim
 fn phi_from_instrumented_topples() {
     for (noise, limit) in [(NoiseModel::clean(), 0.2), (NoiseModel::real(), 1.0)] {
         for seed in 1..=3 {
-            let (_, dy, truth) = learn(SceneKind::InstrumentedTopple, "weighted", &noise, seed);
+            let (o, truth) = learn(SceneKind::InstrumentedTopple, "weighted", &noise, seed);
+            let dy = o.dynamics;
             let err = phi_error_deg(&dy, &truth);
             eprintln!(
                 "instrumented, {} noise, seed {seed}: phi error {err:.3} deg (onset-only {:?})",
@@ -69,7 +72,8 @@ fn phi_from_direct_topples_by_the_fall() {
     // the finger still drives the box, and came out 0.4-0.6° low here.
     for (noise, limit) in [(NoiseModel::clean(), 0.1), (NoiseModel::real(), 7.0)] {
         for seed in 1..=2 {
-            let (_, dy, truth) = learn(SceneKind::Topple, "tall", &noise, seed);
+            let (o, truth) = learn(SceneKind::Topple, "tall", &noise, seed);
+            let dy = o.dynamics;
             let Some(f) = dy[0].fall else {
                 panic!("no fall fit")
             };
@@ -95,7 +99,8 @@ fn centre_of_mass_of_the_weighted_box_from_its_topples() {
         (SceneKind::Topple, 2),
         (SceneKind::Topple, 3),
     ] {
-        let (c, dy, truth) = try_learn(kind, "weighted", &NoiseModel::clean(), seed);
+        let (o, truth) = try_learn(kind, "weighted", &NoiseModel::clean(), seed);
+        let c = &o.classification;
         if c.kind != Kind::Topple {
             // Known: one direct topple of this box is classified "general" (see docs/learner-table.md).
             eprintln!(
@@ -104,8 +109,7 @@ fn centre_of_mass_of_the_weighted_box_from_its_topples() {
             );
             continue;
         }
-        tree.add(&c);
-        tree.add_dynamics(&c, &dy);
+        tree.add(&o);
         truth_com = Some(Vector3::from(truth.com));
     }
     let com = tree

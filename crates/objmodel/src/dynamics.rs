@@ -11,7 +11,8 @@
 use crate::classify::{Classification, Label};
 use crate::geometry::angle_about;
 use crate::pendulum::{self, FallFit, Onset};
-use crate::trajectory::{Demonstration, StampedPose};
+use crate::recording::Recording;
+use crate::trajectory::StampedPose;
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
@@ -139,71 +140,68 @@ fn linear_at(t: &[f64], y: &[f64], at: f64, sigma: f64) -> Option<(f64, f64, f64
     Some((value, se, slope))
 }
 
-/// Analyse the dynamics of every topple of `c` (the classification of `demo`), with gravity
-/// `gravity` in the tracking frame.
+/// Analyse the dynamics of every topple of `c` (the classification of the demonstration whose
+/// frames `recording` kept), with gravity `gravity` in the tracking frame.
 pub fn analyse(
-    demo: &Demonstration,
+    recording: &Recording,
     c: &Classification,
     gravity: &Vector3<f64>,
 ) -> Vec<ToppleDynamics> {
     let up = -gravity.normalize();
     let sigma = c.noise.map_or(0.01, |n| n.sigma_rotation);
-    // Frames the classifier rejected as outliers, and the topple-labelled frames, by index.
-    let mut outlier = vec![false; demo.object.len()];
-    let mut topple_label = vec![None; demo.object.len()];
+    let frames = &recording.object;
+    // Frames the classifier rejected as outliers, and the topple-labelled frames, per kept frame.
+    let mut outlier = vec![false; frames.len()];
+    let mut topple_label = vec![None; frames.len()];
     for r in &c.labels {
-        for i in r.first..=r.last.min(demo.object.len().saturating_sub(1)) {
+        let lo = frames.partition_point(|f| f.index < r.first as u64);
+        let hi = frames.partition_point(|f| f.index <= r.last as u64);
+        for k in lo..hi {
             match r.label {
-                Label::Outlier => outlier[i] = true,
-                Label::Topple => topple_label[i] = r.segment,
+                Label::Outlier => outlier[k] = true,
+                Label::Topple => topple_label[k] = r.segment,
                 _ => {}
             }
         }
     }
+    let palm = (!recording.palm.is_empty()).then_some(&recording.palm);
     let mut out = Vec::new();
     for (ti, top) in c.topples.iter().enumerate() {
         let Some(n) = top.resting_normal_before else {
             continue;
         };
         let u = top.edge.line.direction;
-        // The face normal and edge in the palm frame at the start (instrumented).
         // The face normal and edge in the palm frame, averaged over the rest before the motion
         // (one frame would put its orientation noise into every tilt angle).
         let first_moving = c.segments[top.segments[0]].t_start;
-        let palm_ref = demo.palm.as_ref().and_then(|palm| {
+        let palm_ref = palm.and_then(|palm| {
             let (mut n_sum, mut u_sum) = (Vector3::zeros(), Vector3::zeros());
-            let rest = demo
-                .object
+            let rest = frames
                 .iter()
                 .enumerate()
-                .filter(|(i, p)| !outlier[*i] && p.t < first_moving - REST_MARGIN_S);
-            for (_, p) in rest.take(MAX_REST_FRAMES) {
-                if let Some(qp) = palm_at(palm, p.t) {
-                    let palm_from_object = qp.inverse() * p.pose.rotation;
+                .filter(|(i, f)| !outlier[*i] && f.t < first_moving - REST_MARGIN_S);
+            for (_, f) in rest.take(MAX_REST_FRAMES) {
+                if let Some(qp) = palm_at(palm, f.t) {
+                    let palm_from_object = qp.inverse() * f.rotation;
                     n_sum += palm_from_object * n;
                     u_sum += palm_from_object * u;
                 }
             }
             if n_sum == Vector3::zeros() {
-                let first = demo
-                    .object
-                    .iter()
-                    .enumerate()
-                    .find(|(i, _)| !outlier[*i])?
-                    .1;
+                let first = frames.iter().enumerate().find(|(i, _)| !outlier[*i])?.1;
                 let qp = palm_at(palm, first.t)?;
-                let palm_from_object = qp.inverse() * first.pose.rotation;
+                let palm_from_object = qp.inverse() * first.rotation;
                 return Some((palm, palm_from_object * n, palm_from_object * u));
             }
             Some((palm, n_sum.normalize(), u_sum.normalize()))
         });
         let mut series = AngleSeries::default();
         let mut idx = Vec::new();
-        for (i, p) in demo.object.iter().enumerate() {
+        for (i, p) in frames.iter().enumerate() {
             if outlier[i] {
                 continue;
             }
-            let r = p.pose.rotation;
+            let r = p.rotation;
             let obj = angle_about(&(r * u), &up, &(r * -n));
             let palm = match &palm_ref {
                 Some((palm, n_p, u_p)) => match palm_at(palm, p.t) {

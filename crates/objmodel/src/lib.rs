@@ -21,7 +21,11 @@
 //! * [`stats`]: the few distributions the tests need (chi-square quantiles).
 //! * [`classify`]: Algorithm 1, the paper-literal version and the robust one.
 //! * [`edge`], [`face`]: Algorithm 2 and eq. 5 estimates with covariances.
+//! * [`recording`]: the frames the dynamics need, kept in bounded memory during the one pass.
+//! * [`dynamics`], [`pendulum`]: each topple's angles, onset, φ and pendulum fit.
+//! * [`observation`]: what one demonstration shows (classification and dynamics).
 //! * [`tree`]: the object description tree, its JSON schema and incremental fusion.
+//! * [`learn`]: **the learning pipeline**, the one entry point every front end calls.
 //! * [`synth`]: a small kinematic generator of demonstrations with exact ground truth.
 //!
 //! Units are SI throughout (m, rad, s, kg). Transforms are named by frames: `world_from_object`
@@ -38,9 +42,12 @@ pub mod face;
 pub mod format;
 pub mod geometry;
 pub mod lanes;
+pub mod learn;
 pub mod noise;
 pub mod numeric;
+pub mod observation;
 pub mod pendulum;
+pub mod recording;
 pub mod screw;
 pub mod se3;
 pub mod skill;

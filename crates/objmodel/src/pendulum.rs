@@ -16,8 +16,8 @@
 //!   `A (sinh(ω (t-τ))/ω - (t-τ))` after; τ and ω by least squares over a fine grid, with the
 //!   standard deviation of τ from the profile likelihood.
 //!   For an instrumented demonstration φ is the palm's tilt at τ (the paper's method).
-//! * [`fit_fall`]: nonlinear least squares (Gauss-Newton on an RK4 integration) of the equation
-//!   of motion to ψ(t) over the frames where the object still turns about its edge.
+//! * [`fit_fall`]: nonlinear least squares (Levenberg-Marquardt on an RK4 integration) of the
+//!   equation of motion to ψ(t) over the frames where the object still turns about its edge.
 
 use serde::{Deserialize, Serialize};
 
@@ -249,6 +249,15 @@ pub struct FallFit {
 /// 2 ms, would take time without bound.
 pub const MAX_FIT_SPAN_S: f64 = 60.0;
 
+/// Longest span \[s\] of a free fall that [`fit_fall`] takes. An object released at rest δ₀
+/// past its balance point turns δ further in `t = ln(tan(δ/4) / tan(δ₀/4)) / √k`
+/// (`k = m g l_p / I_e`, from `δ̈ = k sin δ`): from δ₀ = 10⁻⁶ rad (far below any tracker's
+/// noise) to δ = 90°, a homogeneous box (`k = 3g / (4 l_p)`) with its CoM 1 m from the edge
+/// falls in 5.3 s, and `t` grows as `√l_p`: 10 s is a fall of an object with `l_p` of 3.5 m.
+/// A longer span is not a free fall (a slow push, a turn at a steady pace), and each fit
+/// integrates in steps of 2 ms, so its cost grows with the span.
+pub const MAX_FALL_S: f64 = 10.0;
+
 /// Integrate `ψ̈ = k sin(ψ - φ)` from `(t0, ψ0, ψ̇0)` and return ψ at the times `t` (sorted,
 /// >= t0), with RK4 steps of at most 2 ms.
 pub fn simulate(phi: f64, k: f64, t0: f64, psi0: f64, dpsi0: f64, t: &[f64]) -> Vec<f64> {
@@ -319,11 +328,11 @@ fn integrate(
 }
 
 /// Fit the pendulum to ψ(t) \[rad\] with noise `sigma` \[rad\], starting from the guess `phi0`.
-/// Parameters: φ, k, and the state (ψ, ψ̇) at the first sample. Gauss-Newton with a numerical
-/// Jacobian and step halving; covariance from the inverse normal matrix scaled by the noise.
+/// Parameters: φ, k, and the state (ψ, ψ̇) at the first sample. Levenberg-Marquardt with a
+/// forward-difference Jacobian; covariance from the inverse normal matrix scaled by the noise.
 pub fn fit_fall(t: &[f64], psi: &[f64], sigma: f64, phi0: f64) -> Option<FallFit> {
     let n = t.len();
-    if n < 6 || t[n - 1] - t[0] > MAX_FIT_SPAN_S {
+    if n < 6 || t[n - 1] - t[0] > MAX_FALL_S || uniform_motion_explains(t, psi, sigma) {
         return None;
     }
     let t0 = t[0];
@@ -361,6 +370,27 @@ pub fn fit_fall(t: &[f64], psi: &[f64], sigma: f64, phi0: f64) -> Option<FallFit
         return None;
     }
     fit_result(p[0], p[1], cur, &jtj, 4, sigma, t)
+}
+
+/// Significance level of the test that a fall is not uniform motion ([`fit_fall`]).
+pub const UNIFORM_MOTION_ALPHA: f64 = 0.01;
+
+/// Whether a uniform motion (ψ linear in t) explains ψ(t) within the noise `sigma`: the χ² of
+/// the least-squares line (n - 2 degrees of freedom) is within its `1 - UNIFORM_MOTION_ALPHA`
+/// quantile. Such a window shows no angular acceleration, so it cannot determine a pendulum:
+/// `k sin(ψ - φ) ≈ 0` holds for any φ with k small enough, and a fit would report one anyway.
+fn uniform_motion_explains(t: &[f64], psi: &[f64], sigma: f64) -> bool {
+    let n = t.len() as f64;
+    let (tm, ym) = (t.iter().sum::<f64>() / n, psi.iter().sum::<f64>() / n);
+    let stt: f64 = t.iter().map(|x| (x - tm).powi(2)).sum();
+    let sty: f64 = t.iter().zip(psi).map(|(a, b)| (a - tm) * (b - ym)).sum();
+    let slope = if stt > 0.0 { sty / stt } else { 0.0 };
+    let sse: f64 = t
+        .iter()
+        .zip(psi)
+        .map(|(x, y)| (y - ym - slope * (x - tm)).powi(2))
+        .sum();
+    sse / (sigma * sigma) <= crate::stats::chi2_threshold(n - 2.0, UNIFORM_MOTION_ALPHA)
 }
 
 /// The [`FallFit`] of a least-squares solution with φ and k its first two of `n_params`

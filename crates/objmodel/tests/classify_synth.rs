@@ -9,6 +9,14 @@ use objmodel::tree::Tree;
 use rand::{rngs::StdRng, Rng, SeedableRng};
 use std::f64::consts::{FRAC_PI_2, PI};
 
+/// A demonstration through the library's learning pipeline, default configuration.
+fn observe(demo: &Demonstration) -> objmodel::observation::Observation {
+    use objmodel::learn::{Learner, Source};
+    Learner::new(Config::default())
+        .observe(&Source::Memory(demo))
+        .unwrap()
+}
+
 fn line_angle_deg(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
     a.cross(b).norm().atan2(a.dot(b).abs()).to_degrees()
 }
@@ -131,7 +139,8 @@ fn fused_edge_from_ten_topples_meets_targets() {
                     100 + seed,
                 )
             };
-            let c = classify(&d.demo, &Config::default()).unwrap();
+            let o = observe(&d.demo);
+            let c = &o.classification;
             assert_eq!(c.kind, Kind::Topple);
             let t = d.truth.edge.unwrap();
             let e = c.edges().next().unwrap();
@@ -140,7 +149,7 @@ fn fused_edge_from_ten_topples_meets_targets() {
                 (e.line.point - t.point).norm() * 1e3,
             ));
             truth = Some(t);
-            tree.add(&c);
+            tree.add(&o);
         }
         let t = truth.unwrap();
         assert_eq!(
@@ -170,10 +179,11 @@ fn slide_gives_the_face_normal_and_topples_give_its_offset() {
     let mut truth = None;
     for seed in 0..5 {
         let d = synth::slide(&b, &SynthNoise::REAL, 30.0, 300 + seed);
-        let c = classify(&d.demo, &Config::default()).unwrap();
+        let o = observe(&d.demo);
+        let c = &o.classification;
         assert_eq!(c.kind, Kind::Slide);
         truth = d.truth.face;
-        tree.add(&c);
+        tree.add(&o);
     }
     let (n, offset) = truth.unwrap();
     assert_eq!(tree.faces.len(), 1);
@@ -197,7 +207,7 @@ fn slide_gives_the_face_normal_and_topples_give_its_offset() {
             30.0,
             5 + side as u64,
         );
-        tree.add(&classify(&d.demo, &Config::default()).unwrap());
+        tree.add(&observe(&d.demo));
     }
     let f = tree.faces.iter().find(|f| f.evidence.slide > 0).unwrap();
     let got = f.offset.expect("offset from the edges in the face");
@@ -231,7 +241,8 @@ fn straight_pushes_give_the_bottom_face() {
         let mut worst: f64 = 0.0;
         for seed in 0..10 {
             let d = synth::straight_slide(&b, &noise, 30.0, 400 + seed);
-            let c = classify(&d.demo, &Config::default()).unwrap();
+            let o = observe(&d.demo);
+            let c = &o.classification;
             assert_eq!(c.kind, Kind::Slide, "{}", d.demo.name);
             let (n, _) = d.truth.face.unwrap();
             let f = c
@@ -240,7 +251,7 @@ fn straight_pushes_give_the_bottom_face() {
                 .find_map(|s| s.face.as_ref())
                 .expect("a face");
             worst = worst.max(angle_deg(&f.normal, &n));
-            tree.add(&c);
+            tree.add(&o);
         }
         eprintln!("straight pushes: largest face normal error {worst:.3} deg (sign included)");
         assert!(worst < 1.0, "{worst} deg");
@@ -540,16 +551,19 @@ fn about_line(line: &objmodel::geometry::Line, alpha: f64) -> Isometry3<f64> {
 /// 90°, no free fall anywhere) gives a "fall" fit whose φ is anything: it must not be reported.
 #[test]
 fn an_undetermined_phi_is_not_reported() {
-    use objmodel::dynamics::{analyse, PHI_PRIOR_SIGMA_RAD};
+    use objmodel::dynamics::PHI_PRIOR_SIGMA_RAD;
     let (edge, start) = box_on_table(&mut StdRng::seed_from_u64(77), 0.0);
     let about_edge = |alpha: f64| about_line(&edge, alpha);
     let over = |s: f64| about_edge(FRAC_PI_2 * smoothstep(s / 20.0));
     let d = precise_demo(&start, over, 20.0, 0.0, 7);
-    let c = classify(&d, &Config::default()).unwrap();
-    assert_eq!(c.kind, Kind::Topple);
-    let dy = analyse(&d, &c, &Vector3::new(0.0, 0.0, -1.0));
-    let fall = dy[0].fall.expect("a fall fit");
-    eprintln!("fall fit: phi {:.3} ± {:.3} rad", fall.phi, fall.phi_sigma);
-    assert!(fall.phi_sigma > PHI_PRIOR_SIGMA_RAD);
+    let o = observe(&d);
+    assert_eq!(o.classification.kind, Kind::Topple);
+    let dy = o.dynamics;
+    // A window the uniform-motion test lets through gets a fit whose φ is no better than its
+    // bounds; mostly there is no fit at all.
+    if let Some(fall) = dy[0].fall {
+        eprintln!("fall fit: phi {:.3} ± {:.3} rad", fall.phi, fall.phi_sigma);
+        assert!(fall.phi_sigma > PHI_PRIOR_SIGMA_RAD);
+    }
     assert_eq!(dy[0].phi, None);
 }

@@ -36,7 +36,8 @@ use crate::scenes::{edge_lever, instrumented};
 use crate::spec::{BoxSpec, TagMount};
 use crate::{NoiseModel, SceneKind, SimError};
 use nalgebra::Vector3;
-use objmodel::classify::{classify, Config};
+use objmodel::classify::Config;
+use objmodel::learn::{Learner, Source};
 use objmodel::skill::{plan, Plan, PlanRequest};
 use objmodel::tree::Tree;
 use objmodel::Demonstration;
@@ -208,18 +209,20 @@ pub fn demonstrate(
     Ok(clean.with_noise(noise))
 }
 
-/// Learn from one demonstration: classify, add to the tree, analyse and add the dynamics.
+/// Learn from one demonstration through the library's pipeline ([`objmodel::learn`]), with
+/// the simulated world's gravity; returns its kind.
 pub fn learn(tree: &mut Tree, demo: &SimDemo, name: &str) -> objmodel::Result<String> {
     let d = Demonstration {
         name: name.to_string(),
         object: demo.object.clone(),
         palm: demo.palm.clone(),
     };
-    let c = classify(&d, &Config::default())?;
-    tree.add(&c);
-    let dy = objmodel::dynamics::analyse(&d, &c, &Vector3::new(0.0, 0.0, -1.0));
-    tree.add_dynamics(&c, &dy);
-    Ok(c.kind.as_str().to_string())
+    let config = Config {
+        gravity: Some(Vector3::from(crate::world::GRAVITY)),
+        ..Config::default()
+    };
+    let reports = Learner::new(config).learn(tree, &[Source::Memory(&d)])?;
+    Ok(reports[0].classification.kind.as_str().to_string())
 }
 
 /// One attempt's record.

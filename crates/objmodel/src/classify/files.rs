@@ -3,6 +3,7 @@
 use super::{Analyzer, Classification, Config, RotatingCleaner};
 use crate::clean::RawFrame;
 use crate::format;
+use crate::recording::Recorder;
 use crate::trajectory::StampedPose;
 use crate::Result;
 use nalgebra::{UnitQuaternion, Vector3};
@@ -64,6 +65,17 @@ pub fn classify_files(
     palm: Option<&Path>,
     config: &Config,
 ) -> Result<Classification> {
+    classify_files_recording(object, palm, config, None)
+}
+
+/// [`classify_files`], handing every frame to `recorder` as well (for the dynamics, in the
+/// same pass over the files).
+pub(crate) fn classify_files_recording(
+    object: &Path,
+    palm: Option<&Path>,
+    config: &Config,
+    mut recorder: Option<&mut Recorder>,
+) -> Result<Classification> {
     let name = object
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
@@ -80,11 +92,25 @@ pub fn classify_files(
             if let Some(cleaner) = a.take_object_cleaner() {
                 let front = RotatingCleaner::new(cleaner);
                 let mut index = 0;
-                CleanedFrames::spawn(format::open(object)?, front)
-                    .for_each_chunk(|chunk| push_handed(&mut a, chunk, &mut index))?;
+                CleanedFrames::spawn(format::open(object)?, front).for_each_chunk(|chunk| {
+                    if let Some(r) = recorder.as_deref_mut() {
+                        let (first, end) = (index as u64, (index + chunk.len()) as u64);
+                        let mut i = r.next_object_index(first);
+                        while i < end {
+                            let h = &chunk[(i - first) as usize];
+                            r.object(i, h.t, &h.q);
+                            i = r.next_object_index(i + 1);
+                        }
+                    }
+                    push_handed(&mut a, chunk, &mut index)
+                })?;
             } else {
-                for p in ThreadedPoses::spawn(format::open(object)?) {
-                    a.push_object(&p?);
+                for (i, p) in (0u64..).zip(ThreadedPoses::spawn(format::open(object)?)) {
+                    let p = p?;
+                    if let Some(r) = recorder.as_deref_mut() {
+                        r.object(i, p.t, &p.pose.rotation);
+                    }
+                    a.push_object(&p);
                 }
             }
         }
@@ -92,21 +118,29 @@ pub fn classify_files(
             let mut objects = ThreadedPoses::spawn(format::open(object)?);
             let mut palms = ThreadedPoses::spawn(format::open(palm)?);
             let (mut o, mut p) = (objects.next().transpose()?, palms.next().transpose()?);
+            let mut index = 0u64;
             loop {
-                match (&o, &p) {
+                let palm_first = match (&o, &p) {
                     (None, None) => break,
-                    (Some(x), Some(y)) if y.t <= x.t => {
-                        a.push_palm(y);
-                        p = palms.next().transpose()?;
+                    (Some(x), Some(y)) => y.t <= x.t,
+                    (Some(_), None) => false,
+                    (None, Some(_)) => true,
+                };
+                if palm_first {
+                    let y = p.as_ref().expect("a palm pose");
+                    if let Some(r) = recorder.as_deref_mut() {
+                        r.palm(y);
                     }
-                    (Some(x), _) => {
-                        a.push_object(x);
-                        o = objects.next().transpose()?;
+                    a.push_palm(y);
+                    p = palms.next().transpose()?;
+                } else {
+                    let x = o.as_ref().expect("an object pose");
+                    if let Some(r) = recorder.as_deref_mut() {
+                        r.object(index, x.t, &x.pose.rotation);
                     }
-                    (None, Some(y)) => {
-                        a.push_palm(y);
-                        p = palms.next().transpose()?;
-                    }
+                    index += 1;
+                    a.push_object(x);
+                    o = objects.next().transpose()?;
                 }
             }
         }

@@ -39,6 +39,7 @@ mod rest_acc;
 mod stream;
 
 pub use files::classify_files;
+pub(crate) use files::classify_files_recording;
 pub use front::Judged;
 pub use rest::{Item, RotationSum};
 pub use stream::{Analyzer, ObjectCleaner, ObjectFront, RotatingCleaner};

@@ -18,11 +18,12 @@
 //!
 //! The JSON schema is documented in `docs/tree-schema.md`; its version is [`VERSION`].
 
-use crate::classify::{Classification, Kind};
+use crate::classify::Kind;
 use crate::edge::EdgeObservation;
 use crate::face::{FaceObservation, FaceSource};
 use crate::geometry::{Line, LineStats};
 use crate::noise::NoiseModel;
+use crate::observation::Observation;
 use crate::{Error, Result};
 
 mod pendulums;
@@ -352,9 +353,12 @@ impl Face {
 }
 
 impl Tree {
-    /// Fuse a classified demonstration into the tree. A demonstration already in the tree (same
-    /// name) is replaced, so adding it twice changes nothing.
-    pub fn add(&mut self, c: &Classification) {
+    /// Fuse an analysed demonstration into the tree, geometry and pendulums in one step: each
+    /// topple's edge, the faces it rested on before and after, and the pendulum of its
+    /// dynamics on that edge. A demonstration already in the tree (same name) is replaced, so
+    /// adding it twice changes nothing.
+    pub fn add(&mut self, observation: &Observation) {
+        let c = &observation.classification;
         self.remove_demo(&c.name);
         self.demos.push(DemoRecord {
             name: c.name.clone(),
@@ -369,8 +373,11 @@ impl Tree {
                 self.add_face(f.clone());
             }
         }
-        for t in &c.topples {
+        for (ti, t) in c.topples.iter().enumerate() {
             let eid = self.add_edge(t.edge.clone());
+            for d in observation.dynamics.iter().filter(|d| d.topple == ti) {
+                self.add_pendulum(&eid, c, t, d);
+            }
             for n in [t.resting_normal_before, t.resting_normal_after]
                 .into_iter()
                 .flatten()
@@ -386,6 +393,7 @@ impl Tree {
                 }
             }
         }
+        self.com = self.centre_of_mass();
     }
 
     fn next_id(prefix: &str, used: impl Iterator<Item = String>) -> String {
@@ -448,10 +456,13 @@ impl Tree {
         self.demos.retain(|d| d.name != name);
         self.edges.retain_mut(|e| {
             e.observations.retain(|o| o.demo != name);
-            e.pendulums
-                .iter_mut()
-                .for_each(|p| p.support.retain(|s| s != name));
-            e.pendulums.retain(|p| !p.support.is_empty());
+            e.pendulums.retain_mut(|p| {
+                p.observations.retain(|o| o.demo != name);
+                if !p.observations.is_empty() {
+                    p.refit();
+                }
+                !p.observations.is_empty()
+            });
             !e.observations.is_empty()
         });
         self.edges.iter_mut().for_each(Edge::refit);
@@ -464,6 +475,7 @@ impl Tree {
         self.edges
             .iter_mut()
             .for_each(|e| e.faces.retain(|f| ids.contains(f)));
+        self.com = self.centre_of_mass();
     }
 
     /// The tree as pretty JSON.

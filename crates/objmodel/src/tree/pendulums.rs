@@ -2,7 +2,8 @@
 //! mass that the pendulums of several edges determine.
 
 use super::{angle, Tree, CONDITION_MIN, SAME_FACE_RAD};
-use crate::classify::Classification;
+use crate::classify::{Classification, Topple};
+use crate::dynamics::ToppleDynamics;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -105,64 +106,60 @@ pub struct CentreOfMass {
 }
 
 impl Tree {
-    /// Add the dynamics of a classified demonstration's topples (after [`Tree::add`] of it):
-    /// each becomes a pendulum observation of its edge, for the face it rested on.
-    pub fn add_dynamics(
+    /// Add a topple's dynamics as a pendulum observation of the edge `edge_id` (the edge its
+    /// topple `top` of `c` was just fused into), for the face it rested on.
+    pub(super) fn add_pendulum(
         &mut self,
+        edge_id: &str,
         c: &Classification,
-        dynamics: &[crate::dynamics::ToppleDynamics],
+        top: &Topple,
+        d: &ToppleDynamics,
     ) {
-        for d in dynamics {
-            let (Some(phi), Some(phi_sigma), Some(top)) =
-                (d.phi, d.phi_sigma, c.topples.get(d.topple))
-            else {
-                continue;
-            };
-            let Some(edge) = self.edges.iter_mut().find(|e| {
-                e.observations
-                    .iter()
-                    .any(|o| o.demo == c.name && o.line == top.edge.line)
-            }) else {
-                continue;
-            };
-            // The edge direction of the tree may be reversed relative to this demonstration's.
-            let obs = PendulumObservation {
-                demo: c.name.clone(),
-                phi,
-                phi_sigma,
-                phi_onset: d.phi_onset,
-                phi_fall: d.fall.map(|f| f.phi),
-                inertia_ratio_m: d.fall.map(|f| f.inertia_ratio_m),
-                onset_t: d.onset.map(|o| o.t),
-            };
-            let n = d.resting_face_normal;
-            match edge
-                .pendulums
-                .iter_mut()
-                .find(|p| angle(&p.resting_face_normal, &n) < SAME_FACE_RAD)
-            {
-                Some(p) => {
-                    p.observations.retain(|o| o.demo != c.name);
-                    p.observations.push(obs);
-                    p.refit();
-                }
-                None => {
-                    let mut p = Pendulum {
-                        resting_face_normal: n,
-                        toppling_axis: top.edge.line.direction,
-                        phi: None,
-                        l_p: None,
-                        phi_sigma: None,
-                        inertia_ratio_m: None,
-                        support: Vec::new(),
-                        observations: vec![obs],
-                    };
-                    p.refit();
-                    edge.pendulums.push(p);
-                }
+        let (Some(phi), Some(phi_sigma)) = (d.phi, d.phi_sigma) else {
+            return;
+        };
+        let edge = self
+            .edges
+            .iter_mut()
+            .find(|e| e.id == edge_id)
+            .expect("the topple's edge is in the tree");
+        let obs = PendulumObservation {
+            demo: c.name.clone(),
+            phi,
+            phi_sigma,
+            phi_onset: d.phi_onset,
+            phi_fall: d.fall.map(|f| f.phi),
+            inertia_ratio_m: d.fall.map(|f| f.inertia_ratio_m),
+            onset_t: d.onset.map(|o| o.t),
+        };
+        let n = d.resting_face_normal;
+        match edge
+            .pendulums
+            .iter_mut()
+            .find(|p| angle(&p.resting_face_normal, &n) < SAME_FACE_RAD)
+        {
+            Some(p) => {
+                p.observations.retain(|o| o.demo != c.name);
+                p.observations.push(obs);
+                p.refit();
+            }
+            None => {
+                let mut p = Pendulum {
+                    resting_face_normal: n,
+                    // The edge direction of the tree may be reversed relative to this
+                    // demonstration's: the pendulum keeps the one it turned about.
+                    toppling_axis: top.edge.line.direction,
+                    phi: None,
+                    l_p: None,
+                    phi_sigma: None,
+                    inertia_ratio_m: None,
+                    support: Vec::new(),
+                    observations: vec![obs],
+                };
+                p.refit();
+                edge.pendulums.push(p);
             }
         }
-        self.com = self.centre_of_mass();
     }
 
     /// The CoM from the pendulums (see [`CentreOfMass`]); `None` with fewer than three

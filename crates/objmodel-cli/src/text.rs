@@ -1,0 +1,159 @@
+//! People's text: summaries of classifications and trees, and warnings, for standard error
+//! and standard output (JSON goes through serde).
+
+use objmodel::classify::{Classification, Label};
+use objmodel::tree::Tree;
+use std::path::Path;
+
+pub fn v3(v: &nalgebra::Vector3<f64>) -> String {
+    format!("[{:+.4}, {:+.4}, {:+.4}]", v.x, v.y, v.z)
+}
+
+/// A human summary of a classification; with `frames`, its per-frame label runs too.
+pub fn classification(c: &Classification, frames: bool) -> String {
+    let mut s = format!(
+        "{}: {} ({} method{})\n  {} frames, {} rejected as tag flips; votes: topple {}, slide {}, general {}\n",
+        c.name,
+        c.kind.as_str(),
+        match c.method {
+            objmodel::classify::Method::Robust => "robust",
+            objmodel::classify::Method::Paper => "paper",
+        },
+        if c.instrumented { ", relative to the palm" } else { "" },
+        c.frames,
+        c.outliers,
+        c.votes.topple,
+        c.votes.slide,
+        c.votes.general
+    );
+    for w in &c.warnings {
+        s += &format!("  warning: {w}\n");
+    }
+    if let Some(n) = c.noise {
+        s += &format!(
+            "  tracking noise (estimated): {:.2} mm, {:.2} deg per axis\n",
+            n.sigma_position * 1e3,
+            n.sigma_rotation.to_degrees()
+        );
+    }
+    for (i, seg) in c.segments.iter().enumerate() {
+        s += &format!(
+            "  segment {i}: {:.2}-{:.2} s, {}, up to {:.1} deg\n",
+            seg.t_start,
+            seg.t_end,
+            seg.kind.as_str(),
+            seg.max_angle.to_degrees()
+        );
+        if let Some(e) = &seg.edge {
+            s += &format!(
+                "    edge: point {} m, direction {}, ±{:.2} mm, ±{:.2} deg ({} frames)\n",
+                v3(&e.line.point),
+                v3(&e.line.direction),
+                e.sigma_point() * 1e3,
+                e.sigma_direction().to_degrees(),
+                e.frames
+            );
+        }
+        if let Some(f) = &seg.face {
+            s += &format!(
+                "    face normal {}{}, ±{:.2} deg\n",
+                v3(&f.normal),
+                if f.sign_known {
+                    " (outward)"
+                } else {
+                    " (sign unknown)"
+                },
+                f.sigma_normal().to_degrees()
+            );
+        }
+    }
+    if frames {
+        s += "  frames:\n";
+        for r in &c.labels {
+            let label = match r.label {
+                Label::Rest => "rest",
+                Label::Outlier => "outlier",
+                Label::Still => "still",
+                Label::Topple => "topple",
+                Label::Slide => "slide",
+                Label::General => "general",
+                Label::Landing => "landing",
+                Label::Unlabelled => "unlabelled",
+            };
+            s += &format!(
+                "    {:>6}-{:<6} {:>8.3}-{:<8.3} s  {label}\n",
+                r.first, r.last, r.t_start, r.t_end
+            );
+        }
+    }
+    s
+}
+
+/// The classification's warnings about its input, on standard error, each with its file.
+pub fn print_warnings(demo: &Path, c: &Classification) {
+    for w in &c.warnings {
+        eprintln!("warning: {}: {w}", demo.display());
+    }
+}
+
+/// A short human summary of a tree.
+pub fn tree(tree: &Tree) -> String {
+    let mut s = format!(
+        "{} demonstrations, {} edges, {} faces (object frame)\n",
+        tree.demos.len(),
+        tree.edges.len(),
+        tree.faces.len()
+    );
+    for e in &tree.edges {
+        s += &format!(
+            "  {}: point {} m, direction {}, ±{:.2} mm, ±{:.2} deg, {} demos\n",
+            e.id,
+            v3(&e.point),
+            v3(&e.direction),
+            e.sigma_point_m * 1e3,
+            e.sigma_direction_rad.to_degrees(),
+            e.n_support
+        );
+    }
+    for e in &tree.edges {
+        for p in &e.pendulums {
+            s += &format!(
+                "  {} pendulum, resting on {}: phi {} ±{:.2} deg, I/(m l_p) {}, {} demos\n",
+                e.id,
+                v3(&p.resting_face_normal),
+                p.phi
+                    .map_or("?".into(), |x| format!("{:.2}", x.to_degrees())),
+                p.phi_sigma.unwrap_or(f64::NAN).to_degrees(),
+                p.inertia_ratio_m
+                    .map_or("?".into(), |x| format!("{:.3} m", x)),
+                p.observations.len()
+            );
+        }
+    }
+    if let Some(com) = &tree.com {
+        s += &format!(
+            "  centre of mass: {} m (from {} pendulums, rms {:.1} mm)\n",
+            v3(&com.point),
+            com.pendulums,
+            com.rms_residual_m * 1e3
+        );
+    }
+    for f in &tree.faces {
+        let off = f.offset.map_or("offset unknown".to_string(), |o| {
+            format!(
+                "offset {o:+.4} m ±{:.2} mm",
+                f.offset_sigma_m.unwrap_or(0.0) * 1e3
+            )
+        });
+        s += &format!(
+            "  {}: normal {}, {off}, ±{:.2} deg, {} demos ({} slides, {} rests)\n",
+            f.id,
+            v3(&f.normal),
+            f.sigma_normal_rad.to_degrees(),
+            f.n_support,
+            f.evidence.slide,
+            f.evidence.rest
+        );
+    }
+    s
+}

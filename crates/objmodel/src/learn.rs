@@ -1,0 +1,184 @@
+//! The learning pipeline: the one entry point that the command line, the simulator's task loop
+//! and evaluation, and the tests call, so that the same demonstrations give the same model
+//! wherever they come from.
+//!
+//! ```text
+//! source ─▶ classify (Algorithm 1, 2: segments, edges, faces) ─┐
+//!        └▶ recorder (the frames, bounded) ────────────────────┴▶ dynamics ─▶ Observation ─▶ Tree::add
+//! ```
+//!
+//! One pass over each file: while the stream is classified, a [`Recorder`] keeps its frames
+//! (all of them up to its capacity, evenly thinned beyond: see [`crate::recording`]); once the
+//! classification is known, the dynamics of each topple are fitted to the kept frames
+//! ([`crate::dynamics::analyse`]), and the demonstration's geometry and pendulums enter the
+//! tree together ([`Tree::add`]). Gravity comes from the [`Config`]: without it the topples'
+//! dynamics cannot be measured (their angles are from the vertical), which the report says.
+//!
+//! ```no_run
+//! use objmodel::learn::{Config, Learner, Source};
+//! use objmodel::tree::Tree;
+//! # fn main() -> objmodel::Result<()> {
+//! let learner = Learner::new(Config::default());
+//! let mut tree = Tree::default();
+//! let reports = learner.learn(
+//!     &mut tree,
+//!     &[Source::file("demo1.tum"), Source::instrumented("demo2.tum", "demo2.palm.tum")],
+//! )?;
+//! for r in &reports {
+//!     println!("{}: {}", r.classification.name, r.classification.kind.as_str());
+//! }
+//! # Ok(())
+//! # }
+//! ```
+
+pub use crate::classify::Config;
+use crate::classify::{classify, Classification};
+use crate::observation::Observation;
+use crate::recording::{Recorder, Recording, DEFAULT_CAPACITY};
+use crate::trajectory::Demonstration;
+use crate::tree::Tree;
+use crate::Result;
+use std::path::Path;
+
+/// Where a demonstration comes from.
+#[derive(Clone, Copy, Debug)]
+pub enum Source<'a> {
+    /// Pose files (TUM or CSV) of the object and, for an instrumented demonstration, of the
+    /// palm; read once, streaming. The demonstration is named after the object file.
+    Files {
+        /// The object's poses, `world_from_object`.
+        object: &'a Path,
+        /// The palm's poses, `world_from_palm`.
+        palm: Option<&'a Path>,
+    },
+    /// Poses held in memory.
+    Memory(&'a Demonstration),
+}
+
+impl<'a> Source<'a> {
+    /// A direct demonstration's file.
+    pub fn file(object: &'a (impl AsRef<Path> + ?Sized)) -> Self {
+        Source::Files {
+            object: object.as_ref(),
+            palm: None,
+        }
+    }
+
+    /// An instrumented demonstration's files.
+    pub fn instrumented(
+        object: &'a (impl AsRef<Path> + ?Sized),
+        palm: &'a (impl AsRef<Path> + ?Sized),
+    ) -> Self {
+        Source::Files {
+            object: object.as_ref(),
+            palm: Some(palm.as_ref()),
+        }
+    }
+}
+
+/// The learning pipeline, configured once.
+#[derive(Clone, Debug)]
+pub struct Learner {
+    config: Config,
+    capacity: usize,
+}
+
+impl Learner {
+    /// A learner with this configuration (method, thresholds, gravity).
+    pub fn new(config: Config) -> Self {
+        Self {
+            config,
+            capacity: DEFAULT_CAPACITY,
+        }
+    }
+
+    /// Keep at most `frames` frames per stream for the dynamics (default
+    /// [`DEFAULT_CAPACITY`]); longer demonstrations are analysed at a lower rate.
+    pub fn with_capacity(mut self, frames: usize) -> Self {
+        self.capacity = frames;
+        self
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &Config {
+        &self.config
+    }
+
+    /// Classify a demonstration (Algorithms 1 and 2), without its dynamics.
+    pub fn classify(&self, source: &Source) -> Result<Classification> {
+        match *source {
+            Source::Files { object, palm } => {
+                crate::classify::classify_files(object, palm, &self.config)
+            }
+            Source::Memory(demo) => classify(demo, &self.config),
+        }
+    }
+
+    /// Analyse a demonstration: its classification and the dynamics of its topples, in one
+    /// pass over its files.
+    pub fn observe(&self, source: &Source) -> Result<Observation> {
+        let gravity = self.config.gravity;
+        let (mut classification, recording) = match *source {
+            Source::Files { object, palm } => {
+                let mut recorder = gravity.map(|_| Recorder::new(self.capacity));
+                let c = crate::classify::classify_files_recording(
+                    object,
+                    palm,
+                    &self.config,
+                    recorder.as_mut(),
+                )?;
+                (c, recorder.map(Recorder::finish))
+            }
+            Source::Memory(demo) => {
+                let c = classify(demo, &self.config)?;
+                let recording = (gravity.is_some() && !c.topples.is_empty())
+                    .then(|| Recording::of(demo, self.capacity));
+                (c, recording)
+            }
+        };
+        let mut dynamics = Vec::new();
+        if !classification.topples.is_empty() {
+            match (gravity, recording) {
+                (Some(g), Some(recording)) => {
+                    if recording.object_stride > 1 || recording.palm_stride > 1 {
+                        classification.warnings.push(format!(
+                            "the topples' dynamics were fitted to one object frame in {}{}: \
+                             the demonstration is longer than the {} frames kept for them",
+                            recording.object_stride,
+                            if recording.palm.is_empty() {
+                                String::new()
+                            } else {
+                                format!(" and one palm pose in {}", recording.palm_stride)
+                            },
+                            self.capacity
+                        ));
+                    }
+                    dynamics = crate::dynamics::analyse(&recording, &classification, &g);
+                }
+                _ => classification.warnings.push(
+                    "gravity is unknown (--gravity none): the topples' dynamics (pendulums, \
+                     centre of mass) are not analysed"
+                        .to_string(),
+                ),
+            }
+        }
+        Ok(Observation {
+            classification,
+            dynamics,
+        })
+    }
+
+    /// Learn from demonstrations: analyse each and fuse it into `tree`, in order. Returns each
+    /// demonstration's report. On an error, the demonstrations before the one that failed are
+    /// in the tree.
+    pub fn learn(&self, tree: &mut Tree, sources: &[Source]) -> Result<Vec<Observation>> {
+        sources
+            .iter()
+            .map(|s| {
+                let o = self.observe(s)?;
+                tree.add(&o);
+                Ok(o)
+            })
+            .collect()
+    }
+}

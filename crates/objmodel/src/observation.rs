@@ -1,0 +1,28 @@
+//! What one demonstration shows: its classification (segments, edges, faces) and the dynamics
+//! of its topples. The learning pipeline ([`crate::learn`]) produces it; the tree
+//! ([`crate::tree::Tree::add`]) takes it whole.
+
+use crate::classify::Classification;
+use crate::dynamics::ToppleDynamics;
+use serde::Serialize;
+
+/// One demonstration, analysed.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Observation {
+    /// Algorithm 1 and 2 on the demonstration: its kind, segments, edges and faces, and the
+    /// warnings about its input.
+    pub classification: Classification,
+    /// The dynamics of each topple of [`Observation::classification`] that could be analysed
+    /// (empty when gravity is unknown).
+    pub dynamics: Vec<ToppleDynamics>,
+}
+
+impl Observation {
+    /// A demonstration's geometry alone, without dynamics.
+    pub fn geometry(classification: Classification) -> Self {
+        Self {
+            classification,
+            dynamics: Vec::new(),
+        }
+    }
+}

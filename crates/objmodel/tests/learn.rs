@@ -1,0 +1,231 @@
+//! The learning pipeline (`objmodel::learn`) and the tree's fusion, on the kinematic generator's
+//! demonstrations with exact truth: files and memory give the same model, the dynamics come in
+//! the same pass at any length, and fusion does not depend on how the demonstrations arrive.
+
+use objmodel::classify::Kind;
+use objmodel::format::{read_demonstration, write_tum};
+use objmodel::learn::{Config, Learner, Source};
+use objmodel::observation::Observation;
+use objmodel::synth::{self, SynthBox, SynthDemo, SynthNoise, ToppleParams};
+use objmodel::tree::Tree;
+use objmodel::Demonstration;
+use rand::{rngs::StdRng, SeedableRng};
+use std::path::{Path, PathBuf};
+
+fn the_box() -> SynthBox {
+    SynthBox::random(&mut StdRng::seed_from_u64(5))
+}
+
+fn topple(b: &SynthBox, side: usize, seed: u64) -> SynthDemo {
+    let p = ToppleParams {
+        side,
+        ..Default::default()
+    };
+    synth::topple(b, &p, &SynthNoise::REAL, 30.0, seed)
+}
+
+/// Write a demonstration's files into `dir`: the object's, and the palm's beside it.
+fn write(dir: &Path, d: &Demonstration) -> (PathBuf, Option<PathBuf>) {
+    let object = dir.join(format!("{}.tum", d.name));
+    write_tum(&object, &d.object, &d.name).unwrap();
+    let palm = d.palm.as_ref().map(|p| {
+        let path = dir.join(format!("{}.palm.tum", d.name));
+        write_tum(&path, p, &d.name).unwrap();
+        path
+    });
+    (object, palm)
+}
+
+fn observe(learner: &Learner, d: &Demonstration) -> Observation {
+    learner.observe(&Source::Memory(d)).unwrap()
+}
+
+/// A file streamed through the pipeline and the same poses held in memory give the same
+/// observation, bit for bit: classification, warnings and dynamics (direct and instrumented).
+#[test]
+fn files_and_memory_give_the_same_observation() {
+    let dir = tempfile::tempdir().unwrap();
+    let b = the_box();
+    let learner = Learner::new(Config::default());
+    for mut d in [
+        topple(&b, 1, 11).demo,
+        synth::instrumented_topple(&b, 2, 0.2, &SynthNoise::REAL, 30.0, 12).demo,
+    ] {
+        d.name = format!("demo_{}", d.palm.is_some());
+        let (object, palm) = write(dir.path(), &d);
+        let from_files = learner
+            .observe(&Source::Files {
+                object: &object,
+                palm: palm.as_deref(),
+            })
+            .unwrap();
+        let mut read = read_demonstration(&object, palm.as_deref()).unwrap();
+        read.name = object.file_name().unwrap().to_string_lossy().into_owned();
+        let from_memory = observe(&learner, &read);
+        assert_eq!(from_files.classification.kind, Kind::Topple);
+        assert!(
+            !from_files.dynamics.is_empty(),
+            "a topple with gravity known has dynamics"
+        );
+        assert_eq!(format!("{from_files:?}"), format!("{from_memory:?}"));
+    }
+}
+
+/// A demonstration longer than the recorder keeps is still analysed, in the same pass, at a
+/// lower rate, and says so; its φ stays within the two estimates' uncertainty of the
+/// full-rate one.
+#[test]
+fn dynamics_of_a_demonstration_longer_than_the_record() {
+    let b = the_box();
+    let d = synth::instrumented_topple(&b, 0, 0.2, &SynthNoise::REAL, 120.0, 3).demo;
+    let n = d.object.len();
+    let full = observe(&Learner::new(Config::default()), &d);
+    let thinned = observe(&Learner::new(Config::default()).with_capacity(n / 3), &d);
+    assert_eq!(full.classification, {
+        let mut c = thinned.classification.clone();
+        c.warnings.clear();
+        c
+    });
+    assert!(
+        thinned
+            .classification
+            .warnings
+            .iter()
+            .any(|w| w.contains("one object frame in 4")),
+        "{:?}",
+        thinned.classification.warnings
+    );
+    let (a, b) = (&full.dynamics[0], &thinned.dynamics[0]);
+    let (pa, pb) = (a.phi.unwrap(), b.phi.unwrap());
+    let sigma = a.phi_sigma.unwrap().hypot(b.phi_sigma.unwrap());
+    eprintln!(
+        "phi at full rate {:.3} deg, at 1/4: {:.3} deg (combined sigma {:.3} deg)",
+        pa.to_degrees(),
+        pb.to_degrees(),
+        sigma.to_degrees()
+    );
+    assert!((pa - pb).abs() < 4.0 * sigma);
+    assert!(b.series.t.len() * 3 <= n);
+}
+
+/// Without gravity there are no dynamics, and the report says why.
+#[test]
+fn without_gravity_the_dynamics_are_not_guessed() {
+    let b = the_box();
+    let d = topple(&b, 0, 21).demo;
+    let config = Config {
+        gravity: None,
+        ..Config::default()
+    };
+    let mut tree = Tree::default();
+    let reports = Learner::new(config)
+        .learn(&mut tree, &[Source::Memory(&d)])
+        .unwrap();
+    assert!(reports[0].dynamics.is_empty());
+    assert!(reports[0]
+        .classification
+        .warnings
+        .iter()
+        .any(|w| w.contains("gravity is unknown")));
+    assert!(tree.edges.iter().all(|e| e.pendulums.is_empty()));
+    assert_eq!(tree.edges.len(), 1);
+}
+
+/// Each topple's pendulum goes to the edge that topple found, in the same step as the edge:
+/// four topples of one box, each about its own edge, give four edges with one pendulum each,
+/// whose support is that edge's demonstration.
+#[test]
+fn each_pendulum_joins_its_own_edge() {
+    let b = the_box();
+    let learner = Learner::new(Config::default());
+    let mut tree = Tree::default();
+    for side in 0..4 {
+        let mut d = synth::instrumented_topple(&b, side, 0.2, &SynthNoise::REAL, 30.0, 40).demo;
+        d.name = format!("side{side}");
+        learner.learn(&mut tree, &[Source::Memory(&d)]).unwrap();
+    }
+    assert_eq!(tree.edges.len(), 4);
+    for e in &tree.edges {
+        assert_eq!(e.pendulums.len(), 1, "{}", e.id);
+        assert_eq!(e.pendulums[0].support, e.support, "{}", e.id);
+    }
+}
+
+/// Adding the same demonstration twice changes nothing; removing it leaves the tree as before.
+#[test]
+fn the_same_demonstration_twice_is_one() {
+    let b = the_box();
+    let learner = Learner::new(Config::default());
+    let demos: Vec<Demonstration> = (0..3)
+        .map(|side| {
+            let mut d = synth::instrumented_topple(&b, side, 0.2, &SynthNoise::REAL, 30.0, 50).demo;
+            d.name = format!("d{side}");
+            d
+        })
+        .collect();
+    let observations: Vec<Observation> = demos.iter().map(|d| observe(&learner, d)).collect();
+    let mut tree = Tree::default();
+    observations.iter().for_each(|o| tree.add(o));
+    let once = tree.clone();
+    tree.add(&observations[2]);
+    assert_eq!(tree, once);
+    let mut two = Tree::default();
+    observations[..2].iter().for_each(|o| two.add(o));
+    tree.remove_demo("d2");
+    assert_eq!(tree.to_json(), two.to_json());
+}
+
+/// Learning in a batch or one by one, in any order, gives the same features within their
+/// uncertainty: ten topples about two edges, fused forwards and backwards.
+#[test]
+fn fusion_does_not_depend_on_the_order() {
+    let b = the_box();
+    let learner = Learner::new(Config::default());
+    let observations: Vec<Observation> = (0..10u64)
+        .map(|i| {
+            let mut d = topple(&b, (i % 2) as usize, 60 + i).demo;
+            d.name = format!("t{i}");
+            observe(&learner, &d)
+        })
+        .collect();
+    let mut forwards = Tree::default();
+    observations.iter().for_each(|o| forwards.add(o));
+    let mut backwards = Tree::default();
+    observations.iter().rev().for_each(|o| backwards.add(o));
+    assert_eq!(forwards.edges.len(), 2);
+    assert_eq!(backwards.edges.len(), 2);
+    for e in &forwards.edges {
+        let f = backwards
+            .edges
+            .iter()
+            .find(|x| x.direction.dot(&e.direction).abs() > 0.99)
+            .expect("the same edge");
+        let mut support = f.support.clone();
+        support.sort();
+        let mut mine = e.support.clone();
+        mine.sort();
+        assert_eq!(support, mine);
+        let d = (e.point - f.point).norm();
+        assert!(d <= 1e-9 + 0.1 * e.sigma_point_m, "{d} m");
+    }
+}
+
+/// A topple about a new edge starts a new edge; one about a known edge joins it.
+#[test]
+fn a_new_edge_and_a_known_edge() {
+    let b = the_box();
+    let learner = Learner::new(Config::default());
+    let mut tree = Tree::default();
+    let mut add = |side: usize, seed: u64| {
+        let mut d = topple(&b, side, seed).demo;
+        d.name = format!("s{side}_{seed}");
+        learner.learn(&mut tree, &[Source::Memory(&d)]).unwrap();
+        (
+            tree.edges.len(),
+            tree.edges.iter().map(|e| e.n_support).sum::<usize>(),
+        )
+    };
+    assert_eq!(add(0, 1), (1, 1));
+    assert_eq!(add(0, 2), (1, 2));
+    assert_eq!(add(3, 3), (2, 3));
+}
