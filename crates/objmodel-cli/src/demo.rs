@@ -11,7 +11,7 @@ use objmodel::classify::Config;
 use objmodel::skill::{plan, PlanRequest};
 use objmodel::tree::Tree;
 use objmodel_sim::dataset::standard_boxes;
-use objmodel_sim::{simulate, write_demo, NoiseModel, SceneKind};
+use objmodel_sim::{simulate, write_demo, SceneKind, TrackerNoise};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -36,7 +36,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
         .into_iter()
         .find(|b| b.name == "weighted")
         .context("the built-in box")?;
-    let noise = NoiseModel::real();
+    let noise = TrackerNoise::real();
     let scenes = [
         SceneKind::InstrumentedTopple,
         SceneKind::InstrumentedTopple,

@@ -2,7 +2,7 @@
 //! `objmodel-sim` crate, on rapier3d-f64).
 
 use anyhow::{bail, Context, Result};
-use objmodel_sim::{simulate, write_demo, BoxFace, BoxSpec, NoiseModel, SceneKind, TagMount};
+use objmodel_sim::{simulate, write_demo, BoxFace, BoxSpec, SceneKind, TagMount, TrackerNoise};
 use rand::{rngs::StdRng, SeedableRng};
 use std::path::PathBuf;
 
@@ -114,7 +114,7 @@ pub fn run(a: &SimulateArgs) -> Result<()> {
         kind = SceneKind::InstrumentedTopple;
     }
     let spec = box_from_args(a)?;
-    let noise = NoiseModel::preset(&a.noise).context("unknown noise preset")?;
+    let noise = TrackerNoise::preset(&a.noise).context("unknown noise preset")?;
     let demo = simulate(kind, &spec, &noise, a.seed).with_context(|| {
         format!(
             "simulating a {} of a {} m box (seed {})",

@@ -5,7 +5,7 @@
 //! trajectory, so noise is the only difference between them.
 
 use crate::demo::{simulate_clean, write_demo, SimOptions};
-use crate::noise::NoiseModel;
+use crate::noise::TrackerNoise;
 use crate::spec::{BoxFace, BoxSpec, TagMount};
 use crate::{Result, SceneKind, SimError};
 use serde::{Deserialize, Serialize};
@@ -20,7 +20,7 @@ pub struct DatasetPlan {
     /// The kinds of demonstration.
     pub kinds: Vec<SceneKind>,
     /// The noise levels.
-    pub noises: Vec<NoiseModel>,
+    pub noises: Vec<TrackerNoise>,
     /// Seeds per (box, kind) cell.
     pub seeds: Vec<u64>,
     /// Rates.
@@ -75,9 +75,9 @@ pub fn standard_dataset(quick: bool) -> DatasetPlan {
     DatasetPlan {
         boxes,
         kinds: SceneKind::ALL.to_vec(),
-        noises: NoiseModel::PRESETS
+        noises: TrackerNoise::PRESETS
             .iter()
-            .filter_map(|n| NoiseModel::preset(n))
+            .filter_map(|n| TrackerNoise::preset(n))
             .collect(),
         seeds: if quick { vec![1] } else { vec![1, 2, 3] },
         options: SimOptions::default(),
@@ -125,7 +125,7 @@ pub struct Manifest {
     /// The boxes.
     pub boxes: Vec<BoxSpec>,
     /// The noise models.
-    pub noises: Vec<NoiseModel>,
+    pub noises: Vec<TrackerNoise>,
     /// Every demo written.
     pub demos: Vec<ManifestEntry>,
     /// Cells that failed even after retries, with the reason.

@@ -2,7 +2,7 @@
 //! `NAME.palm.tum` (the palm, instrumented demos only) and `NAME.truth.json`.
 
 use crate::events::{face_in_tag, rest_face, segments, topple_events};
-use crate::noise::NoiseModel;
+use crate::noise::TrackerNoise;
 use crate::scenes::{self, SceneOutput};
 use crate::spec::BoxSpec;
 use crate::truth::{arr, PoseJson, Truth};
@@ -63,7 +63,12 @@ pub struct SimDemo {
 }
 
 /// Simulate one demonstration of `kind` with default options.
-pub fn simulate(kind: SceneKind, spec: &BoxSpec, noise: &NoiseModel, seed: u64) -> Result<SimDemo> {
+pub fn simulate(
+    kind: SceneKind,
+    spec: &BoxSpec,
+    noise: &TrackerNoise,
+    seed: u64,
+) -> Result<SimDemo> {
     simulate_with(kind, spec, noise, seed, &SimOptions::default())
 }
 
@@ -71,7 +76,7 @@ pub fn simulate(kind: SceneKind, spec: &BoxSpec, noise: &NoiseModel, seed: u64) 
 pub fn simulate_with(
     kind: SceneKind,
     spec: &BoxSpec,
-    noise: &NoiseModel,
+    noise: &TrackerNoise,
     seed: u64,
     opts: &SimOptions,
 ) -> Result<SimDemo> {
@@ -215,7 +220,7 @@ pub fn truth_of(
         duration: last.t,
         rate_hz: opts.rate_hz,
         physics_hz: out.step_hz,
-        noise: NoiseModel::clean(),
+        noise: TrackerNoise::clean(),
         script: out.script.notes.iter().cloned().collect(),
     })
 }
@@ -223,7 +228,7 @@ pub fn truth_of(
 impl CleanDemo {
     /// Add tracking noise. The noise stream depends on the truth's seed and the model's name,
     /// so the same demo gets different noise at each level and the same noise every run.
-    pub fn with_noise(&self, noise: &NoiseModel) -> SimDemo {
+    pub fn with_noise(&self, noise: &TrackerNoise) -> SimDemo {
         let salt: u64 = noise.name.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
             (h ^ b as u64).wrapping_mul(0x100_0000_01b3)
         });

@@ -21,9 +21,9 @@
 //! coordinates to world coordinates.
 //!
 //! ```no_run
-//! use objmodel_sim::{simulate, write_demo, BoxSpec, NoiseModel, SceneKind};
+//! use objmodel_sim::{simulate, write_demo, BoxSpec, TrackerNoise, SceneKind};
 //! let spec = BoxSpec::new("tall", [0.1, 0.1, 0.2], 0.6).with_com([0.02, 0.0, 0.0]);
-//! let demo = simulate(SceneKind::Topple, &spec, &NoiseModel::real(), 3).unwrap();
+//! let demo = simulate(SceneKind::Topple, &spec, &TrackerNoise::real(), 3).unwrap();
 //! write_demo(std::path::Path::new("out"), "tall_topple", &demo).unwrap();
 //! ```
 
@@ -46,7 +46,7 @@ pub use dataset::{standard_dataset, write_dataset, DatasetPlan, Manifest, Progre
 pub use demo::{
     simulate, simulate_clean, simulate_with, write_demo, CleanDemo, DemoFiles, SimDemo, SimOptions,
 };
-pub use noise::NoiseModel;
+pub use noise::TrackerNoise;
 pub use spec::{BoxFace, BoxSpec, TagMount};
 pub use truth::Truth;
 pub use world::PhysicsParams;

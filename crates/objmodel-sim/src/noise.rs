@@ -11,21 +11,22 @@
 //! * with probability `sign_flip_prob` the quaternion is written as `−q` (the same rotation).
 
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
+use objmodel::noise::NoiseModel;
 use objmodel::StampedPose;
 use rand::rngs::StdRng;
 use rand::Rng;
 use rand_distr::{Distribution, Normal};
 use serde::{Deserialize, Serialize};
 
-/// A tracking-noise model.
+/// A simulated tracker's noise: the Gaussian noise of each pose (the library's
+/// [`NoiseModel`], which the learner estimates from the data), and the tracker's failures.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct NoiseModel {
+pub struct TrackerNoise {
     /// Preset name ("clean", "real", "noisy") or "custom".
     pub name: String,
-    /// Position noise standard deviation per axis \[m\].
-    pub pos_sigma: f64,
-    /// Orientation noise standard deviation per axis \[rad\].
-    pub rot_sigma: f64,
+    /// Position and orientation noise, standard deviations per axis.
+    #[serde(flatten)]
+    pub sigma: NoiseModel,
     /// Probability that a frame is dropped.
     pub drop_prob: f64,
     /// Probability that a frame's quaternion is written with the opposite sign.
@@ -42,13 +43,15 @@ pub const MIRROR_MAX_VIEW: f64 = 0.8727;
 /// Default camera position: 70 cm in front of the scene and 45 cm up.
 pub const DEFAULT_CAMERA: [f64; 3] = [0.0, -0.7, 0.45];
 
-impl NoiseModel {
+impl TrackerNoise {
     /// Exact poses.
-    pub fn clean() -> NoiseModel {
-        NoiseModel {
+    pub fn clean() -> TrackerNoise {
+        TrackerNoise {
             name: "clean".into(),
-            pos_sigma: 0.0,
-            rot_sigma: 0.0,
+            sigma: NoiseModel {
+                sigma_position: 0.0,
+                sigma_rotation: 0.0,
+            },
             drop_prob: 0.0,
             sign_flip_prob: 0.0,
             mirror_prob: 0.0,
@@ -58,11 +61,13 @@ impl NoiseModel {
 
     /// A good fiducial tracker: 1 mm and 0.5° per axis, 3% dropped frames, 5% sign flips, 1%
     /// mirror flips.
-    pub fn real() -> NoiseModel {
-        NoiseModel {
+    pub fn real() -> TrackerNoise {
+        TrackerNoise {
             name: "real".into(),
-            pos_sigma: 0.001,
-            rot_sigma: 0.5f64.to_radians(),
+            sigma: NoiseModel {
+                sigma_position: 0.001,
+                sigma_rotation: 0.5f64.to_radians(),
+            },
             drop_prob: 0.03,
             sign_flip_prob: 0.05,
             mirror_prob: 0.01,
@@ -71,11 +76,13 @@ impl NoiseModel {
     }
 
     /// A poor one: 2 mm and 1° per axis, 8% dropped frames, 15% sign flips, 3% mirror flips.
-    pub fn noisy() -> NoiseModel {
-        NoiseModel {
+    pub fn noisy() -> TrackerNoise {
+        TrackerNoise {
             name: "noisy".into(),
-            pos_sigma: 0.002,
-            rot_sigma: 1f64.to_radians(),
+            sigma: NoiseModel {
+                sigma_position: 0.002,
+                sigma_rotation: 1f64.to_radians(),
+            },
             drop_prob: 0.08,
             sign_flip_prob: 0.15,
             mirror_prob: 0.03,
@@ -84,7 +91,7 @@ impl NoiseModel {
     }
 
     /// The preset called `name`, if any.
-    pub fn preset(name: &str) -> Option<NoiseModel> {
+    pub fn preset(name: &str) -> Option<TrackerNoise> {
         match name {
             "clean" => Some(Self::clean()),
             "real" => Some(Self::real()),
@@ -99,8 +106,8 @@ impl NoiseModel {
     /// Check that every number is usable.
     pub fn validate(&self) -> crate::Result<()> {
         let ok_p = |p: f64| (0.0..=0.5).contains(&p);
-        let sigmas_ok =
-            (0.0..0.1).contains(&self.pos_sigma) && (0.0..0.5).contains(&self.rot_sigma);
+        let sigmas_ok = (0.0..0.1).contains(&self.sigma.sigma_position)
+            && (0.0..0.5).contains(&self.sigma.sigma_rotation);
         if !(sigmas_ok
             && ok_p(self.drop_prob)
             && ok_p(self.sign_flip_prob)
@@ -116,8 +123,8 @@ impl NoiseModel {
 
     /// Apply this model to a clean trajectory of `world_from_tag` poses.
     pub fn apply(&self, clean: &[StampedPose], rng: &mut StdRng) -> Vec<StampedPose> {
-        let np = Normal::new(0.0, self.pos_sigma.max(0.0)).expect("finite sigma");
-        let nr = Normal::new(0.0, self.rot_sigma.max(0.0)).expect("finite sigma");
+        let np = Normal::new(0.0, self.sigma.sigma_position.max(0.0)).expect("finite sigma");
+        let nr = Normal::new(0.0, self.sigma.sigma_rotation.max(0.0)).expect("finite sigma");
         let cam = Point3::from(self.camera);
         let mut out = Vec::with_capacity(clean.len());
         for sp in clean {

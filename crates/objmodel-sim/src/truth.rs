@@ -4,7 +4,7 @@
 //! unless its name says otherwise (`box_*`). Normals are outward unit vectors. Angles are in
 //! radians, with `_deg` copies for people.
 
-use crate::noise::NoiseModel;
+use crate::noise::TrackerNoise;
 use nalgebra::{Isometry3, Point3, Vector3};
 use serde::{Deserialize, Serialize};
 
@@ -151,7 +151,7 @@ pub struct Truth {
     /// Physics step rate \[Hz\].
     pub physics_hz: f64,
     /// Tracking noise applied to the written poses.
-    pub noise: NoiseModel,
+    pub noise: TrackerNoise,
     /// Scripted random choices (push height \[m\], speed \[m/s\], tilt rate \[rad/s\], ...).
     pub script: std::collections::BTreeMap<String, f64>,
 }

@@ -3,18 +3,18 @@
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 use objmodel::StampedPose;
 use objmodel_sim::dataset::{standard_boxes, standard_dataset};
-use objmodel_sim::{write_dataset, NoiseModel, SceneKind, Truth};
+use objmodel_sim::{write_dataset, SceneKind, TrackerNoise, Truth};
 use rand::SeedableRng;
 
 #[test]
 fn small_dataset_round_trips_through_the_core_reader() {
-    let dir = std::env::temp_dir().join(format!("objmodel-sim-dataset-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+    let dir = tempfile::tempdir().unwrap();
+    let dir = dir.path();
     let mut plan = standard_dataset(true);
     plan.boxes = vec![standard_boxes()[0].clone(), standard_boxes()[3].clone()];
-    plan.noises = vec![NoiseModel::clean(), NoiseModel::real()];
+    plan.noises = vec![TrackerNoise::clean(), TrackerNoise::real()];
     let mut calls = 0;
-    let m = write_dataset(&dir, &plan, &mut |p| {
+    let m = write_dataset(dir, &plan, &mut |p| {
         calls += 1;
         assert!(p.done <= p.total);
     })
@@ -79,7 +79,6 @@ fn small_dataset_round_trips_through_the_core_reader() {
             }
         }
     }
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
@@ -93,7 +92,7 @@ fn real_noise_has_its_advertised_statistics() {
             ),
         })
         .collect();
-    let model = NoiseModel::real();
+    let model = TrackerNoise::real();
     let mut rng = rand::rngs::StdRng::seed_from_u64(5);
     let noisy = model.apply(&clean, &mut rng);
     let drop = 1.0 - noisy.len() as f64 / clean.len() as f64;
@@ -119,5 +118,5 @@ fn real_noise_has_its_advertised_statistics() {
     assert!((drop - model.drop_prob).abs() < 0.006);
     assert!((flips as f64 / n - model.sign_flip_prob).abs() < 0.008);
     assert!((mirrors as f64 / n - model.mirror_prob).abs() < 0.004);
-    assert!((sigma - model.pos_sigma).abs() < 0.05 * model.pos_sigma);
+    assert!((sigma - model.sigma.sigma_position).abs() < 0.05 * model.sigma.sigma_position);
 }

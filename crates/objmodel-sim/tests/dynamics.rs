@@ -9,11 +9,11 @@ use objmodel::observation::Observation;
 use objmodel::tree::Tree;
 use objmodel::Demonstration;
 use objmodel_sim::dataset::standard_boxes;
-use objmodel_sim::{simulate, NoiseModel, SceneKind};
+use objmodel_sim::{simulate, SceneKind, TrackerNoise};
 
 type Learnt = (Observation, objmodel_sim::Truth);
 
-fn learn(kind: SceneKind, box_name: &str, noise: &NoiseModel, seed: u64) -> Learnt {
+fn learn(kind: SceneKind, box_name: &str, noise: &TrackerNoise, seed: u64) -> Learnt {
     let l = try_learn(kind, box_name, noise, seed);
     assert_eq!(
         l.0.classification.kind,
@@ -23,7 +23,7 @@ fn learn(kind: SceneKind, box_name: &str, noise: &NoiseModel, seed: u64) -> Lear
     l
 }
 
-fn try_learn(kind: SceneKind, box_name: &str, noise: &NoiseModel, seed: u64) -> Learnt {
+fn try_learn(kind: SceneKind, box_name: &str, noise: &TrackerNoise, seed: u64) -> Learnt {
     let spec = standard_boxes()
         .into_iter()
         .find(|b| b.name == box_name)
@@ -48,7 +48,7 @@ fn phi_error_deg(dy: &[objmodel::dynamics::ToppleDynamics], truth: &objmodel_sim
 
 #[test]
 fn phi_from_instrumented_topples() {
-    for (noise, limit) in [(NoiseModel::clean(), 0.2), (NoiseModel::real(), 1.0)] {
+    for (noise, limit) in [(TrackerNoise::clean(), 0.2), (TrackerNoise::real(), 1.0)] {
         for seed in 1..=3 {
             let (o, truth) = learn(SceneKind::InstrumentedTopple, "weighted", &noise, seed);
             let dy = o.dynamics;
@@ -70,7 +70,7 @@ fn phi_from_instrumented_topples() {
 fn phi_from_direct_topples_by_the_fall() {
     // Clean: within 0.1°. A fall fitted from before the balance point takes in frames in which
     // the finger still drives the box, and came out 0.4-0.6° low here.
-    for (noise, limit) in [(NoiseModel::clean(), 0.1), (NoiseModel::real(), 7.0)] {
+    for (noise, limit) in [(TrackerNoise::clean(), 0.1), (TrackerNoise::real(), 7.0)] {
         for seed in 1..=2 {
             let (o, truth) = learn(SceneKind::Topple, "tall", &noise, seed);
             let dy = o.dynamics;
@@ -99,7 +99,7 @@ fn centre_of_mass_of_the_weighted_box_from_its_topples() {
         (SceneKind::Topple, 2),
         (SceneKind::Topple, 3),
     ] {
-        let (o, truth) = try_learn(kind, "weighted", &NoiseModel::clean(), seed);
+        let (o, truth) = try_learn(kind, "weighted", &TrackerNoise::clean(), seed);
         let c = &o.classification;
         if c.kind != Kind::Topple {
             // Known: one direct topple of this box is classified "general" (see docs/learner-table.md).

@@ -250,12 +250,13 @@ pub struct FallFit {
 pub const MAX_FIT_SPAN_S: f64 = 60.0;
 
 /// Longest span \[s\] of a free fall that [`fit_fall`] takes. An object released at rest δ₀
-/// past its balance point turns δ further in `t = ln(tan(δ/4) / tan(δ₀/4)) / √k`
-/// (`k = m g l_p / I_e`, from `δ̈ = k sin δ`): from δ₀ = 10⁻⁶ rad (far below any tracker's
-/// noise) to δ = 90°, a homogeneous box (`k = 3g / (4 l_p)`) with its CoM 1 m from the edge
-/// falls in 5.3 s, and `t` grows as `√l_p`: 10 s is a fall of an object with `l_p` of 3.5 m.
-/// A longer span is not a free fall (a slow push, a turn at a steady pace), and each fit
-/// integrates in steps of 2 ms, so its cost grows with the span.
+/// past its balance point turns δ further in `t ≈ (ln(tan(δ/4) / tan(δ₀/4)) + ln 2) / √k`
+/// (`k = m g l_p / I_e`, from `δ̈ = k sin δ`; the `ln 2` is the start from rest): from
+/// δ₀ = 10⁻⁶ rad (far below any tracker's noise) to δ = 90°, a homogeneous box
+/// (`k = 3g / (4 l_p)`) with its CoM 1 m from the edge falls in 5.5 s, and `t` grows as
+/// `√l_p`: 10 s is a fall of an object with `l_p` of 3.3 m. A longer span is not a free fall (a
+/// slow push, a turn at a steady pace), and each fit integrates in steps of 2 ms, so its cost
+/// grows with the span.
 pub const MAX_FALL_S: f64 = 10.0;
 
 /// Integrate `ψ̈ = k sin(ψ - φ)` from `(t0, ψ0, ψ̇0)` and return ψ at the times `t` (sorted,
@@ -591,6 +592,42 @@ mod tests {
         let theta: Vec<f64> = t.iter().map(|&x| 0.1 * onset_shape(x - tau, 8.0)).collect();
         let o = onset(&t, &theta, 1e-4).unwrap();
         assert!((o.t - tau).abs() < 0.01, "{o:?}");
+    }
+
+    /// A window that a straight line explains within the noise determines no pendulum; the
+    /// same window bent by a real fall, at the same noise, does.
+    #[test]
+    fn uniform_motion_is_not_a_fall() {
+        use rand::{rngs::StdRng, SeedableRng};
+        use rand_distr::{Distribution, Normal};
+        let sigma = 0.01;
+        let noise = Normal::new(0.0, sigma).unwrap();
+        let mut rng = StdRng::seed_from_u64(3);
+        let t: Vec<f64> = (0..15).map(|i| i as f64 / 30.0).collect();
+        let line: Vec<f64> = t
+            .iter()
+            .map(|x| 0.5 + 0.2 * x + noise.sample(&mut rng))
+            .collect();
+        assert!(uniform_motion_explains(&t, &line, sigma));
+        assert!(fit_fall(&t, &line, sigma, 0.4).is_none());
+        let fall: Vec<f64> = simulate(0.45, 40.0, 0.0, 0.5, 0.2, &t)
+            .iter()
+            .map(|y| y + noise.sample(&mut rng))
+            .collect();
+        assert!(!uniform_motion_explains(&t, &fall, sigma));
+        assert!(fit_fall(&t, &fall, sigma, 0.4).is_some());
+    }
+
+    /// The bound on a fall's duration is what its documentation derives: a homogeneous box
+    /// with its CoM 3.2 m from the edge, released 10⁻⁶ rad past balance, turns 90° in just
+    /// under MAX_FALL_S (integrated, not from the closed form).
+    #[test]
+    fn the_longest_fall_fits_in_max_fall_s() {
+        let k = 3.0 * G / (4.0 * 3.2);
+        let t: Vec<f64> = (0..=1000).map(|i| i as f64 * MAX_FALL_S / 1000.0).collect();
+        let psi = simulate(0.0, k, 0.0, 1e-6, 0.0, &t);
+        let at = t[psi.partition_point(|&p| p < std::f64::consts::FRAC_PI_2)];
+        assert!(at < MAX_FALL_S && at > 0.9 * MAX_FALL_S, "{at} s");
     }
 
     #[test]

@@ -102,6 +102,21 @@ fn paper_method_runs_and_is_worse_at_real_noise() {
     eprintln!("paper, real noise: {paper:?}\nrobust: {robust:?}");
     let sum = |a: &[(Kind, usize, usize)]| a.iter().map(|r| r.1).sum::<usize>();
     assert!(sum(&robust) > sum(&paper));
+    // docs/method.md quotes these counts: they must be what this test measures.
+    let method =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/method.md"))
+            .unwrap()
+            .split_whitespace()
+            .collect::<Vec<_>>()
+            .join(" ");
+    let quoted = format!(
+        "labels {}/{} direct topples, {}/{} instrumented topples and {}/{} slides correctly",
+        paper[0].1, paper[0].2, paper[1].1, paper[1].2, paper[2].1, paper[2].2
+    );
+    assert!(
+        method.contains(&quoted),
+        "docs/method.md should say: {quoted}"
+    );
     // On clean data the literal algorithm gets topples right.
     let clean = accuracy(Method::Paper, &SynthNoise::CLEAN, 10);
     assert_eq!(clean[0].1, clean[0].2, "{clean:?}");

@@ -4,36 +4,29 @@
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 // ---------------------------------------------------------------------------------------------
 // helpers
 
-/// A unique temporary folder, removed on drop (kept if the test failed, for inspection).
-pub struct TempDir(pub PathBuf);
+/// A unique temporary folder (`tempfile`), removed on drop, kept if the test failed, for
+/// inspection.
+pub struct TempDir(Option<tempfile::TempDir>);
 
 impl TempDir {
     pub fn new(tag: &str) -> Self {
-        static COUNTER: AtomicUsize = AtomicUsize::new(0);
-        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        let nanos = std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map_or(0, |d| d.subsec_nanos());
-        let dir = std::env::temp_dir().join(format!(
-            "objmodel-cli-test-{tag}-{}-{n}-{nanos}",
-            std::process::id()
-        ));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("create temp dir");
-        TempDir(dir)
+        let dir = tempfile::Builder::new()
+            .prefix(&format!("objmodel-cli-test-{tag}-"))
+            .tempdir()
+            .expect("create temp dir");
+        TempDir(Some(dir))
     }
 
     pub fn path(&self) -> &Path {
-        &self.0
+        self.0.as_ref().expect("the folder lives").path()
     }
 
     pub fn join(&self, p: &str) -> PathBuf {
-        self.0.join(p)
+        self.path().join(p)
     }
 
     /// Write `content` to `name` in the folder and return its path.
@@ -46,8 +39,10 @@ impl TempDir {
 
 impl Drop for TempDir {
     fn drop(&mut self) {
-        if !std::thread::panicking() {
-            let _ = std::fs::remove_dir_all(&self.0);
+        if std::thread::panicking() {
+            if let Some(dir) = self.0.take() {
+                eprintln!("test files kept in {}", dir.keep().display());
+            }
         }
     }
 }

@@ -3,7 +3,7 @@
 //!
 //! * [`execute_tilt`] / [`execute_plan`]: rotate the palm slowly about a line in the palm frame
 //!   (IK through [`crate::arm::Arm::plan_palm_motion`], joint motors track), watch the
-//!   **tracked** tag pose (the simulated tag with [`NoiseModel::real`] noise at 30 Hz, through
+//!   **tracked** tag pose (the simulated tag with [`TrackerNoise::real`] noise at 30 Hz, through
 //!   [`Tracker`]) and stop when the box has toppled (its tilt relative to the palm about the axis
 //!   exceeds 45° in 3 consecutive tracked frames), then bring the palm back level.
 //! * [`default_policy`]: what the robot does without a model: 10° about the palm's `x` axis
@@ -22,8 +22,9 @@ pub mod speed;
 pub use run::{run_task, BoxOutcome, TaskConfig, TaskReport};
 
 use crate::arm::{ArmError, ArmSim, PlanOptions, TrackingError};
-use crate::noise::NoiseModel;
+use crate::noise::TrackerNoise;
 use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion, Vector3};
+use objmodel::geometry::angle_about;
 use objmodel::skill::Plan;
 use objmodel::StampedPose;
 use rand::rngs::StdRng;
@@ -61,7 +62,7 @@ pub struct SkillOptions {
     /// Tracker rate \[Hz\].
     pub rate_hz: f64,
     /// Tracking noise.
-    pub noise: NoiseModel,
+    pub noise: TrackerNoise,
 }
 
 impl Default for SkillOptions {
@@ -77,14 +78,14 @@ impl Default for SkillOptions {
             settle: 1.0,
             plan_dt: 0.04,
             rate_hz: 30.0,
-            noise: NoiseModel::real(),
+            noise: TrackerNoise::real(),
         }
     }
 }
 
 /// The tracker: the box's tag pose with noise at a fixed rate.
 pub struct Tracker {
-    noise: NoiseModel,
+    noise: TrackerNoise,
     rng: StdRng,
     box_from_tag: Isometry3<f64>,
     /// The tracked box body.
@@ -131,13 +132,6 @@ impl Tracker {
 /// The palm pose the robot knows from its joint encoders: `world_from_palm`.
 pub fn encoder_palm(sim: &ArmSim) -> Isometry3<f64> {
     sim.world_from_base * sim.arm.fk(&sim.joint_positions())
-}
-
-/// Signed angle from `a` to `b` about `axis` (both projected on the plane normal to it).
-pub fn angle_about(axis: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
-    let pa = a - axis * axis.dot(a);
-    let pb = b - axis * axis.dot(b);
-    axis.dot(&pa.cross(&pb)).atan2(pa.dot(&pb))
 }
 
 /// A robust mean of poses: per-axis median position, and the medoid rotation (the sample with

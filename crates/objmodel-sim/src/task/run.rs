@@ -34,7 +34,7 @@ use crate::arm::{Arm, ArmSim, ArmSimOptions};
 use crate::demo::{truth_of, CleanDemo, SimDemo, SimOptions};
 use crate::scenes::{edge_lever, instrumented};
 use crate::spec::{BoxSpec, TagMount};
-use crate::{NoiseModel, SceneKind, SimError};
+use crate::{SceneKind, SimError, TrackerNoise};
 use nalgebra::Vector3;
 use objmodel::classify::Config;
 use objmodel::learn::{Learner, Source};
@@ -185,7 +185,7 @@ pub fn demonstrate(
     spec: &BoxSpec,
     axis: usize,
     sign: f64,
-    noise: &NoiseModel,
+    noise: &TrackerNoise,
     seed: u64,
 ) -> crate::Result<SimDemo> {
     let opts = SimOptions::default();
@@ -436,7 +436,7 @@ pub fn run_trial(
             &demo_spec,
             trial.axis,
             trial.sign,
-            &NoiseModel::real(),
+            &TrackerNoise::real(),
             seed + 7919 * k,
         ) {
             Ok(d) => {
