@@ -4,13 +4,14 @@
 
 use super::check::not_a_number;
 use super::csv::{self, Header};
-use super::number::{find_newline, parse_f64};
+use super::number::parse_f64;
 #[cfg(target_arch = "x86_64")]
 use super::simd::Shapes;
 use super::tum::{scan_tum, scan_tum_fast, TumScan};
 use super::{detect_format, Format};
 use crate::trajectory::StampedPose;
 use crate::{Error, Result};
+use memchr::memchr;
 use std::io::BufRead;
 use std::path::PathBuf;
 
@@ -294,7 +295,7 @@ fn step<R: BufRead>(
                     st.line_no += 1;
                     (st.finish_tum(&scan, &rest[..scan.end]), scan.end)
                 } else {
-                    let Some(e) = find_newline(rest) else { break };
+                    let Some(e) = memchr(b'\n', rest) else { break };
                     (st.handle(&rest[..e]), e)
                 };
                 off += len + 1;
@@ -328,7 +329,7 @@ fn step<R: BufRead>(
             }
         }
         // Slow path: the first line, or a line that straddles two buffer fills.
-        let newline = find_newline(buf);
+        let newline = memchr(b'\n', buf);
         if let (Some(i), true) = (newline, whole_lines) {
             let r = st.handle(&buf[..i]);
             reader.consume(i + 1);

@@ -1,6 +1,6 @@
 //! TUM lines: `timestamp tx ty tz qx qy qz qw`, separated by any spaces or tabs.
 
-use super::number::{find_newline, parse_f64, scan_decimal, scan_field, Decimal, FIELD_WINDOW};
+use super::number::{parse_f64, scan_field, Decimal, FIELD_WINDOW};
 
 /// A TUM line scanned up to its `\n` (or the end of the slice).
 pub(super) struct TumScan {
@@ -34,7 +34,7 @@ const LINE_WINDOW: usize = 256;
 /// spaces, tabs or stray `\r`s (fastest: one space), which may also come before the first and
 /// after the last, and then the `\n`. Returns the values and the index of the `\n`: what
 /// [`scan_tum`] finds for such a line (count 8, nothing bad), as [`scan_field`] takes only
-/// numbers that [`scan_decimal`] calls exact, with the same value. `None` for any other line
+/// numbers whose value it gives exactly as `str::parse` (and so `fast_float2`) does. `None` for any other line
 /// (blank, comment, wrong, ...), which then takes [`scan_tum`], and when fewer than
 /// [`LINE_WINDOW`] bytes are left (the last lines of a buffer).
 ///
@@ -148,25 +148,18 @@ pub(super) fn scan_tum(s: &[u8]) -> TumScan {
             break;
         }
         if s[i] == b'#' {
-            i += find_newline(&s[i..]).unwrap_or(n - i);
+            i += memchr::memchr(b'\n', &s[i..]).unwrap_or(n - i);
             break;
         }
         let start = i;
-        let (v, end, exact) = scan_decimal(s, i);
-        i = end;
-        let ok = exact && (i == n || ends_tum_field(s[i]));
-        if !ok {
-            while i < n && !ends_tum_field(s[i]) {
-                i += 1;
-            }
+        while i < n && !ends_tum_field(s[i]) {
+            i += 1;
         }
         if sc.count < 8 {
-            if ok {
-                sc.vals[sc.count] = v;
-            } else if let Some(v) = parse_f64(&s[start..i]) {
-                sc.vals[sc.count] = v;
-            } else if sc.bad.is_none() {
-                sc.bad = Some((sc.count, start, i));
+            match parse_f64(&s[start..i]) {
+                Some(v) => sc.vals[sc.count] = v,
+                None if sc.bad.is_none() => sc.bad = Some((sc.count, start, i)),
+                None => {}
             }
         }
         sc.count += 1;
