@@ -1,161 +1,208 @@
-//! Checks of a line's values (finite, unit quaternion, increasing time), and the messages for
-//! people when a line is wrong.
+//! The checks of a line's values, as pure functions: every value finite, the quaternion's norm
+//! within [`QUAT_NORM_TOLERANCE`] of 1, the timestamp after the previous pose's. A line that
+//! passes them gives a pose ([`valid_pose`]); one that fails gives a [`Problem`]
+//! ([`check_values`]). [`Track`] carries what the checks need from the lines before.
 
-use super::csv;
-use super::reader::{Mode, State, COLUMNS};
-use super::tum::{tum_field, TumScan};
-use super::QUAT_NORM_TOLERANCE;
+use super::layout::{QUAT, QUAT_NORM_TOLERANCE, TIME, VALUES};
+use super::problem::Problem;
 use crate::trajectory::StampedPose;
-use crate::{Error, Result};
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 
-impl State {
-    /// Check values (finite, unit quaternion, increasing time) and build the pose.
-    #[inline]
-    pub(super) fn pose(&mut self, v: &[f64; 8], line: &[u8]) -> Result<StampedPose> {
-        match self.accept(v, false) {
-            Some(p) => Ok(p),
-            None => Err(self.bad_values(v, line)),
-        }
+/// The pose of the values `v` (TUM order) if they pass the checks, with `prev_t` the previous
+/// pose's time (`-inf` before the first); else `None` (then [`check_values`] tells why). The
+/// quaternion is normalised without touching its sign: `q` and `-q` stay distinct.
+/// `finite`: the caller knows that every value is finite, which skips that test.
+#[inline(always)]
+pub(crate) fn valid_pose(v: &[f64; VALUES], prev_t: f64, finite: bool) -> Option<StampedPose> {
+    let [t, tx, ty, tz, qx, qy, qz, qw] = *v;
+    debug_assert!(!finite || v.iter().all(|x| x.is_finite()));
+    // x * 0 is 0 for a finite x and NaN otherwise: one test for all eight values.
+    let finite = finite || v.iter().fold(0.0, |a, &x| a + x * 0.0) == 0.0;
+    let norm = (qx * qx + qy * qy + qz * qz + qw * qw).sqrt();
+    let ok = finite && (norm - 1.0).abs() <= QUAT_NORM_TOLERANCE && t > prev_t;
+    if !ok {
+        return None;
     }
-
-    /// [`State::pose`] without the error: the pose, or `None` (and no change) if a check
-    /// fails. `finite`: the caller knows that all values are finite, which skips that test.
-    #[inline(always)]
-    pub(super) fn accept(&mut self, v: &[f64; 8], finite: bool) -> Option<StampedPose> {
-        let [t, tx, ty, tz, qx, qy, qz, qw] = *v;
-        debug_assert!(!finite || v.iter().all(|x| x.is_finite()));
-        // x * 0 is 0 for a finite x and NaN otherwise: one test for all eight values.
-        let finite = finite || v.iter().fold(0.0, |a, &x| a + x * 0.0) == 0.0;
-        let norm = (qx * qx + qy * qy + qz * qz + qw * qw).sqrt();
-        let ok = finite && (norm - 1.0).abs() <= QUAT_NORM_TOLERANCE && t > self.prev_t;
-        if !ok {
-            return None;
-        }
-        self.prev_t = t;
-        self.prev_line = self.line_no;
-        self.pose_line = self.line_no;
-        // Normalise without touching the sign: q and -q stay distinct here.
-        let rot = UnitQuaternion::new_unchecked(Quaternion::new(qw, qx, qy, qz) / norm);
-        Some(StampedPose::new(
-            t,
-            Isometry3::from_parts(Translation3::new(tx, ty, tz), rot),
-        ))
-    }
-
-    /// The error for values that failed the checks in [`State::pose`].
-    #[cold]
-    #[inline(never)]
-    fn bad_values(&self, v: &[f64; 8], line: &[u8]) -> Error {
-        if v.iter().any(|x| !x.is_finite()) {
-            return self.not_finite(v, line);
-        }
-        let norm = Quaternion::new(v[7], v[4], v[5], v[6]).norm();
-        if norm.is_nan() || norm == 0.0 || (norm - 1.0).abs() > QUAT_NORM_TOLERANCE {
-            return self.bad_norm(v, norm);
-        }
-        self.bad_time(v[0], self.prev_t, self.prev_line)
-    }
-
-    #[cold]
-    fn not_finite(&self, v: &[f64; 8], line: &[u8]) -> Error {
-        let k = v.iter().position(|x| !x.is_finite()).unwrap_or(0);
-        let what = if v[k].is_nan() { "NaN" } else { "infinite" };
-        let text = match &self.mode {
-            Mode::Csv(h) => {
-                let col = h.column_of(k);
-                let mut f = csv::Fields::new(line);
-                (0..=col).filter_map(|_| f.next_field()).last()
-            }
-            _ => tum_field(line, k),
-        };
-        let quoted = text
-            .map(|(a, b)| format!(" ({})", quote(&line[a..b])))
-            .unwrap_or_default();
-        self.err(format!(
-            "{} is {what}{quoted}; every value must be a finite number",
-            COLUMNS[k]
-        ))
-    }
-
-    #[cold]
-    fn bad_norm(&self, v: &[f64; 8], norm: f64) -> Error {
-        let q = format!(
-            "({}, {}, {}, {})",
-            num(v[4]),
-            num(v[5]),
-            num(v[6]),
-            num(v[7])
-        );
-        if norm == 0.0 {
-            self.err(format!(
-                "quaternion (qx qy qz qw) = {q} is zero, which is no rotation"
-            ))
-        } else {
-            self.err(format!(
-                "quaternion (qx qy qz qw) = {q} has norm {}, which differs from 1 by more \
-                 than the tolerance {QUAT_NORM_TOLERANCE}",
-                num(norm)
-            ))
-        }
-    }
-
-    #[cold]
-    fn bad_time(&self, t: f64, pt: f64, pl: usize) -> Error {
-        let l = self.line_no;
-        let how = if t == pt { "repeats" } else { "goes back from" };
-        let (t, pt) = (num(t), num(pt));
-        self.err(format!(
-            "timestamp {t} on line {l} {how} timestamp {pt} on line {pl} \
-             (timestamps must strictly increase)"
-        ))
-    }
-
-    #[cold]
-    pub(super) fn tum_error(&self, scan: &TumScan, s: &[u8]) -> Error {
-        let count = scan.count;
-        if count != 8 {
-            let mut msg =
-                format!("expected 8 columns (timestamp tx ty tz qx qy qz qw), found {count}");
-            if s.contains(&b',') {
-                msg.push_str(
-                    " (the line has commas: a CSV file needs a header line naming the columns, \
-                     e.g. timestamp,tx,ty,tz,qx,qy,qz,qw)",
-                );
-            }
-            return self.err(msg);
-        }
-        let (k, a, b) = scan.bad.unwrap_or((0, 0, 0));
-        self.err(not_a_number(k + 1, k, &s[a..b]))
-    }
+    let rot = UnitQuaternion::new_unchecked(Quaternion::new(qw, qx, qy, qz) / norm);
+    Some(StampedPose::new(
+        t,
+        Isometry3::from_parts(Translation3::new(tx, ty, tz), rot),
+    ))
 }
 
-/// A number for messages: plain (shortest round trip) unless very large or very small.
-fn num(x: f64) -> String {
-    let a = x.abs();
-    if a != 0.0 && !(1e-5..1e16).contains(&a) {
-        format!("{x:e}")
-    } else {
-        format!("{x}")
-    }
+/// [`valid_pose`], or the first check that the values fail: a value that is not finite (the
+/// first such column), then a zero quaternion or one whose norm is off, then the time.
+#[inline]
+pub(crate) fn check_values(v: &[f64; VALUES], prev_t: f64) -> Result<StampedPose, Problem> {
+    valid_pose(v, prev_t, false).ok_or_else(|| failed_check(v, prev_t))
 }
 
-/// `"text"`, shortened if long, for messages.
-pub(crate) fn quote(field: &[u8]) -> String {
-    let text = String::from_utf8_lossy(field);
-    if text.chars().count() > 40 {
-        format!("\"{}...\"", text.chars().take(40).collect::<String>())
-    } else {
-        format!("\"{text}\"")
-    }
-}
-
+/// The problem of values that [`valid_pose`] rejected.
 #[cold]
-pub(super) fn not_a_number(col: usize, role: usize, field: &[u8]) -> String {
-    let name = COLUMNS[role];
-    if field.is_empty() {
-        format!("column {col} ({name}) is empty; expected a number")
-    } else {
-        format!("column {col} ({name}): {} is not a number", quote(field))
+#[inline(never)]
+fn failed_check(v: &[f64; VALUES], prev_t: f64) -> Problem {
+    if let Some(role) = v.iter().position(|x| !x.is_finite()) {
+        return Problem::NotFinite {
+            role,
+            nan: v[role].is_nan(),
+        };
+    }
+    let q = [v[QUAT], v[QUAT + 1], v[QUAT + 2], v[QUAT + 3]];
+    let norm = Quaternion::new(q[3], q[0], q[1], q[2]).norm();
+    if norm == 0.0 {
+        return Problem::ZeroQuaternion { q };
+    }
+    if norm.is_nan() || (norm - 1.0).abs() > QUAT_NORM_TOLERANCE {
+        return Problem::NormOff { q, norm };
+    }
+    Problem::TimeNotIncreasing { t: v[TIME], prev_t }
+}
+
+/// Where a reader is: the line being read, and the previous pose, whose time the next must
+/// exceed and whose line messages name.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Track {
+    /// Lines read so far (= number of the line being handled, 1-based).
+    pub(crate) line_no: usize,
+    /// Time of the previous pose (`-inf` before the first).
+    pub(crate) prev_t: f64,
+    /// Line of the previous pose (0 before the first).
+    pub(crate) prev_line: usize,
+}
+
+impl Track {
+    /// Before the first line.
+    pub(crate) fn new() -> Self {
+        Track {
+            line_no: 0,
+            prev_t: f64::NEG_INFINITY,
+            prev_line: 0,
+        }
+    }
+
+    /// [`valid_pose`] for the values of line `line_no`, which then becomes the previous pose;
+    /// `None` (and no change) if a check fails.
+    #[inline(always)]
+    pub(crate) fn accept(&mut self, v: &[f64; VALUES], finite: bool) -> Option<StampedPose> {
+        let p = valid_pose(v, self.prev_t, finite)?;
+        self.prev_t = v[TIME];
+        self.prev_line = self.line_no;
+        Some(p)
+    }
+
+    /// [`check_values`] for the values of line `line_no`, which then becomes the previous pose
+    /// if they pass.
+    pub(crate) fn check(&mut self, v: &[f64; VALUES]) -> Result<StampedPose, Problem> {
+        let p = check_values(v, self.prev_t)?;
+        self.prev_t = v[TIME];
+        self.prev_line = self.line_no;
+        Ok(p)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Eight values that pass the checks after an earlier time: any time and translation, a
+    /// quaternion of norm within the tolerance.
+    fn good_values() -> impl Strategy<Value = [f64; VALUES]> {
+        (
+            -1e6..1e6f64,
+            prop::array::uniform3(-1e6..1e6f64),
+            prop::array::uniform4(-1.0..1.0f64),
+            0.991..1.009f64,
+        )
+            .prop_filter("a quaternion with a direction", |(_, _, q, _)| {
+                q.iter().map(|x| x * x).sum::<f64>() > 1e-6
+            })
+            .prop_map(|(t, [x, y, z], q, norm)| {
+                let n = q.iter().map(|a| a * a).sum::<f64>().sqrt() / norm;
+                [t, x, y, z, q[0] / n, q[1] / n, q[2] / n, q[3] / n]
+            })
+    }
+
+    proptest! {
+        /// Values that pass give the pose written: the time and translation as they are, the
+        /// quaternion scaled to norm 1 with its sign.
+        #[test]
+        fn good_values_give_their_pose(v in good_values(), back in 1e-3..1e3f64) {
+            let prev_t = v[TIME] - back;
+            let p = check_values(&v, prev_t).unwrap();
+            let same = valid_pose(&v, prev_t, true).unwrap();
+            prop_assert_eq!(p, same);
+            let t = p.pose.translation.vector;
+            prop_assert_eq!([p.t, t.x, t.y, t.z], [v[0], v[1], v[2], v[3]]);
+            let q = p.pose.rotation.coords;
+            let n = (v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]).sqrt();
+            prop_assert_eq!([q.x, q.y, q.z, q.w], [v[4] / n, v[5] / n, v[6] / n, v[7] / n]);
+            prop_assert!((q.norm() - 1.0).abs() < 1e-15);
+        }
+
+        /// A value that is not finite is named, the first one if there are several, before
+        /// any other problem.
+        #[test]
+        fn not_finite_values_are_named(
+            v in good_values(),
+            k in 0..VALUES,
+            j in 0..VALUES,
+            bad in prop::sample::select(vec![f64::NAN, f64::INFINITY, f64::NEG_INFINITY]),
+        ) {
+            let mut v = v;
+            v[k] = bad;
+            if j > k {
+                v[j] = f64::NAN;
+            }
+            v[7] *= 3.0; // the norm is off too, and the time goes back: named after
+            let want = Problem::NotFinite { role: k, nan: bad.is_nan() };
+            prop_assert_eq!(check_values(&v, f64::INFINITY).unwrap_err(), want);
+        }
+
+        /// A quaternion whose norm is off by more than the tolerance, or zero, is named with
+        /// its values, before the time.
+        #[test]
+        fn norms_off_are_named(v in good_values(), scale in 0.0..0.98f64, up in any::<bool>()) {
+            let mut v = v;
+            let s = if up { 1.0 / (1.0 - scale) + 0.02 } else { scale };
+            for x in &mut v[QUAT..] {
+                *x *= s;
+            }
+            let q = [v[4], v[5], v[6], v[7]];
+            let norm = Quaternion::new(q[3], q[0], q[1], q[2]).norm();
+            let want = if norm == 0.0 {
+                Problem::ZeroQuaternion { q }
+            } else {
+                Problem::NormOff { q, norm }
+            };
+            prop_assert!(norm == 0.0 || (norm - 1.0).abs() > QUAT_NORM_TOLERANCE);
+            prop_assert_eq!(check_values(&v, v[0] + 1.0).unwrap_err(), want);
+        }
+
+        /// A timestamp that does not exceed the previous one is named with both.
+        #[test]
+        fn time_must_increase(v in good_values(), back in 0.0..1e3f64) {
+            let prev_t = v[TIME] + back;
+            let want = Problem::TimeNotIncreasing { t: v[TIME], prev_t };
+            prop_assert_eq!(check_values(&v, prev_t).unwrap_err(), want.clone());
+            let mut track = Track { line_no: 7, prev_t, prev_line: 3 };
+            prop_assert!(track.accept(&v, true).is_none());
+            prop_assert_eq!(track.check(&v).unwrap_err(), want);
+            prop_assert_eq!((track.prev_t, track.prev_line), (prev_t, 3));
+        }
+    }
+
+    #[test]
+    fn zero_quaternion() {
+        let v = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -0.0];
+        let want = Problem::ZeroQuaternion {
+            q: [0.0, 0.0, 0.0, -0.0],
+        };
+        assert_eq!(check_values(&v, 0.0).unwrap_err(), want);
+        let mut track = Track::new();
+        track.line_no = 4;
+        let ok = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0];
+        assert!(track.check(&ok).is_ok());
+        assert_eq!((track.prev_t, track.prev_line), (1.0, 4));
     }
 }

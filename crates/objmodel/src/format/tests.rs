@@ -1,6 +1,8 @@
 //! Robustness: random and mutated input never panics, and whatever is accepted is sane.
 
-use super::{Format, PoseReader};
+use super::layout::Format;
+use super::mapped::{MIN_MAPPED_BYTES, WINDOW};
+use super::reader::PoseReader;
 use std::io::BufReader;
 
 use crate::testing::next;
@@ -186,4 +188,130 @@ fn read_chunk_gives_the_iterators_poses_and_error() {
         let mut rest = Vec::new();
         assert!(!r.read_chunk(&mut rest, 10).unwrap() && rest.is_empty());
     }
+}
+
+#[test]
+fn open_maps_a_large_file_and_reads_every_pose() {
+    let dir = std::env::temp_dir().join(format!("objmodel-mapped-open-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("big.tum");
+    // Enough lines to pass MIN_MAPPED_BYTES, so lines straddle several window boundaries.
+    let mut text = String::from("# t x y z qx qy qz qw\n");
+    let mut k = 0u64;
+    while (text.len() as u64) < MIN_MAPPED_BYTES + WINDOW as u64 / 2 {
+        let t = k as f64 / 30.0;
+        text.push_str(&format!(
+            "{t:.6} {:.6} -0.25 1.5 0 0 0.6 0.8\n",
+            k as f64 * 1e-6
+        ));
+        k += 1;
+    }
+    std::fs::write(&path, &text).unwrap();
+    let poses: Vec<_> = super::files::open(&path)
+        .unwrap()
+        .collect::<crate::Result<_>>()
+        .unwrap();
+    assert_eq!(poses.len() as u64, k);
+    for (i, p) in poses.iter().enumerate() {
+        assert!(
+            (p.pose.translation.vector.x - i as f64 * 1e-6).abs() < 1e-9,
+            "pose {i}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The files of the module import one way: no file imports from `mod.rs`, and the imports
+/// among the others (`use super::...` outside their tests) form no cycle.
+#[test]
+fn imports_go_one_way() {
+    let files: &[(&str, &str)] = &[
+        ("check", include_str!("check.rs")),
+        ("csv", include_str!("csv.rs")),
+        ("detect", include_str!("detect.rs")),
+        ("fast_field", include_str!("fast_field.rs")),
+        ("fast_line", include_str!("fast_line.rs")),
+        ("fast_run", include_str!("fast_run.rs")),
+        ("files", include_str!("files.rs")),
+        ("layout", include_str!("layout.rs")),
+        ("line", include_str!("line.rs")),
+        ("mapped", include_str!("mapped.rs")),
+        ("number", include_str!("number.rs")),
+        ("problem", include_str!("problem.rs")),
+        ("reader", include_str!("reader.rs")),
+        ("simd", include_str!("simd.rs")),
+        ("stream", include_str!("stream.rs")),
+        ("tum", include_str!("tum.rs")),
+        ("write", include_str!("write.rs")),
+    ];
+    let names: Vec<&str> = files.iter().map(|f| f.0).collect();
+    // What each file names as `super::NAME` in its code (comments and tests left out).
+    let uses: Vec<Vec<usize>> = files
+        .iter()
+        .map(|(name, text)| {
+            let code = text.split("#[cfg(test)]\nmod tests").next().unwrap();
+            let mut to = Vec::new();
+            for line in code.lines().filter(|l| !l.trim_start().starts_with("//")) {
+                for (i, _) in line.match_indices("super::") {
+                    let rest = &line[i + "super::".len()..];
+                    let first: String = rest
+                        .chars()
+                        .take_while(|c| c.is_alphanumeric() || *c == '_')
+                        .collect();
+                    let listed: Vec<String> = if first.is_empty() && rest.starts_with('{') {
+                        rest[1..]
+                            .split(',')
+                            .map(|s| s.trim().split("::").next().unwrap().to_string())
+                            .collect()
+                    } else {
+                        vec![first]
+                    };
+                    for n in listed
+                        .iter()
+                        .filter(|n| !n.is_empty() && n.as_str() != "super")
+                    {
+                        let k = names.iter().position(|m| m == n);
+                        assert!(
+                            k.is_some(),
+                            "{name}.rs uses super::{n}, which is not a sibling file"
+                        );
+                        to.extend(k);
+                    }
+                }
+            }
+            to
+        })
+        .collect();
+    // Depth-first search for a cycle.
+    fn visit(
+        k: usize,
+        uses: &[Vec<usize>],
+        state: &mut [u8],
+        path: &mut Vec<usize>,
+    ) -> Option<Vec<usize>> {
+        if state[k] == 2 {
+            return None;
+        }
+        path.push(k);
+        if state[k] == 1 {
+            return Some(path.clone());
+        }
+        state[k] = 1;
+        for &j in &uses[k] {
+            if let Some(c) = visit(j, uses, state, path) {
+                return Some(c);
+            }
+        }
+        state[k] = 2;
+        path.pop();
+        None
+    }
+    let mut state = vec![0u8; files.len()];
+    for k in 0..files.len() {
+        let cycle = visit(k, &uses, &mut state, &mut Vec::new());
+        let named: Option<Vec<&str>> = cycle.map(|c| c.iter().map(|&i| names[i]).collect());
+        assert_eq!(named, None, "an import cycle");
+    }
+    // Every file is reached from somewhere but the top ones.
+    assert!(uses[names.iter().position(|n| *n == "layout").unwrap()].is_empty());
 }

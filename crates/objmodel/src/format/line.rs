@@ -1,0 +1,163 @@
+//! One line of a pose file, given what came before it: skipped (blank, comment, CSV header),
+//! a pose, or an error that names the file, the line and the problem.
+//!
+//! [`State`] is what a reader knows between lines: the format (given, or decided at the first
+//! non-comment line), the CSV header, and the [`Track`] of lines and the previous pose.
+
+use super::check::Track;
+use super::csv::{looks_like_header, trim, Header};
+use super::detect::detect_format;
+use super::layout::{Format, VALUES};
+use super::problem::{Context, Problem};
+use super::tum::{scan_tum, tum_field, TumScan};
+use crate::trajectory::StampedPose;
+use crate::{Error, Result};
+use std::path::PathBuf;
+
+/// What a reader knows about the file's format so far.
+#[derive(Debug)]
+pub(crate) enum Mode {
+    /// Format not known yet: decided by [`detect_format`] at the first non-comment line.
+    Auto,
+    /// TUM, whitespace-separated.
+    Tum,
+    /// CSV, header not seen yet.
+    CsvHeader,
+    /// CSV with its header.
+    Csv(Header),
+}
+
+/// The values of a line in TUM order, `None` for a line to skip, or its problem.
+type Values = std::result::Result<Option<[f64; VALUES]>, Problem>;
+
+/// What a reader knows between lines.
+pub(crate) struct State {
+    /// The file name used in messages.
+    pub(crate) file: PathBuf,
+    pub(crate) mode: Mode,
+    /// The line being read and the previous pose.
+    pub(crate) track: Track,
+    /// Line of the last pose decoded or returned.
+    pub(crate) pose_line: usize,
+    /// A commented-out CSV header (`#t,x,y,...`) seen before the first data line.
+    pending: Option<Header>,
+    /// An error ended the reading.
+    pub(crate) done: bool,
+}
+
+impl State {
+    /// Before the first line of `file` (a name for messages), in `mode`.
+    pub(crate) fn new(file: PathBuf, mode: Mode) -> Self {
+        State {
+            file,
+            mode,
+            track: Track::new(),
+            pose_line: 0,
+            pending: None,
+            done: false,
+        }
+    }
+
+    /// The error for `problem` on the current line, whose text is `line`.
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn error(&self, problem: Problem, line: &[u8]) -> Error {
+        let span = problem.role().and_then(|role| match &self.mode {
+            Mode::Csv(h) => h.field(line, role),
+            _ => tum_field(line, role),
+        });
+        let at = Context {
+            line: self.track.line_no,
+            prev_line: self.track.prev_line,
+            field: span.map(|(a, b)| &line[a..b]),
+        };
+        Error::Parse {
+            file: self.file.clone(),
+            line: self.track.line_no,
+            msg: problem.message(&at),
+        }
+    }
+
+    /// Handle the next line (without its `\n`): `None` to skip it, else a pose or an error.
+    pub(crate) fn handle(&mut self, mut line: &[u8]) -> Option<Result<StampedPose>> {
+        self.track.line_no += 1;
+        if self.track.line_no == 1 && line.starts_with(b"\xEF\xBB\xBF") {
+            line = &line[3..];
+        }
+        if let [rest @ .., b'\r'] = line {
+            line = rest;
+        }
+        let values = match &self.mode {
+            Mode::Tum => return self.finish_tum(&scan_tum(line), line),
+            Mode::Csv(h) => h.values(line),
+            Mode::Auto | Mode::CsvHeader => self.first_lines(line),
+        };
+        self.finish(values, line)
+    }
+
+    /// The item for a scanned TUM line (the current one).
+    #[inline(always)]
+    pub(crate) fn finish_tum(
+        &mut self,
+        scan: &TumScan,
+        line: &[u8],
+    ) -> Option<Result<StampedPose>> {
+        let values = scan.values(line);
+        self.finish(values, line)
+    }
+
+    /// The item for the values of the current line: the checked pose, or an error, which ends
+    /// the reading.
+    #[inline(always)]
+    fn finish(&mut self, values: Values, line: &[u8]) -> Option<Result<StampedPose>> {
+        match values.and_then(|v| v.map(|v| self.track.check(&v)).transpose()) {
+            Ok(None) => None,
+            Ok(Some(p)) => {
+                self.pose_line = self.track.line_no;
+                Some(Ok(p))
+            }
+            Err(problem) => {
+                self.done = true;
+                Some(Err(self.error(problem, line)))
+            }
+        }
+    }
+
+    /// Lines before the format (or the CSV header) is known.
+    #[cold]
+    fn first_lines(&mut self, line: &[u8]) -> Values {
+        let body = trim(line);
+        if body.is_empty() {
+            return Ok(None);
+        }
+        if body[0] == b'#' {
+            // Maybe a commented-out CSV header such as "#timestamp,x,y,z,...".
+            if self.pending.is_none() && body.contains(&b',') {
+                if let Ok(h) = Header::parse(&body[1..], self.track.line_no) {
+                    self.pending = Some(h);
+                }
+            }
+            return Ok(None);
+        }
+        if let Mode::Auto = self.mode {
+            let text = String::from_utf8_lossy(body);
+            self.mode = match detect_format(&self.file, &text) {
+                Format::Tum if !(self.pending.is_some() && body.contains(&b',')) => Mode::Tum,
+                _ => Mode::CsvHeader,
+            };
+            if let Mode::Tum = self.mode {
+                return scan_tum(line).values(line);
+            }
+        }
+        // CSV: this line is the header, unless it is data and a commented header came before.
+        if !looks_like_header(body) {
+            if let Some(h) = self.pending.take() {
+                let values = h.values(line);
+                self.mode = Mode::Csv(h);
+                return values;
+            }
+        }
+        self.mode = Mode::Csv(Header::parse(body, self.track.line_no)?);
+        Ok(None)
+    }
+}
