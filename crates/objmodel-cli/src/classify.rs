@@ -37,6 +37,13 @@ pub fn run(a: &ClassifyArgs) -> Result<()> {
         palm: palm.as_deref(),
     };
     let c = Learner::new(config).classify(&source)?;
+    if c.segments.is_empty() {
+        anyhow::bail!(
+            "{}: {}",
+            a.demo.display(),
+            objmodel::learn::nothing_to_learn(&c)
+        );
+    }
     if a.json {
         crate::text::print_warnings(&a.demo, &c);
         let mut v = serde_json::to_value(&c)?;

@@ -87,15 +87,29 @@ pub fn learn_into(
 /// Run `objmodel learn`.
 pub fn run(a: &LearnArgs) -> Result<()> {
     let config = a.opts.config()?;
-    let mut tree = match &a.into {
-        Some(p) if p.exists() => Tree::load(p)?,
-        _ => Tree::default(),
+    let learnt = |tree: &mut Tree| -> objmodel::Result<_> {
+        let reports = learn_into(tree, &a.demos, a.palm.as_deref(), &config)
+            .map_err(|e| objmodel::Error::Data(format!("{e:#}")))?;
+        let changed = reports.iter().any(|r| !r.teaches_nothing());
+        Ok(((reports, tree.clone()), changed))
     };
-    let reports = learn_into(&mut tree, &a.demos, a.palm.as_deref(), &config)?;
-    if let Some(out) = a.output.as_ref().or(a.into.as_ref()) {
-        tree.save(out)
-            .with_context(|| format!("writing {}", out.display()))?;
-    }
+    // Into a model file: read, learn and write it under its lock, and leave it as it was when
+    // nothing was learnt. Otherwise: a new tree, written where -o says.
+    let (reports, tree, wrote) = match &a.into {
+        Some(model) => {
+            let (reports, tree) = Tree::update(model, learnt)?;
+            let wrote = reports.iter().any(|r| !r.teaches_nothing());
+            (reports, tree, wrote.then_some(model))
+        }
+        None => {
+            let ((reports, tree), _) = learnt(&mut Tree::default())?;
+            if let Some(out) = &a.output {
+                tree.save(out)
+                    .with_context(|| format!("writing {}", out.display()))?;
+            }
+            (reports, tree, a.output.as_ref())
+        }
+    };
     if a.json {
         crate::out(&(tree.to_json() + "\n"))?;
     } else {
@@ -113,8 +127,10 @@ pub fn run(a: &LearnArgs) -> Result<()> {
             );
         }
         crate::out(&crate::text::tree(&tree))?;
-        if let Some(out) = a.output.as_ref().or(a.into.as_ref()) {
-            println!("wrote {}", out.display());
+        match (wrote, &a.into) {
+            (Some(out), _) => println!("wrote {}", out.display()),
+            (None, Some(model)) => println!("nothing learnt: {} left as it was", model.display()),
+            (None, None) => {}
         }
     }
     Ok(())

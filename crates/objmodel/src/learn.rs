@@ -169,16 +169,33 @@ impl Learner {
     }
 
     /// Learn from demonstrations: analyse each and fuse it into `tree`, in order. Returns each
-    /// demonstration's report. On an error, the demonstrations before the one that failed are
-    /// in the tree.
+    /// demonstration's report. A demonstration that shows no motion teaches nothing
+    /// ([`Observation::teaches_nothing`]): it is not added, and its report says so. On an
+    /// error, the demonstrations before the one that failed are in the tree.
     pub fn learn(&self, tree: &mut Tree, sources: &[Source]) -> Result<Vec<Observation>> {
         sources
             .iter()
             .map(|s| {
-                let o = self.observe(s)?;
-                tree.add(&o);
+                let mut o = self.observe(s)?;
+                if o.teaches_nothing() {
+                    let why = nothing_to_learn(&o.classification);
+                    o.classification
+                        .warnings
+                        .push(format!("{why}; not added to the model"));
+                } else {
+                    tree.add(&o);
+                }
                 Ok(o)
             })
             .collect()
     }
+}
+
+/// What a demonstration without motion is told.
+pub fn nothing_to_learn(c: &Classification) -> String {
+    format!(
+        "nothing to learn: the object never moves in its {} frame{}",
+        c.frames,
+        if c.frames == 1 { "" } else { "s" }
+    )
 }

@@ -18,6 +18,13 @@ pub struct Observation {
 }
 
 impl Observation {
+    /// Whether the demonstration shows no motion at all (a single pose, or an object that
+    /// never moves): it teaches nothing, and [`crate::learn::Learner::learn`] leaves the tree
+    /// as it was.
+    pub fn teaches_nothing(&self) -> bool {
+        self.classification.segments.is_empty()
+    }
+
     /// A demonstration's geometry alone, without dynamics.
     pub fn geometry(classification: Classification) -> Self {
         Self {

@@ -24,13 +24,12 @@ use crate::face::{FaceObservation, FaceSource};
 use crate::geometry::{Line, LineStats};
 use crate::noise::NoiseModel;
 use crate::observation::Observation;
-use crate::{Error, Result};
 
+mod file;
 mod pendulums;
 use nalgebra::{Matrix3, Vector3};
 pub use pendulums::{CentreOfMass, Pendulum, PendulumObservation};
 use serde::{Deserialize, Serialize};
-use std::path::Path;
 
 /// Schema name written into every tree file.
 pub const SCHEMA: &str = "objmodel.tree";
@@ -481,42 +480,5 @@ impl Tree {
     /// The tree as pretty JSON.
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).expect("the tree serialises")
-    }
-
-    /// Read a tree file, checking its schema and version.
-    pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-            file: path.to_path_buf(),
-            source,
-        })?;
-        let value: serde_json::Value = serde_json::from_str(&text).map_err(|e| Error::Parse {
-            file: path.to_path_buf(),
-            line: e.line(),
-            msg: format!("not valid JSON: {e}"),
-        })?;
-        match value.get("schema").and_then(|s| s.as_str()) {
-            Some(SCHEMA) => {}
-            other => {
-                return Err(Error::File {
-                    file: path.to_path_buf(),
-                    msg: format!(
-                        "not an objmodel tree (schema is {other:?}, expected \"{SCHEMA}\")"
-                    ),
-                })
-            }
-        }
-        let version = value.get("version").and_then(|v| v.as_u64()).unwrap_or(0);
-        if version != VERSION as u64 {
-            return Err(Error::File { file: path.to_path_buf(), msg: format!("tree schema version {version} is not supported (this objmodel reads version {VERSION})") });
-        }
-        serde_json::from_value(value).map_err(|e| Error::File {
-            file: path.to_path_buf(),
-            msg: format!("invalid tree: {e}"),
-        })
-    }
-
-    /// Write the tree to `path` atomically (temporary file, sync, rename).
-    pub fn save(&self, path: &Path) -> Result<()> {
-        crate::format::write_atomic(path, self.to_json().as_bytes())
     }
 }

@@ -1,0 +1,125 @@
+//! The model file: nothing to learn leaves it as it was, two learners at once both keep their
+//! demonstrations, and files that are not trees (or are from a newer objmodel) are refused
+//! with a clear error.
+
+mod common;
+
+use common::{run, s, synth, TempDir};
+use std::process::Command;
+
+fn demo_names(model: &std::path::Path) -> Vec<String> {
+    common::read_json(model)["demos"]
+        .as_array()
+        .expect("demos")
+        .iter()
+        .map(|d| d["name"].as_str().unwrap().to_string())
+        .collect()
+}
+
+#[test]
+fn a_demonstration_without_motion_teaches_nothing() {
+    let d = TempDir::new("nothing");
+    let one = d.write("one.tum", "0 0.5 0 0.1 0 0 0 1\n");
+    // classify: an error that names the file and says why
+    let r = run(&["classify".to_string(), s(&one)]).fails();
+    r.check(
+        r.stderr.contains("one.tum") && r.stderr.contains("nothing to learn"),
+        "the error should name the file and say there is nothing to learn",
+    );
+    // learn --into: the model stays byte for byte as it was
+    let topples = synth("topple", &d.join("demos"), 1, 3, &[]);
+    let model = d.join("box.json");
+    run(&[
+        "learn".to_string(),
+        s(&topples[0]),
+        "--into".into(),
+        s(&model),
+    ])
+    .ok();
+    let before = std::fs::read(&model).unwrap();
+    let r = run(&["learn".to_string(), s(&one), "--into".into(), s(&model)]).ok();
+    r.check(r.stderr.contains("nothing to learn"), "a warning says why");
+    assert_eq!(std::fs::read(&model).unwrap(), before);
+    // ... and a model that did not exist is not created
+    let absent = d.join("absent.json");
+    run(&["learn".to_string(), s(&one), "--into".into(), s(&absent)]).ok();
+    assert!(!absent.exists());
+}
+
+/// Two `objmodel learn --into` processes on one model at once, several times: every
+/// demonstration ends up in it.
+#[test]
+fn concurrent_learners_lose_nothing() {
+    let d = TempDir::new("concurrent");
+    let demos = synth("topple", &d.join("demos"), 6, 5, &[]);
+    let model = d.join("box.json");
+    for pair in demos.chunks(2) {
+        let children: Vec<_> = pair
+            .iter()
+            .map(|demo| {
+                Command::new(env!("CARGO_BIN_EXE_objmodel"))
+                    .args(["learn", &s(demo), "--into", &s(&model)])
+                    .output_async()
+            })
+            .collect();
+        for c in children {
+            let out = c.wait_with_output().unwrap();
+            assert!(
+                out.status.success(),
+                "{}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+        }
+    }
+    let mut names = demo_names(&model);
+    names.sort();
+    let mut expected: Vec<String> = demos
+        .iter()
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    expected.sort();
+    assert_eq!(names, expected);
+}
+
+/// Spawning a child with its output piped, for running two at once.
+trait OutputAsync {
+    fn output_async(&mut self) -> std::process::Child;
+}
+
+impl OutputAsync for Command {
+    fn output_async(&mut self) -> std::process::Child {
+        self.stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("spawn objmodel")
+    }
+}
+
+#[test]
+fn files_that_are_not_trees_are_refused_clearly() {
+    let d = TempDir::new("not-a-tree");
+    let demo = synth("topple", &d.join("demos"), 1, 7, &[]);
+    let cases = [
+        ("array.json", "[1, 2, 3]\n", "no \"schema\" field"),
+        (
+            "other.json",
+            "{\"schema\": \"geojson\"}\n",
+            "not an objmodel tree",
+        ),
+        (
+            "newer.json",
+            "{\"schema\": \"objmodel.tree\", \"version\": 99}\n",
+            "newer objmodel",
+        ),
+        ("broken.json", "{\"schema\": ", "not valid JSON"),
+    ];
+    for (name, content, says) in cases {
+        let model = d.write(name, content);
+        let r = run(&["learn".to_string(), s(&demo[0]), "--into".into(), s(&model)]).fails();
+        r.check(
+            r.stderr.contains(name) && r.stderr.contains(says),
+            &format!("{name}: the error should name the file and say '{says}'"),
+        );
+        assert_eq!(std::fs::read_to_string(&model).unwrap(), content);
+    }
+}
