@@ -34,6 +34,7 @@ pub fn run(a: &PlotArgs) -> Result<()> {
     let Observation {
         classification: c,
         dynamics,
+        ..
     } = Learner::new(config).observe(&source)?;
     print_warnings(&a.demo, &c);
     if dynamics.is_empty() {

@@ -120,26 +120,25 @@ impl Learner {
         let gravity = self.config.gravity;
         let (mut classification, recording) = match *source {
             Source::Files { object, palm } => {
-                let mut recorder = gravity.map(|_| Recorder::new(self.capacity));
+                let mut recorder = Recorder::new(self.capacity);
                 let c = crate::classify::classify_files_recording(
                     object,
                     palm,
                     &self.config,
-                    recorder.as_mut(),
+                    Some(&mut recorder),
                 )?;
-                (c, recorder.map(Recorder::finish))
+                (c, recorder.finish())
             }
-            Source::Memory(demo) => {
-                let c = classify(demo, &self.config)?;
-                let recording = (gravity.is_some() && !c.topples.is_empty())
-                    .then(|| Recording::of(demo, self.capacity));
-                (c, recording)
-            }
+            Source::Memory(demo) => (
+                classify(demo, &self.config)?,
+                Recording::of(demo, self.capacity),
+            ),
         };
+        let fingerprint = Some(recording.fingerprint(classification.frames));
         let mut dynamics = Vec::new();
         if !classification.topples.is_empty() {
-            match (gravity, recording) {
-                (Some(g), Some(recording)) => {
+            match gravity {
+                Some(g) => {
                     if recording.object_stride > 1 || recording.palm_stride > 1 {
                         classification.warnings.push(format!(
                             "the topples' dynamics were fitted to one object frame in {}{}: \
@@ -155,7 +154,7 @@ impl Learner {
                     }
                     dynamics = crate::dynamics::analyse(&recording, &classification, &g);
                 }
-                _ => classification.warnings.push(
+                None => classification.warnings.push(
                     "gravity is unknown (--gravity none): the topples' dynamics (pendulums, \
                      centre of mass) are not analysed"
                         .to_string(),
@@ -165,6 +164,7 @@ impl Learner {
         Ok(Observation {
             classification,
             dynamics,
+            fingerprint,
         })
     }
 
@@ -183,7 +183,10 @@ impl Learner {
                         .warnings
                         .push(format!("{why}; not added to the model"));
                 } else {
-                    tree.add(&o);
+                    let added = tree.add(&o);
+                    o.classification
+                        .warnings
+                        .extend(added.note(&o.classification.name));
                 }
                 Ok(o)
             })
@@ -194,7 +197,7 @@ impl Learner {
 /// What a demonstration without motion is told.
 pub fn nothing_to_learn(c: &Classification) -> String {
     format!(
-        "nothing to learn: the object never moves in its {} frame{}",
+        "nothing to learn: no motion in its {} frame{} (a single pose, or an object at rest)",
         c.frames,
         if c.frames == 1 { "" } else { "s" }
     )

@@ -15,6 +15,11 @@ pub struct Observation {
     /// The dynamics of each topple of [`Observation::classification`] that could be analysed
     /// (empty when gravity is unknown).
     pub dynamics: Vec<ToppleDynamics>,
+    /// What identifies the demonstration's poses whatever its name: a 64-bit FNV-1a hash, in
+    /// hex, of its frame count and the bits of every frame the pipeline kept (time and
+    /// orientation; every frame up to [`crate::recording::DEFAULT_CAPACITY`] per stream, an
+    /// even subset beyond: see [`crate::recording::Recording::fingerprint`]). `None` if unknown.
+    pub fingerprint: Option<String>,
 }
 
 impl Observation {
@@ -30,6 +35,7 @@ impl Observation {
         Self {
             classification,
             dynamics: Vec::new(),
+            fingerprint: None,
         }
     }
 }

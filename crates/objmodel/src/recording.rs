@@ -59,6 +59,52 @@ impl Recording {
     }
 }
 
+impl Recording {
+    /// A 64-bit FNV-1a hash, in hex, of `frames` (the object stream's length) and the bits of
+    /// every kept frame (index, time, orientation with its sign fixed; palm: time and pose)
+    /// and of the strides:
+    /// the same poses give the same fingerprint; different ones almost surely differ, unless
+    /// they differ only in frames a thinned record skipped.
+    pub fn fingerprint(&self, frames: u64) -> String {
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        let mut eat = |x: u64| {
+            for b in x.to_le_bytes() {
+                h = (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3);
+            }
+        };
+        eat(frames);
+        eat(self.object_stride);
+        eat(self.palm_stride);
+        // A rotation's quaternion with its sign fixed (w >= 0): q and -q are one rotation, and
+        // the streams differ in which one they keep (the cleaner makes signs continuous).
+        let canonical = |q: &UnitQuaternion<f64>| {
+            let c = q.coords;
+            if c.w < 0.0 {
+                -c
+            } else {
+                c
+            }
+        };
+        for f in &self.object {
+            eat(f.index);
+            eat(f.t.to_bits());
+            canonical(&f.rotation).iter().for_each(|c| eat(c.to_bits()));
+        }
+        for p in &self.palm {
+            eat(p.t.to_bits());
+            canonical(&p.pose.rotation)
+                .iter()
+                .for_each(|c| eat(c.to_bits()));
+            p.pose
+                .translation
+                .vector
+                .iter()
+                .for_each(|c| eat(c.to_bits()));
+        }
+        format!("{h:016x}")
+    }
+}
+
 /// One stream's bounded, evenly thinned record.
 #[derive(Clone, Debug)]
 struct Thinned<T> {

@@ -165,12 +165,16 @@ fn the_same_demonstration_twice_is_one() {
         .collect();
     let observations: Vec<Observation> = demos.iter().map(|d| observe(&learner, d)).collect();
     let mut tree = Tree::default();
-    observations.iter().for_each(|o| tree.add(o));
+    observations.iter().for_each(|o| {
+        tree.add(o);
+    });
     let once = tree.clone();
     tree.add(&observations[2]);
     assert_eq!(tree, once);
     let mut two = Tree::default();
-    observations[..2].iter().for_each(|o| two.add(o));
+    observations[..2].iter().for_each(|o| {
+        two.add(o);
+    });
     tree.remove_demo("d2");
     assert_eq!(tree.to_json(), two.to_json());
 }
@@ -189,9 +193,13 @@ fn fusion_does_not_depend_on_the_order() {
         })
         .collect();
     let mut forwards = Tree::default();
-    observations.iter().for_each(|o| forwards.add(o));
+    observations.iter().for_each(|o| {
+        forwards.add(o);
+    });
     let mut backwards = Tree::default();
-    observations.iter().rev().for_each(|o| backwards.add(o));
+    observations.iter().rev().for_each(|o| {
+        backwards.add(o);
+    });
     assert_eq!(forwards.edges.len(), 2);
     assert_eq!(backwards.edges.len(), 2);
     for e in &forwards.edges {
@@ -228,4 +236,47 @@ fn a_new_edge_and_a_known_edge() {
     assert_eq!(add(0, 1), (1, 1));
     assert_eq!(add(0, 2), (1, 2));
     assert_eq!(add(3, 3), (2, 3));
+}
+
+/// A demonstration is its poses, not its name: two files named alike in two folders are two
+/// demonstrations (the second under `NAME#2`); the same poses under another name are counted
+/// once, and the report says so.
+#[test]
+fn demonstrations_are_identified_by_their_poses() {
+    let dir = tempfile::tempdir().unwrap();
+    let b = the_box();
+    let learner = Learner::new(Config::default());
+    let mut files = Vec::new();
+    for (day, side) in [("day1", 0), ("day2", 1)] {
+        std::fs::create_dir(dir.path().join(day)).unwrap();
+        let mut d = topple(&b, side, 70 + side as u64).demo;
+        d.name = "demo".into();
+        files.push(write(&dir.path().join(day), &d).0);
+    }
+    let mut tree = Tree::default();
+    let sources: Vec<Source> = files.iter().map(Source::file).collect();
+    let reports = learner.learn(&mut tree, &sources).unwrap();
+    let names: Vec<&str> = tree.demos.iter().map(|d| d.name.as_str()).collect();
+    assert_eq!(names, ["demo.tum", "demo.tum#2"]);
+    assert_eq!(tree.edges.len(), 2, "each day's edge is kept");
+    assert!(reports[1]
+        .classification
+        .warnings
+        .iter()
+        .any(|w| w.contains("demo.tum#2")));
+    // The first day's file again, copied under another name: replaced, not fused twice.
+    let copy = dir.path().join("copy.tum");
+    std::fs::copy(&files[0], &copy).unwrap();
+    let before = tree.edges.iter().map(|e| e.n_support).sum::<usize>();
+    let reports = learner.learn(&mut tree, &[Source::file(&copy)]).unwrap();
+    assert!(reports[0]
+        .classification
+        .warnings
+        .iter()
+        .any(|w| w.contains("the same poses as 'demo.tum'")));
+    assert_eq!(tree.demos.len(), 2);
+    assert_eq!(
+        tree.edges.iter().map(|e| e.n_support).sum::<usize>(),
+        before
+    );
 }

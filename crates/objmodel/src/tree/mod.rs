@@ -113,6 +113,35 @@ pub struct Evidence {
     pub rest: usize,
 }
 
+/// How [`Tree::add`] took a demonstration.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Added {
+    /// Its name in the tree: its own, or `NAME#k` when another demonstration with other poses
+    /// already had that name.
+    pub name: String,
+    /// The demonstration with the same poses that it replaced, if any.
+    pub replaced: Option<String>,
+}
+
+impl Added {
+    /// What a report should tell of it, if anything unusual happened.
+    pub fn note(&self, own_name: &str) -> Option<String> {
+        match &self.replaced {
+            Some(old) if old == own_name => None,
+            Some(old) => Some(format!(
+                "the same poses as '{old}', already in the model: replaced it (a \
+                 demonstration is counted once)"
+            )),
+            None if self.name != own_name => Some(format!(
+                "another demonstration named '{own_name}' (other poses) is in the model: this \
+                 one is '{}'",
+                self.name
+            )),
+            None => None,
+        }
+    }
+}
+
 /// What the tree remembers of each demonstration.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DemoRecord {
@@ -128,6 +157,9 @@ pub struct DemoRecord {
     pub instrumented: bool,
     /// Noise the tests used.
     pub noise: Option<NoiseModel>,
+    /// Fingerprint of its poses ([`Observation::fingerprint`]); absent in older files.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fingerprint: Option<String>,
 }
 
 /// The object description tree.
@@ -354,34 +386,69 @@ impl Face {
 impl Tree {
     /// Fuse an analysed demonstration into the tree, geometry and pendulums in one step: each
     /// topple's edge, the faces it rested on before and after, and the pendulum of its
-    /// dynamics on that edge. A demonstration already in the tree (same name) is replaced, so
-    /// adding it twice changes nothing.
-    pub fn add(&mut self, observation: &Observation) {
+    /// dynamics on that edge.
+    ///
+    /// A demonstration is identified by its poses ([`Observation::fingerprint`]), not its
+    /// name: the same poses again (under any name) replace the earlier ones, so adding a
+    /// demonstration twice changes nothing and never counts it twice; other poses under a
+    /// name the tree already has are added under a new name (`NAME#2`, ...), so none is lost.
+    /// The returned [`Added`] says which.
+    pub fn add(&mut self, observation: &Observation) -> Added {
         let c = &observation.classification;
-        self.remove_demo(&c.name);
+        let same_poses = observation.fingerprint.as_ref().and_then(|f| {
+            self.demos
+                .iter()
+                .find(|d| d.fingerprint.as_ref() == Some(f))
+                .map(|d| d.name.clone())
+        });
+        // A name is taken by a demonstration that stays (not the one these poses replace).
+        let taken = |n: &str| {
+            self.demos
+                .iter()
+                .any(|d| d.name == n && Some(&d.name) != same_poses.as_ref())
+        };
+        let name = if taken(&c.name) {
+            (2..)
+                .map(|k| format!("{}#{k}", c.name))
+                .find(|n| !taken(n))
+                .expect("a free name")
+        } else {
+            c.name.clone()
+        };
+        if let Some(old) = &same_poses {
+            self.remove_demo(old);
+        }
         self.demos.push(DemoRecord {
-            name: c.name.clone(),
+            name: name.clone(),
             kind: c.kind,
             frames: c.frames,
             outliers: c.outliers,
             instrumented: c.instrumented,
             noise: c.noise,
+            fingerprint: observation.fingerprint.clone(),
         });
         for s in c.segments.iter().filter(|s| s.kind == Kind::Slide) {
             if let Some(f) = &s.face {
-                self.add_face(f.clone());
+                self.add_face(FaceObservation {
+                    demo: name.clone(),
+                    ..f.clone()
+                });
             }
         }
         for (ti, t) in c.topples.iter().enumerate() {
-            let eid = self.add_edge(t.edge.clone());
+            let edge = EdgeObservation {
+                demo: name.clone(),
+                ..t.edge.clone()
+            };
+            let eid = self.add_edge(edge.clone());
             for d in observation.dynamics.iter().filter(|d| d.topple == ti) {
-                self.add_pendulum(&eid, c, t, d);
+                self.add_pendulum(&eid, &name, t, d);
             }
             for n in [t.resting_normal_before, t.resting_normal_after]
                 .into_iter()
                 .flatten()
             {
-                let fid = self.add_face(FaceObservation::from_rest(&n, &t.edge));
+                let fid = self.add_face(FaceObservation::from_rest(&n, &edge));
                 let edge = self
                     .edges
                     .iter_mut()
@@ -393,6 +460,10 @@ impl Tree {
             }
         }
         self.com = self.centre_of_mass();
+        Added {
+            name,
+            replaced: same_poses,
+        }
     }
 
     fn next_id(prefix: &str, used: impl Iterator<Item = String>) -> String {

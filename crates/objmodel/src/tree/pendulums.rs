@@ -2,7 +2,7 @@
 //! mass that the pendulums of several edges determine.
 
 use super::{angle, Tree, CONDITION_MIN, SAME_FACE_RAD};
-use crate::classify::{Classification, Topple};
+use crate::classify::Topple;
 use crate::dynamics::ToppleDynamics;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -107,11 +107,12 @@ pub struct CentreOfMass {
 
 impl Tree {
     /// Add a topple's dynamics as a pendulum observation of the edge `edge_id` (the edge its
-    /// topple `top` of `c` was just fused into), for the face it rested on.
+    /// topple `top` of the demonstration `demo` was just fused into), for the face it rested
+    /// on.
     pub(super) fn add_pendulum(
         &mut self,
         edge_id: &str,
-        c: &Classification,
+        demo: &str,
         top: &Topple,
         d: &ToppleDynamics,
     ) {
@@ -124,7 +125,7 @@ impl Tree {
             .find(|e| e.id == edge_id)
             .expect("the topple's edge is in the tree");
         let obs = PendulumObservation {
-            demo: c.name.clone(),
+            demo: demo.to_string(),
             phi,
             phi_sigma,
             phi_onset: d.phi_onset,
@@ -139,7 +140,7 @@ impl Tree {
             .find(|p| angle(&p.resting_face_normal, &n) < SAME_FACE_RAD)
         {
             Some(p) => {
-                p.observations.retain(|o| o.demo != c.name);
+                p.observations.retain(|o| o.demo != demo);
                 p.observations.push(obs);
                 p.refit();
             }
