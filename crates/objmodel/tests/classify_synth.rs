@@ -76,11 +76,29 @@ fn accuracy(method: Method, noise: &SynthNoise, per_kind: usize) -> Vec<(Kind, u
         .collect()
 }
 
+/// docs/method.md, whitespace folded: its quoted figures are checked against what the tests
+/// measure.
+fn method_doc() -> String {
+    std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/method.md"))
+        .unwrap()
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
 #[test]
 fn robust_classification_is_at_least_98_percent_at_real_noise() {
     let acc = accuracy(Method::Robust, &SynthNoise::REAL, 50);
     let (ok, n) = acc.iter().fold((0, 0), |a, r| (a.0 + r.1, a.1 + r.2));
     eprintln!("robust, real noise: {acc:?} -> {ok}/{n}");
+    let clean = accuracy(Method::Robust, &SynthNoise::CLEAN, 20);
+    let (ok_clean, n_clean) = clean.iter().fold((0, 0), |a, r| (a.0 + r.1, a.1 + r.2));
+    let quoted =
+        format!("real noise, 50 demos per kind): {ok}/{n} correct; clean {ok_clean}/{n_clean}.");
+    assert!(
+        method_doc().contains(&quoted),
+        "docs/method.md should say: {quoted}"
+    );
     assert!(ok as f64 >= 0.98 * n as f64, "{acc:?}");
     for (_, ok, n) in &acc {
         assert!(*ok as f64 >= 0.94 * *n as f64, "{acc:?}");
@@ -103,12 +121,7 @@ fn paper_method_runs_and_is_worse_at_real_noise() {
     let sum = |a: &[(Kind, usize, usize)]| a.iter().map(|r| r.1).sum::<usize>();
     assert!(sum(&robust) > sum(&paper));
     // docs/method.md quotes these counts: they must be what this test measures.
-    let method =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/method.md"))
-            .unwrap()
-            .split_whitespace()
-            .collect::<Vec<_>>()
-            .join(" ");
+    let method = method_doc();
     let quoted = format!(
         "labels {}/{} direct topples, {}/{} instrumented topples and {}/{} slides correctly",
         paper[0].1, paper[0].2, paper[1].1, paper[1].2, paper[2].1, paper[2].2
