@@ -4,7 +4,6 @@
 use anyhow::{bail, Context, Result};
 use objmodel_sim::dataset::standard_dataset;
 use objmodel_sim::write_dataset;
-use std::io::Write;
 use std::path::PathBuf;
 
 /// Arguments of `objmodel dataset`.
@@ -37,24 +36,15 @@ pub fn run(a: &DatasetArgs) -> Result<()> {
         }
         plan.threads = t;
     }
-    let mut stderr = std::io::stderr();
+    let bar = crate::progress::bar(0);
     let mut progress = |p: &objmodel_sim::Progress| {
-        let width = 30;
-        let filled = p.done * width / p.total.max(1);
-        let _ = write!(
-            stderr,
-            "\r[{}{}] {}/{} {:<40}",
-            "#".repeat(filled),
-            " ".repeat(width - filled),
-            p.done,
-            p.total,
-            p.name
-        );
-        let _ = stderr.flush();
+        bar.set_length(p.total as u64);
+        bar.set_position(p.done as u64);
+        bar.set_message(p.name.clone());
     };
     let manifest = write_dataset(&a.output, &plan, &mut progress)
         .with_context(|| format!("writing the data set into {}", a.output.display()))?;
-    eprintln!();
+    bar.finish_and_clear();
     if a.json {
         let v = serde_json::json!({
             "manifest": a.output.join("manifest.json"),

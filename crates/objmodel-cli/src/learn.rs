@@ -72,15 +72,20 @@ pub fn learn_into(
 ) -> Result<Vec<Observation>> {
     let learner = Learner::new(*config);
     let mut out = Vec::new();
-    for (object, palm) in sources(demos, palm)? {
+    let sources = sources(demos, palm)?;
+    let bar = crate::progress::bar(sources.len() as u64);
+    for (object, palm) in sources {
+        bar.set_message(object.display().to_string());
         let source = Source::Files {
             object: &object,
             palm: palm.as_deref(),
         };
         let o = learner.learn(tree, &[source])?.remove(0);
-        print_warnings(&object, &o.classification);
+        bar.suspend(|| print_warnings(&object, &o.classification));
+        bar.inc(1);
         out.push(o);
     }
+    bar.finish_and_clear();
     Ok(out)
 }
 

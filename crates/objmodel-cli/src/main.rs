@@ -11,6 +11,7 @@ mod learn;
 mod opts;
 mod plan;
 mod plot;
+mod progress;
 mod simulate;
 mod synth;
 mod task;
@@ -29,6 +30,9 @@ use std::process::ExitCode;
     after_help = "Commands that classify (classify, learn, evaluate) take --gravity gx,gy,gz (the direction of gravity in the tracking frame; default 0,0,-1, i.e. z up) or --gravity none; see `objmodel classify --help` for every threshold."
 )]
 struct Cli {
+    /// No progress bars (they are shown on standard error only when it is a terminal).
+    #[arg(long, short, global = true)]
+    quiet: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -55,10 +59,16 @@ enum Command {
     Plan(plan::PlanArgs),
     /// Run the toppling task on the simulated arm: default policy, one demonstration, planned topple.
     Task(task::TaskArgs),
+    /// Print a shell completion script: `objmodel completions bash > ~/.local/share/bash-completion/completions/objmodel`.
+    Completions {
+        /// The shell.
+        shell: clap_complete::Shell,
+    },
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    progress::set_quiet(cli.quiet);
     let result = match &cli.command {
         Command::Classify(a) => classify::run(a),
         Command::Learn(a) => learn::run(a),
@@ -70,6 +80,12 @@ fn main() -> ExitCode {
         Command::Plot(a) => plot::run(a),
         Command::Plan(a) => plan::run(a),
         Command::Task(a) => task::run(a),
+        Command::Completions { shell } => {
+            use clap::CommandFactory;
+            let mut out = Vec::new();
+            clap_complete::generate(*shell, &mut Cli::command(), "objmodel", &mut out);
+            out_bytes(&out)
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -91,9 +107,14 @@ fn is_broken_pipe(e: &anyhow::Error) -> bool {
 
 /// Write `s` to standard output, reporting a closed pipe as an error instead of panicking.
 pub fn out(s: &str) -> anyhow::Result<()> {
+    out_bytes(s.as_bytes())
+}
+
+/// [`out`] for bytes.
+fn out_bytes(b: &[u8]) -> anyhow::Result<()> {
     use std::io::Write;
     let mut o = std::io::stdout().lock();
-    o.write_all(s.as_bytes())?;
+    o.write_all(b)?;
     o.flush()?;
     Ok(())
 }

@@ -480,3 +480,23 @@ fn dataset_quick_evaluate_end_to_end() {
         "the message should name the folder or its manifest",
     );
 }
+
+/// `objmodel completions SHELL` prints a completion script that knows the subcommands and
+/// their options; an unknown shell is a clear error.
+#[test]
+fn completion_scripts() {
+    for shell in ["bash", "zsh", "fish", "elvish", "powershell"] {
+        let r = run(&["completions", shell]).ok();
+        for word in ["learn", "classify", "gravity", "into"] {
+            r.check(
+                r.stdout.contains(word),
+                &format!("{shell} script should know {word}"),
+            );
+        }
+    }
+    let r = run(&["completions", "tcsh"]).fails();
+    r.check(
+        r.stderr.contains("tcsh"),
+        "the message should name the shell",
+    );
+}
