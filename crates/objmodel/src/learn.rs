@@ -11,8 +11,10 @@
 //! (all of them up to its capacity, evenly thinned beyond: see [`crate::recording`]); once the
 //! classification is known, the dynamics of each topple are fitted to the kept frames
 //! ([`crate::dynamics::analyse`]), and the demonstration's geometry and pendulums enter the
-//! tree together ([`Tree::add`]). Gravity comes from the [`Config`]: without it the topples'
+//! tree together ([`Tree::add`]), under the identity of its poses (the kept frames'
+//! fingerprint, not its name). Gravity comes from the [`Config`]: without it the topples'
 //! dynamics cannot be measured (their angles are from the vertical), which the report says.
+//! A demonstration without motion teaches nothing and is not added.
 //!
 //! ```no_run
 //! use objmodel::learn::{Config, Learner, Source};
