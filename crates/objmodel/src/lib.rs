@@ -26,6 +26,7 @@
 //! * [`observation`]: what one demonstration shows (classification and dynamics).
 //! * [`tree`]: the object description tree, its JSON schema and incremental fusion.
 //! * [`learn`]: **the learning pipeline**, the one entry point every front end calls.
+//! * [`shape`]: the object's convex polyhedron from the tree's faces (vertices, extents).
 //! * [`synth`]: a small kinematic generator of demonstrations with exact ground truth.
 //!
 //! Units are SI throughout (m, rad, s, kg). Transforms are named by frames: `world_from_object`
@@ -50,6 +51,7 @@ pub mod pendulum;
 pub mod recording;
 pub mod screw;
 pub mod se3;
+pub mod shape;
 pub mod skill;
 pub mod stats;
 pub mod synth;
