@@ -26,7 +26,8 @@
 //! * [`observation`]: what one demonstration shows (classification and dynamics).
 //! * [`tree`]: the object description tree, its JSON schema and incremental fusion.
 //! * [`learn`]: **the learning pipeline**, the one entry point every front end calls.
-//! * [`shape`]: the object's convex polyhedron from the tree's faces (vertices, extents).
+//! * [`shape`]: the object's convex polyhedron from the tree's faces (vertices, extents);
+//!   [`mass`]: its volume, centroid and inertia at uniform density.
 //! * [`synth`]: a small kinematic generator of demonstrations with exact ground truth.
 //!
 //! Units are SI throughout (m, rad, s, kg). Transforms are named by frames: `world_from_object`
@@ -44,6 +45,7 @@ pub mod format;
 pub mod geometry;
 pub mod lanes;
 pub mod learn;
+pub mod mass;
 pub mod noise;
 pub mod numeric;
 pub mod observation;

@@ -245,15 +245,17 @@ fn counter_clockwise(
     polygon
 }
 
+/// Trees of analytic boxes, for tests.
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::tree::{Evidence, Face};
+pub(crate) mod tests_support {
+    use crate::tree::{Evidence, Face, Tree};
+    use nalgebra::{UnitQuaternion, Vector3};
 
-    fn face(id: &str, normal: [f64; 3], offset: Option<f64>) -> Face {
+    /// A face with 1 mm offset and 0.01 rad normal uncertainty.
+    pub(crate) fn face(id: &str, normal: Vector3<f64>, offset: Option<f64>) -> Face {
         Face {
             id: id.to_string(),
-            normal: Vector3::from(normal).normalize(),
+            normal: normal.normalize(),
             offset,
             offset_sigma_m: offset.map(|_| 1e-3),
             sigma_normal_rad: 0.01,
@@ -265,19 +267,37 @@ mod tests {
         }
     }
 
-    /// A box 0.2 x 0.1 x 0.3 m, centred at c, from its six faces.
-    fn box_faces(c: Vector3<f64>) -> Vec<Face> {
-        let half = Vector3::new(0.1, 0.05, 0.15);
-        let mut out = Vec::new();
+    /// The six faces of a box of `size` \[m\] centred at `centre`, turned by `rotation`.
+    pub(crate) fn box_tree(
+        centre: Vector3<f64>,
+        rotation: &UnitQuaternion<f64>,
+        size: &Vector3<f64>,
+    ) -> Tree {
+        let mut faces = Vec::new();
         for axis in 0..3 {
             for sign in [1.0, -1.0] {
-                let mut n = [0.0; 3];
-                n[axis] = sign;
-                let offset = sign * c[axis] + half[axis];
-                out.push(face(&format!("f{}", out.len()), n, Some(offset)));
+                let n = rotation * (Vector3::ith(axis, 1.0) * sign);
+                let offset = n.dot(&centre) + size[axis] / 2.0;
+                faces.push(face(&format!("f{}", faces.len()), n, Some(offset)));
             }
         }
-        out
+        Tree {
+            faces,
+            ..Tree::default()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::tests_support::{box_tree, face};
+    use super::*;
+    use crate::tree::Face;
+    use nalgebra::UnitQuaternion;
+
+    /// A box 0.2 x 0.1 x 0.3 m, centred at c, from its six faces.
+    fn box_faces(c: Vector3<f64>) -> Vec<Face> {
+        box_tree(c, &UnitQuaternion::identity(), &Vector3::new(0.2, 0.1, 0.3)).faces
     }
 
     #[test]
@@ -367,7 +387,7 @@ mod tests {
     #[test]
     fn a_face_outside_the_shape_is_left_out() {
         let mut faces = box_faces(Vector3::zeros());
-        faces.push(face("f6", [1.0, 1.0, 0.0], Some(0.5)));
+        faces.push(face("f6", Vector3::new(1.0, 1.0, 0.0), Some(0.5)));
         let tree = Tree {
             faces,
             ..Tree::default()
@@ -377,7 +397,7 @@ mod tests {
         assert!(s.left_out.iter().any(|(id, _)| id == "f6"));
         // A face that cuts a corner off is a face of the shape.
         let mut faces = box_faces(Vector3::zeros());
-        faces.push(face("f6", [1.0, 1.0, 0.0], Some(0.1)));
+        faces.push(face("f6", Vector3::new(1.0, 1.0, 0.0), Some(0.1)));
         let s = reconstruct(&Tree {
             faces,
             ..Tree::default()
