@@ -7,6 +7,7 @@ mod classify;
 mod dataset;
 mod demo;
 mod evaluate;
+mod export;
 mod learn;
 mod opts;
 mod plan;
@@ -55,6 +56,9 @@ enum Command {
     Evaluate(evaluate::EvaluateArgs),
     /// Plot a topple's tilt angles over time with the onset and φ (the paper's Fig. 8).
     Plot(plot::PlotArgs),
+    /// Write the learnt object as a simulation model: MJCF (MuJoCo) and URDF, with its shape,
+    /// centre of mass, inertia and the mass you give.
+    Export(export::ExportArgs),
     /// Plan a topple on the palm from a learnt tree: the tilt axis and angle.
     Plan(plan::PlanArgs),
     /// Run the toppling task on the simulated arm: default policy, one demonstration, planned topple.
@@ -79,6 +83,7 @@ fn main() -> ExitCode {
         Command::Evaluate(a) => evaluate::run(a),
         Command::Plot(a) => plot::run(a),
         Command::Plan(a) => plan::run(a),
+        Command::Export(a) => export::run(a),
         Command::Task(a) => task::run(a),
         Command::Completions { shell } => {
             use clap::CommandFactory;

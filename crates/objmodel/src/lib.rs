@@ -27,7 +27,8 @@
 //! * [`tree`]: the object description tree, its JSON schema and incremental fusion.
 //! * [`learn`]: **the learning pipeline**, the one entry point every front end calls.
 //! * [`shape`]: the object's convex polyhedron from the tree's faces (vertices, extents);
-//!   [`mass`]: its volume, centroid and inertia at uniform density.
+//!   [`mass`]: its volume, centroid and inertia at uniform density; [`export`]: the body a
+//!   simulator needs, as MJCF and URDF.
 //! * [`synth`]: a small kinematic generator of demonstrations with exact ground truth.
 //!
 //! Units are SI throughout (m, rad, s, kg). Transforms are named by frames: `world_from_object`
@@ -40,6 +41,7 @@ pub mod clean;
 pub mod dynamics;
 pub mod edge;
 pub mod error;
+pub mod export;
 pub mod face;
 pub mod format;
 pub mod geometry;

@@ -1,0 +1,213 @@
+//! From the learnt tree to a simulation of the object: the body a simulator needs (shape,
+//! mass, centre of mass, inertia, friction) and its descriptions for MuJoCo ([`mjcf`]) and any
+//! URDF simulator ([`urdf`]).
+//!
+//! The body's frame is the object frame: the tracked frame whose poses the demonstration files
+//! give. Its shape is the convex polyhedron of the learnt faces ([`crate::shape`]); its centre
+//! of mass the one the pendulums determine (`tree.com`), or, without one, the shape's centroid
+//! at uniform density; its inertia that of the shape at uniform density, about that centre.
+//! Mass cannot come from kinematics: the caller gives it. Friction: [`DEFAULT_FRICTION`]
+//! unless given. Each choice is recorded in [`Body::notes`], and the files say them too.
+
+pub mod mjcf;
+pub mod urdf;
+
+use crate::mass;
+use crate::shape::{self, Shape};
+use crate::tree::Tree;
+use crate::{Error, Result};
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+
+/// Coulomb friction coefficient used when none is given (rubber-like contact on a table).
+pub const DEFAULT_FRICTION: f64 = 0.8;
+
+/// Faces of a box are pairwise parallel or orthogonal within this angle \[rad\] (1°).
+pub const BOX_ANGLE_RAD: f64 = 0.017_453_292_519_943_295;
+
+/// The shape as a box: what a box geometry needs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoxFit {
+    /// Its centre \[m\], object frame.
+    pub centre: Vector3<f64>,
+    /// `object_from_box`: the box's axes in the object frame.
+    pub rotation: UnitQuaternion<f64>,
+    /// Half its size along its own axes \[m\].
+    pub half_extents: Vector3<f64>,
+}
+
+/// The learnt object as a rigid body for a simulator.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Body {
+    /// Its shape.
+    pub shape: Shape,
+    /// The shape as a box, when it is one.
+    pub box_fit: Option<BoxFit>,
+    /// Mass \[kg\].
+    pub mass_kg: f64,
+    /// Centre of mass \[m\], object frame.
+    pub com: Vector3<f64>,
+    /// Inertia tensor about the centre of mass \[kg m²\], object-frame axes.
+    pub inertia: Matrix3<f64>,
+    /// Coulomb friction coefficient.
+    pub friction: f64,
+    /// Where each property came from, for the files and the user.
+    pub notes: Vec<String>,
+}
+
+impl Body {
+    /// The body of a learnt tree, with the given mass \[kg\] and friction (None: the default).
+    /// A tree whose faces do not close a shape is an error that says which demonstrations are
+    /// missing.
+    pub fn from_tree(tree: &Tree, mass_kg: f64, friction: Option<f64>) -> Result<Body> {
+        if !(mass_kg.is_finite() && mass_kg > 0.0) {
+            return Err(Error::Data(format!(
+                "the mass must be a positive number of kilograms, not {mass_kg}"
+            )));
+        }
+        if let Some(mu) = friction.filter(|mu| !(mu.is_finite() && *mu >= 0.0)) {
+            return Err(Error::Data(format!(
+                "the friction coefficient must be >= 0, not {mu}"
+            )));
+        }
+        let shape = shape::reconstruct(tree)
+            .map_err(|e| Error::Data(format!("no closed shape to export: {e}")))?;
+        let uniform = mass::uniform(&shape);
+        let mut notes = vec![format!(
+            "shape: the convex polyhedron of {} learnt faces, {} vertices",
+            shape.faces.len(),
+            shape.vertices.len()
+        )];
+        for (id, why) in &shape.left_out {
+            notes.push(format!("face {id} left out of the shape: {why}"));
+        }
+        let com = match &tree.com {
+            Some(c) => {
+                notes.push(format!(
+                    "centre of mass: learnt from {} pendulums",
+                    c.pendulums
+                ));
+                c.point
+            }
+            None => {
+                notes.push(
+                    "centre of mass: the shape's centroid at uniform density (the pendulums do \
+                     not determine it: toppling demonstrations about three edges of different \
+                     directions would)"
+                        .to_string(),
+                );
+                uniform.centroid
+            }
+        };
+        notes.push("inertia: the shape's at uniform density, about the centre of mass".to_string());
+        notes.push(format!(
+            "mass: {mass_kg} kg, given (kinematics cannot tell it)"
+        ));
+        let friction = match friction {
+            Some(mu) => {
+                notes.push(format!("friction: {mu}, given"));
+                mu
+            }
+            None => {
+                notes.push(format!("friction: {DEFAULT_FRICTION}, the default"));
+                DEFAULT_FRICTION
+            }
+        };
+        Ok(Body {
+            box_fit: box_fit(&shape),
+            inertia: uniform.inertia_per_kg * mass_kg,
+            shape,
+            mass_kg,
+            com,
+            friction,
+            notes,
+        })
+    }
+}
+
+/// The shape as a box, when its six faces are three pairs of opposite, mutually orthogonal
+/// faces (within [`BOX_ANGLE_RAD`]) and it has eight corners.
+pub fn box_fit(shape: &Shape) -> Option<BoxFit> {
+    if shape.faces.len() != 6 || shape.vertices.len() != 8 {
+        return None;
+    }
+    let cos_tol = BOX_ANGLE_RAD.cos();
+    let mut axes: Vec<(Vector3<f64>, f64, f64)> = Vec::new(); // (normal, offset, opposite offset)
+    let mut used = [false; 6];
+    for i in 0..6 {
+        if used[i] {
+            continue;
+        }
+        let fi = &shape.faces[i];
+        let j =
+            (i + 1..6).find(|&j| !used[j] && fi.normal.dot(&shape.faces[j].normal) < -cos_tol)?;
+        used[i] = true;
+        used[j] = true;
+        axes.push((fi.normal, fi.offset, shape.faces[j].offset));
+    }
+    let sin_tol = BOX_ANGLE_RAD.sin();
+    if axes.len() != 3 || (0..3).any(|a| axes[a].0.dot(&axes[(a + 1) % 3].0).abs() > sin_tol) {
+        return None;
+    }
+    // A right-handed frame from the three normals, made orthonormal.
+    let x = axes[0].0;
+    let z = x.cross(&axes[1].0).normalize();
+    let y = z.cross(&x);
+    let rotation = UnitQuaternion::from_matrix(&Matrix3::from_columns(&[x, y, z]));
+    let centre = shape.vertices.iter().sum::<Vector3<f64>>() / 8.0;
+    let half = |n: &Vector3<f64>| {
+        shape
+            .vertices
+            .iter()
+            .map(|v| n.dot(&(v - centre)).abs())
+            .fold(0.0, f64::max)
+    };
+    Some(BoxFit {
+        centre,
+        rotation,
+        half_extents: Vector3::new(half(&x), half(&y), half(&z)),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shape::tests_support::box_tree;
+
+    #[test]
+    fn a_box_is_recognised_with_its_pose_and_size() {
+        let centre = Vector3::new(0.03, -0.02, 0.11);
+        let rotation = UnitQuaternion::from_euler_angles(0.3, -0.5, 1.1);
+        let size = Vector3::new(0.2, 0.1, 0.3);
+        let body = Body::from_tree(&box_tree(centre, &rotation, &size), 0.6, None).unwrap();
+        let b = body.box_fit.expect("a box");
+        assert!((b.centre - centre).norm() < 1e-12);
+        // Its axes are the box's (up to order and sign), its size the box's along them.
+        for a in 0..3 {
+            let axis = b.rotation * Vector3::ith(a, 1.0);
+            let k = (0..3)
+                .find(|&k| (rotation * Vector3::ith(k, 1.0)).dot(&axis).abs() > 1.0 - 1e-9)
+                .expect("a box axis");
+            assert!((2.0 * b.half_extents[a] - size[k]).abs() < 1e-9, "{a} {k}");
+        }
+        assert_eq!(body.com, mass::uniform(&body.shape).centroid);
+        assert!(body.notes.iter().any(|n| n.contains("uniform density")));
+        assert!(Body::from_tree(&box_tree(centre, &rotation, &size), -1.0, None).is_err());
+    }
+
+    #[test]
+    fn a_cut_box_is_not_a_box() {
+        let mut tree = box_tree(
+            Vector3::zeros(),
+            &UnitQuaternion::identity(),
+            &Vector3::new(0.2, 0.1, 0.3),
+        );
+        tree.faces.push(crate::shape::tests_support::face(
+            "f6",
+            Vector3::new(1.0, 1.0, 0.0),
+            Some(0.1),
+        ));
+        let body = Body::from_tree(&tree, 1.0, Some(0.5)).unwrap();
+        assert!(body.box_fit.is_none());
+        assert_eq!(body.friction, 0.5);
+    }
+}

@@ -1,0 +1,122 @@
+//! From demonstrations to a simulation model: topples of a box over its edges, upright and
+//! upside down, learnt together, close its shape; the exported body is that box, where the
+//! generator put it, and its MJCF and URDF say so.
+
+use nalgebra::{Isometry3, Point3, Vector3};
+use objmodel::export::{mjcf::mjcf, urdf::urdf, Body};
+use objmodel::learn::{Config, Learner, Source};
+use objmodel::synth::{self, SynthBox, SynthNoise, ToppleParams};
+use objmodel::tree::Tree;
+use rand::{rngs::StdRng, SeedableRng};
+
+/// A box's topples over its four bottom edges, and, turned upside down, over two more: every
+/// face is rested on, and every face's offset follows from the edges in it.
+fn learnt_box(seed: u64, noise: &SynthNoise) -> (SynthBox, Tree) {
+    let b = SynthBox::random(&mut StdRng::seed_from_u64(seed));
+    let flipped = SynthBox {
+        half: b.half,
+        box_from_tag: Isometry3::rotation(Vector3::x() * std::f64::consts::PI) * b.box_from_tag,
+    };
+    let learner = Learner::new(Config::default());
+    let mut tree = Tree::default();
+    for (k, (bx, side)) in [(b, 0), (b, 1), (b, 2), (b, 3), (flipped, 0), (flipped, 1)]
+        .into_iter()
+        .enumerate()
+    {
+        let p = ToppleParams {
+            side,
+            ..Default::default()
+        };
+        let mut d = synth::topple(&bx, &p, noise, 30.0, seed * 10 + k as u64).demo;
+        d.name = format!("topple{k}");
+        learner.learn(&mut tree, &[Source::Memory(&d)]).unwrap();
+    }
+    (b, tree)
+}
+
+#[test]
+fn the_exported_body_is_the_box() {
+    for (seed, noise, tol) in [(1, SynthNoise::CLEAN, 1e-3), (2, SynthNoise::REAL, 3e-3)] {
+        let (b, tree) = learnt_box(seed, &noise);
+        let body = Body::from_tree(&tree, 0.6, None).unwrap_or_else(|e| panic!("{e}"));
+        let fit = body
+            .box_fit
+            .unwrap_or_else(|| panic!("not a box: {:#?}", body.shape.faces));
+        let tag_from_box = b.box_from_tag.inverse();
+        let centre = (tag_from_box * Point3::origin()).coords;
+        let mut got: Vec<f64> = fit.half_extents.iter().copied().collect();
+        let mut want: Vec<f64> = b.half.iter().copied().collect();
+        got.sort_by(f64::total_cmp);
+        want.sort_by(f64::total_cmp);
+        eprintln!(
+            "seed {seed}: centre off by {:.2} mm, half extents {got:.4?} vs {want:.4?}",
+            (fit.centre - centre).norm() * 1e3
+        );
+        assert!((fit.centre - centre).norm() < tol);
+        for (g, w) in got.iter().zip(&want) {
+            assert!((g - w).abs() < tol, "{g} vs {w}");
+        }
+        // Every true corner is within tolerance of a learnt one.
+        for sx in [-1.0, 1.0] {
+            for sy in [-1.0, 1.0] {
+                for sz in [-1.0, 1.0] {
+                    let corner = tag_from_box
+                        * Point3::from(b.half.component_mul(&Vector3::new(sx, sy, sz)));
+                    let nearest = body
+                        .shape
+                        .vertices
+                        .iter()
+                        .map(|v| (v - corner.coords).norm())
+                        .fold(f64::INFINITY, f64::min);
+                    assert!(nearest < 2.0 * tol, "corner {corner} off by {nearest}");
+                }
+            }
+        }
+        let xml = mjcf(&body, "box");
+        assert!(xml.contains("<freejoint") && xml.contains("type=\"box\""));
+        assert!(xml.contains("mass=\"0.6\""));
+        let (u, mesh) = urdf(&body, "box", "box.obj");
+        assert!(mesh.is_none());
+        let robot = urdf_rs::read_from_string(&u).expect("urdf-rs reads what it wrote");
+        assert_eq!(robot.links.len(), 1);
+        assert!((robot.links[0].inertial.mass.value - 0.6).abs() < 1e-12);
+        let o = robot.links[0].inertial.origin.xyz.0;
+        assert!((Vector3::from(o) - body.com).norm() < 1e-12);
+    }
+}
+
+/// The tree of the four upright topples alone never saw the top face: the export is an error
+/// that says the shape is open, and towards the top.
+#[test]
+fn an_open_shape_is_an_error_that_says_what_is_missing() {
+    let b = SynthBox::random(&mut StdRng::seed_from_u64(3));
+    let learner = Learner::new(Config::default());
+    let mut tree = Tree::default();
+    for side in 0..4 {
+        let p = ToppleParams {
+            side,
+            ..Default::default()
+        };
+        let d = synth::topple(&b, &p, &SynthNoise::REAL, 30.0, 30 + side as u64).demo;
+        let mut d = d;
+        d.name = format!("side{side}");
+        learner.learn(&mut tree, &[Source::Memory(&d)]).unwrap();
+    }
+    let e = Body::from_tree(&tree, 0.6, None).unwrap_err().to_string();
+    assert!(e.contains("open towards"), "{e}");
+    // The top face's outward normal, in the tag frame: the tag sits on the top face.
+    let up = b.box_from_tag.inverse() * Vector3::z();
+    let first = e
+        .split('[')
+        .nth(1)
+        .and_then(|s| s.split(']').next())
+        .expect("a direction");
+    let v: Vec<f64> = first
+        .split(',')
+        .map(|x| x.trim().parse().unwrap())
+        .collect();
+    assert!(
+        Vector3::new(v[0], v[1], v[2]).normalize().dot(&up) > 0.3,
+        "{e}"
+    );
+}
