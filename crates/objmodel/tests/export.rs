@@ -120,3 +120,55 @@ fn an_open_shape_is_an_error_that_says_what_is_missing() {
         "{e}"
     );
 }
+
+/// The Python with MuJoCo to check exports with: `OBJMODEL_PYTHON` (`.ci/run` sets it to a
+/// virtual environment with `mujoco`), else `python3`. `None` when it has no MuJoCo, unless
+/// `OBJMODEL_REQUIRE_MUJOCO` is set (as in CI), where that is a failure.
+fn python_with_mujoco() -> Option<String> {
+    let python = std::env::var("OBJMODEL_PYTHON").unwrap_or_else(|_| "python3".into());
+    let ok = std::process::Command::new(&python)
+        .args(["-c", "import mujoco"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !ok && std::env::var_os("OBJMODEL_REQUIRE_MUJOCO").is_some() {
+        panic!("{python} cannot import mujoco, and OBJMODEL_REQUIRE_MUJOCO is set");
+    }
+    ok.then_some(python)
+}
+
+/// MuJoCo loads the exported MJCF as the learnt body (mass, centre of mass, box), and the body
+/// rests still on each of its faces.
+#[test]
+fn mujoco_loads_the_export_and_it_rests_on_every_face() {
+    let Some(python) = python_with_mujoco() else {
+        eprintln!("skipped: no Python with mujoco (set OBJMODEL_PYTHON)");
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let (_, tree) = learnt_box(2, &SynthNoise::REAL);
+    let body = Body::from_tree(&tree, 0.6, None).unwrap();
+    let model = dir.path().join("box.xml");
+    std::fs::write(&model, mjcf(&body, "box")).unwrap();
+    let fit = body.box_fit.unwrap();
+    let expected = serde_json::json!({
+        "mass": body.mass_kg,
+        "com": [body.com.x, body.com.y, body.com.z],
+        "box_half": [fit.half_extents.x, fit.half_extents.y, fit.half_extents.z],
+        "faces": body.shape.faces.iter().map(|f| [f.normal.x, f.normal.y, f.normal.z]).collect::<Vec<_>>(),
+    });
+    let expected_path = dir.path().join("expected.json");
+    std::fs::write(&expected_path, expected.to_string()).unwrap();
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mujoco/check_mjcf.py");
+    let out = std::process::Command::new(python)
+        .arg(script)
+        .arg(&model)
+        .arg(&expected_path)
+        .output()
+        .unwrap();
+    eprintln!("{}", String::from_utf8_lossy(&out.stdout));
+    assert!(
+        out.status.success(),
+        "MuJoCo check failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

@@ -80,13 +80,31 @@ impl Body {
         for (id, why) in &shape.left_out {
             notes.push(format!("face {id} left out of the shape: {why}"));
         }
+        // A centre of mass outside the shape contradicts it: it is not used.
+        let outside = |c: &Vector3<f64>| {
+            shape
+                .faces
+                .iter()
+                .map(|f| f.normal.dot(c) - f.offset)
+                .fold(f64::NEG_INFINITY, f64::max)
+        };
         let com = match &tree.com {
-            Some(c) => {
+            Some(c) if outside(&c.point) <= 0.0 => {
                 notes.push(format!(
                     "centre of mass: learnt from {} pendulums",
                     c.pendulums
                 ));
                 c.point
+            }
+            Some(c) => {
+                notes.push(format!(
+                    "centre of mass: the shape's centroid at uniform density; the one learnt \
+                     from {} pendulums lies {:.1} mm outside the shape, so they contradict \
+                     each other and it is not used",
+                    c.pendulums,
+                    outside(&c.point) * 1e3
+                ));
+                uniform.centroid
             }
             None => {
                 notes.push(
@@ -192,6 +210,33 @@ mod tests {
         assert_eq!(body.com, mass::uniform(&body.shape).centroid);
         assert!(body.notes.iter().any(|n| n.contains("uniform density")));
         assert!(Body::from_tree(&box_tree(centre, &rotation, &size), -1.0, None).is_err());
+    }
+
+    /// A learnt centre of mass outside the shape contradicts it: the centroid is used, and the
+    /// notes say why; one inside is used as learnt.
+    #[test]
+    fn a_centre_of_mass_outside_the_shape_is_not_used() {
+        let mut tree = box_tree(
+            Vector3::zeros(),
+            &UnitQuaternion::identity(),
+            &Vector3::new(0.2, 0.1, 0.3),
+        );
+        for (point, used) in [
+            (Vector3::new(0.0, 0.07, 0.0), false),
+            (Vector3::new(0.02, 0.01, -0.1), true),
+        ] {
+            tree.com = Some(crate::tree::CentreOfMass {
+                point,
+                rms_residual_m: 0.0,
+                pendulums: 3,
+            });
+            let body = Body::from_tree(&tree, 1.0, None).unwrap();
+            assert_eq!(body.com == point, used);
+            assert_eq!(
+                body.notes.iter().any(|n| n.contains("outside the shape")),
+                !used
+            );
+        }
     }
 
     #[test]
