@@ -18,10 +18,10 @@ pub struct ExportArgs {
     #[arg(long)]
     pub urdf: Option<PathBuf>,
     /// The object's mass [kg]. Demonstrations of poses cannot tell it: weigh the object.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub mass: f64,
     /// Coulomb friction coefficient (default 0.8).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub friction: Option<f64>,
     /// The body's (and model's) name (default: the model file's stem).
     #[arg(long)]
