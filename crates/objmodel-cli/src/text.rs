@@ -155,5 +155,20 @@ pub fn tree(tree: &Tree) -> String {
             f.evidence.rest
         );
     }
+    match objmodel::shape::reconstruct(&tree.learnt_faces()) {
+        Ok(shape) => {
+            s += &format!(
+                "  shape: closed, {} faces, {} vertices, extents {} to {} m\n",
+                shape.faces.len(),
+                shape.vertices.len(),
+                v3(&shape.extents[0]),
+                v3(&shape.extents[1])
+            );
+            for (id, why) in &shape.left_out {
+                s += &format!("    {id} left out: {why}\n");
+            }
+        }
+        Err(e) => s += &format!("  shape: not closed yet: {e}\n"),
+    }
     s
 }

@@ -63,7 +63,7 @@ pub fn uniform(shape: &Shape) -> MassProperties {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shape::{reconstruct, tests_support::box_tree};
+    use crate::shape::{reconstruct, tests_support::box_faces};
     use nalgebra::UnitQuaternion;
 
     /// A box `a x b x c` anywhere, turned: volume `abc`, centroid its centre, and inertia
@@ -73,7 +73,7 @@ mod tests {
         let centre = Vector3::new(0.03, -0.02, 0.11);
         let rotation = UnitQuaternion::from_euler_angles(0.3, -0.5, 1.1);
         let size = Vector3::new(0.2, 0.1, 0.3);
-        let shape = reconstruct(&box_tree(centre, &rotation, &size)).unwrap();
+        let shape = reconstruct(&box_faces(centre, &rotation, &size)).unwrap();
         let m = uniform(&shape);
         assert!((m.volume - size.product()).abs() < 1e-12, "{}", m.volume);
         assert!((m.centroid - centre).norm() < 1e-12);

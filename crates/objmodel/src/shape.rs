@@ -14,7 +14,6 @@
 //! `A⁻¹ diag(σ_d² + |x_⊥|² σ_n² / 2) A⁻ᵀ` (per axis of `δn`, hence the half), `x_⊥` the part of
 //! `x` along the face.
 
-use crate::tree::Tree;
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
@@ -105,18 +104,35 @@ struct HalfSpace {
     sigma_n: f64,
 }
 
-/// The convex polyhedron of the tree's faces with known outward normal and offset.
-pub fn reconstruct(tree: &Tree) -> Result<Shape, Incomplete> {
+/// A learnt face, as the shape needs it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LearntFace {
+    /// Its id in the tree.
+    pub id: String,
+    /// Unit normal, outward when `outward`.
+    pub normal: Vector3<f64>,
+    /// Whether `normal` is known to point out of the object.
+    pub outward: bool,
+    /// Offset \[m\] (`normal · x = offset`), when known.
+    pub offset: Option<f64>,
+    /// Its standard deviation \[m\].
+    pub offset_sigma_m: f64,
+    /// RMS standard deviation of the normal \[rad\].
+    pub normal_sigma_rad: f64,
+}
+
+/// The convex polyhedron of the faces with known outward normal and offset.
+pub fn reconstruct(learnt: &[LearntFace]) -> Result<Shape, Incomplete> {
     let mut left_out = Vec::new();
     let mut planes: Vec<HalfSpace> = Vec::new();
-    for f in &tree.faces {
-        match (f.sign_known, f.offset) {
+    for f in learnt {
+        match (f.outward, f.offset) {
             (true, Some(d)) => planes.push(HalfSpace {
                 id: Some(f.id.clone()),
                 n: f.normal,
                 d,
-                sigma_d: f.offset_sigma_m.unwrap_or(0.0),
-                sigma_n: f.sigma_normal_rad,
+                sigma_d: f.offset_sigma_m,
+                sigma_n: f.normal_sigma_rad,
             }),
             (false, _) => left_out.push((f.id.clone(), "outward side unknown".to_string())),
             (true, None) => left_out.push((f.id.clone(), "offset unknown".to_string())),
@@ -245,34 +261,30 @@ fn counter_clockwise(
     polygon
 }
 
-/// Trees of analytic boxes, for tests.
+/// Faces of analytic boxes, for tests.
 #[cfg(test)]
 pub(crate) mod tests_support {
-    use crate::tree::{Evidence, Face, Tree};
+    use super::LearntFace;
     use nalgebra::{UnitQuaternion, Vector3};
 
     /// A face with 1 mm offset and 0.01 rad normal uncertainty.
-    pub(crate) fn face(id: &str, normal: Vector3<f64>, offset: Option<f64>) -> Face {
-        Face {
+    pub(crate) fn face(id: &str, normal: Vector3<f64>, offset: Option<f64>) -> LearntFace {
+        LearntFace {
             id: id.to_string(),
             normal: normal.normalize(),
+            outward: true,
             offset,
-            offset_sigma_m: offset.map(|_| 1e-3),
-            sigma_normal_rad: 0.01,
-            sign_known: true,
-            support: vec![],
-            n_support: 1,
-            evidence: Evidence::default(),
-            observations: vec![],
+            offset_sigma_m: 1e-3,
+            normal_sigma_rad: 0.01,
         }
     }
 
     /// The six faces of a box of `size` \[m\] centred at `centre`, turned by `rotation`.
-    pub(crate) fn box_tree(
+    pub(crate) fn box_faces(
         centre: Vector3<f64>,
         rotation: &UnitQuaternion<f64>,
         size: &Vector3<f64>,
-    ) -> Tree {
+    ) -> Vec<LearntFace> {
         let mut faces = Vec::new();
         for axis in 0..3 {
             for sign in [1.0, -1.0] {
@@ -281,32 +293,25 @@ pub(crate) mod tests_support {
                 faces.push(face(&format!("f{}", faces.len()), n, Some(offset)));
             }
         }
-        Tree {
-            faces,
-            ..Tree::default()
-        }
+        faces
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::tests_support::{box_tree, face};
+    use super::tests_support::{box_faces as turned_box, face};
     use super::*;
-    use crate::tree::Face;
     use nalgebra::UnitQuaternion;
 
     /// A box 0.2 x 0.1 x 0.3 m, centred at c, from its six faces.
-    fn box_faces(c: Vector3<f64>) -> Vec<Face> {
-        box_tree(c, &UnitQuaternion::identity(), &Vector3::new(0.2, 0.1, 0.3)).faces
+    fn box_faces(c: Vector3<f64>) -> Vec<LearntFace> {
+        turned_box(c, &UnitQuaternion::identity(), &Vector3::new(0.2, 0.1, 0.3))
     }
 
     #[test]
     fn a_box_from_its_six_faces() {
         let c = Vector3::new(0.02, -0.03, 0.1);
-        let tree = Tree {
-            faces: box_faces(c),
-            ..Tree::default()
-        };
+        let tree = box_faces(c);
         let s = reconstruct(&tree).unwrap();
         assert_eq!(s.vertices.len(), 8);
         assert_eq!(s.faces.len(), 6);
@@ -339,10 +344,7 @@ mod tests {
     fn a_missing_face_leaves_it_open_towards_that_face() {
         let mut faces = box_faces(Vector3::zeros());
         faces.remove(0); // +x
-        let tree = Tree {
-            faces,
-            ..Tree::default()
-        };
+        let tree = faces;
         match reconstruct(&tree) {
             Err(Incomplete::Open { towards }) => {
                 assert!(towards.iter().all(|u| u.x > 0.9), "{towards:?}")
@@ -355,11 +357,8 @@ mod tests {
     fn faces_without_offset_or_side_are_left_out_and_counted() {
         let mut faces = box_faces(Vector3::zeros());
         faces[1].offset = None;
-        faces[2].sign_known = false;
-        let tree = Tree {
-            faces,
-            ..Tree::default()
-        };
+        faces[2].outward = false;
+        let tree = faces;
         // Open towards -x and +y (and between them), nowhere else.
         match reconstruct(&tree) {
             Err(Incomplete::Open { towards }) => {
@@ -372,10 +371,7 @@ mod tests {
             }
             other => panic!("{other:?}"),
         }
-        let three = Tree {
-            faces: box_faces(Vector3::zeros())[..3].to_vec(),
-            ..Tree::default()
-        };
+        let three = box_faces(Vector3::zeros())[..3].to_vec();
         assert_eq!(
             reconstruct(&three),
             Err(Incomplete::TooFewFaces { usable: 3 })
@@ -388,21 +384,14 @@ mod tests {
     fn a_face_outside_the_shape_is_left_out() {
         let mut faces = box_faces(Vector3::zeros());
         faces.push(face("f6", Vector3::new(1.0, 1.0, 0.0), Some(0.5)));
-        let tree = Tree {
-            faces,
-            ..Tree::default()
-        };
+        let tree = faces;
         let s = reconstruct(&tree).unwrap();
         assert_eq!(s.vertices.len(), 8);
         assert!(s.left_out.iter().any(|(id, _)| id == "f6"));
         // A face that cuts a corner off is a face of the shape.
         let mut faces = box_faces(Vector3::zeros());
         faces.push(face("f6", Vector3::new(1.0, 1.0, 0.0), Some(0.1)));
-        let s = reconstruct(&Tree {
-            faces,
-            ..Tree::default()
-        })
-        .unwrap();
+        let s = reconstruct(&faces).unwrap();
         assert_eq!(s.faces.len(), 7);
         assert_eq!(s.vertices.len(), 10);
     }

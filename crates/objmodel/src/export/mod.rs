@@ -69,7 +69,7 @@ impl Body {
                 "the friction coefficient must be >= 0, not {mu}"
             )));
         }
-        let shape = shape::reconstruct(tree)
+        let shape = shape::reconstruct(&tree.learnt_faces())
             .map_err(|e| Error::Data(format!("no closed shape to export: {e}")))?;
         let uniform = mass::uniform(&shape);
         let mut notes = vec![format!(
@@ -189,7 +189,30 @@ pub fn box_fit(shape: &Shape) -> Option<BoxFit> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shape::tests_support::box_tree;
+    use crate::shape::tests_support::box_faces;
+
+    /// A tree holding just these faces.
+    fn box_tree(centre: Vector3<f64>, rotation: &UnitQuaternion<f64>, size: &Vector3<f64>) -> Tree {
+        let faces = box_faces(centre, rotation, size)
+            .into_iter()
+            .map(|f| crate::tree::Face {
+                id: f.id,
+                normal: f.normal,
+                offset: f.offset,
+                offset_sigma_m: Some(f.offset_sigma_m),
+                sigma_normal_rad: f.normal_sigma_rad,
+                sign_known: f.outward,
+                support: vec![],
+                n_support: 1,
+                evidence: Default::default(),
+                observations: vec![],
+            })
+            .collect();
+        Tree {
+            faces,
+            ..Tree::default()
+        }
+    }
 
     #[test]
     fn a_box_is_recognised_with_its_pose_and_size() {
@@ -246,11 +269,17 @@ mod tests {
             &UnitQuaternion::identity(),
             &Vector3::new(0.2, 0.1, 0.3),
         );
-        tree.faces.push(crate::shape::tests_support::face(
-            "f6",
-            Vector3::new(1.0, 1.0, 0.0),
-            Some(0.1),
-        ));
+        let mut cut = box_tree(
+            Vector3::zeros(),
+            &UnitQuaternion::identity(),
+            &Vector3::new(0.2, 0.1, 0.3),
+        )
+        .faces
+        .remove(0);
+        cut.id = "f6".into();
+        cut.normal = Vector3::new(1.0, 1.0, 0.0).normalize();
+        cut.offset = Some(0.1);
+        tree.faces.push(cut);
         let body = Body::from_tree(&tree, 1.0, Some(0.5)).unwrap();
         assert!(body.box_fit.is_none());
         assert_eq!(body.friction, 0.5);

@@ -24,6 +24,7 @@ use crate::face::{FaceObservation, FaceSource};
 use crate::geometry::{Line, LineStats};
 use crate::noise::NoiseModel;
 use crate::observation::Observation;
+use crate::shape::{LearntFace, Shape};
 
 mod file;
 mod pendulums;
@@ -180,6 +181,9 @@ pub struct Tree {
     /// The centre of mass, when the pendulums determine it.
     #[serde(default)]
     pub com: Option<CentreOfMass>,
+    /// The object's shape, when the faces with known offsets close one ([`crate::shape`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shape: Option<Shape>,
 }
 
 impl Default for Tree {
@@ -192,6 +196,7 @@ impl Default for Tree {
             faces: Vec::new(),
             demos: Vec::new(),
             com: None,
+            shape: None,
         }
     }
 }
@@ -459,7 +464,7 @@ impl Tree {
                 }
             }
         }
-        self.com = self.centre_of_mass();
+        self.refit_whole();
         Added {
             name,
             replaced: same_poses,
@@ -545,7 +550,28 @@ impl Tree {
         self.edges
             .iter_mut()
             .for_each(|e| e.faces.retain(|f| ids.contains(f)));
+        self.refit_whole();
+    }
+
+    /// Recompute what depends on all the features: the centre of mass and the shape.
+    fn refit_whole(&mut self) {
         self.com = self.centre_of_mass();
+        self.shape = crate::shape::reconstruct(&self.learnt_faces()).ok();
+    }
+
+    /// The faces as the shape takes them.
+    pub fn learnt_faces(&self) -> Vec<LearntFace> {
+        self.faces
+            .iter()
+            .map(|f| LearntFace {
+                id: f.id.clone(),
+                normal: f.normal,
+                outward: f.sign_known,
+                offset: f.offset,
+                offset_sigma_m: f.offset_sigma_m.unwrap_or(0.0),
+                normal_sigma_rad: f.sigma_normal_rad,
+            })
+            .collect()
     }
 
     /// The tree as pretty JSON.
