@@ -28,7 +28,8 @@
 //! * [`learn`]: **the learning pipeline**, the one entry point every front end calls.
 //! * [`shape`]: the object's convex polyhedron from the tree's faces (vertices, extents);
 //!   [`mass`]: its volume, centroid and inertia at uniform density; [`export`]: the body a
-//!   simulator needs, as MJCF and URDF.
+//!   simulator needs, as MJCF and URDF; [`prediction`]: the pendulums of every (face, edge)
+//!   pair the shape and the CoM predict, demonstrated or not.
 //! * [`synth`]: a small kinematic generator of demonstrations with exact ground truth.
 //!
 //! Units are SI throughout (m, rad, s, kg). Transforms are named by frames: `world_from_object`
@@ -52,6 +53,7 @@ pub mod noise;
 pub mod numeric;
 pub mod observation;
 pub mod pendulum;
+pub mod prediction;
 pub mod recording;
 pub mod screw;
 pub mod se3;
