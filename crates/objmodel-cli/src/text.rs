@@ -170,5 +170,8 @@ pub fn tree(tree: &Tree) -> String {
         }
         Err(e) => s += &format!("  shape: not closed yet: {e}\n"),
     }
+    for c in &tree.contradictions {
+        s += &format!("  contradiction: {}\n", c.what);
+    }
     s
 }

@@ -26,8 +26,10 @@ use crate::noise::NoiseModel;
 use crate::observation::Observation;
 use crate::shape::{LearntFace, Shape};
 
+mod checks;
 mod file;
 mod pendulums;
+pub use checks::Contradiction;
 use nalgebra::{Matrix3, Vector3};
 pub use pendulums::{CentreOfMass, Pendulum, PendulumObservation};
 use serde::{Deserialize, Serialize};
@@ -184,6 +186,9 @@ pub struct Tree {
     /// The object's shape, when the faces with known offsets close one ([`crate::shape`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shape: Option<Shape>,
+    /// Features that contradict each other beyond their uncertainty ([`Tree::contradictions`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub contradictions: Vec<Contradiction>,
 }
 
 impl Default for Tree {
@@ -197,6 +202,7 @@ impl Default for Tree {
             demos: Vec::new(),
             com: None,
             shape: None,
+            contradictions: Vec::new(),
         }
     }
 }
@@ -553,10 +559,12 @@ impl Tree {
         self.refit_whole();
     }
 
-    /// Recompute what depends on all the features: the centre of mass and the shape.
+    /// Recompute what depends on all the features: the centre of mass, the shape and the
+    /// contradictions between them.
     fn refit_whole(&mut self) {
         self.com = self.centre_of_mass();
         self.shape = crate::shape::reconstruct(&self.learnt_faces()).ok();
+        self.contradictions = self.contradictions();
     }
 
     /// The faces as the shape takes them.
