@@ -16,8 +16,6 @@
 //! * [`trajectory`]: time-stamped poses, demonstrations (optionally with a palm).
 //! * [`clean`]: quaternion sign continuity and rejection of single-frame tag flips.
 //! * [`noise`]: tracking-noise estimation from the data itself.
-//! * [`numeric`]: small numeric kernels of the per-frame loops (a first-quadrant `atan2`).
-//! * [`lanes`]: four `f64` lanes for the kernels that take frames four at a time.
 //! * [`stats`]: the few distributions the tests need (chi-square quantiles).
 //! * [`classify`]: Algorithm 1, the paper-literal version and the robust one.
 //! * [`edge`], [`face`]: Algorithm 2 and eq. 5 estimates with covariances.
@@ -39,12 +37,11 @@ pub mod dynamics;
 pub mod edge;
 pub mod error;
 pub mod face;
+mod fast;
 pub mod format;
 pub mod geometry;
-pub mod lanes;
 pub mod learn;
 pub mod noise;
-pub mod numeric;
 pub mod observation;
 pub mod pendulum;
 pub mod recording;

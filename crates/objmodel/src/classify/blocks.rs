@@ -9,36 +9,25 @@
 //! frames and memory stays flat.
 
 use super::fit;
+use super::frame_model::FrameModel;
 use super::front::{Judged, RestFront, Verdicts};
-use super::moving::{FrameModel, OpenSums};
 use super::rest::{Item, ItemRef};
 use super::rest_acc::RestAcc;
 use super::{Classification, Config, Label, LabelRun, Method, Votes};
 use crate::clean::RawFrame;
+use crate::fast::moving_sums::{MovingFrameSums, MovingStats};
 use crate::geometry::{Line, LineStats, PlaneStats};
 use crate::noise::NoiseModel;
+use crate::screw::moments;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 /// Largest number of blocks kept per demonstration.
 pub const MAX_BLOCKS: usize = 1 << 12;
-/// Smallest rotation, in units of the rotation noise σ_r, from which a frame's screw axis is
-/// used: the axis estimate's bias is of order (σ_r/θ)² relative, 1% at 10 σ_r.
-pub const MIN_AXIS_SNR: f64 = 10.0;
-/// How far \[m\] a resting object's contact settles when it starts to turn onto an edge (the
-/// load concentrates on the edge; rigid-body simulators and real compliant contacts both show
-/// about 0.1 mm): an uncertainty of the reference pose, whose effect on the axis shrinks as 1/θ.
-pub const REFERENCE_SETTLING_M: f64 = 1e-4;
-/// The same for orientation \[rad\] (0.2°).
-pub const REFERENCE_SETTLING_RAD: f64 = 3.5e-3;
 /// Largest number of motion segments per demonstration; later rests no longer split.
 pub const MAX_SEGMENTS: usize = 256;
 /// Rest frames between two drift tests of the rest so far (a slow motion is found at most this
 /// many frames late).
 pub const SLOW_CHECK_FRAMES: u64 = 32;
-
-/// Upper bound \[m\] on the axis distance used in the axis-point variance (beyond the palm the
-/// frame cannot be a topple anyway; this keeps far-away axes from underflowing the weight).
-pub(super) const MAX_AXIS_DISTANCE_M: f64 = 10.0;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Phase {
@@ -87,6 +76,23 @@ impl Block {
                 Phase::Outlier => Label::Outlier,
                 Phase::Moving => Label::Still,
             },
+        }
+    }
+
+    /// Add the statistics of the block's moving frames.
+    fn add_moving(&mut self, s: &MovingStats) {
+        self.significant += s.significant;
+        self.plane.merge(&s.plane);
+        self.line.merge(&s.line);
+        if let Some((theta, xi)) = s.largest.filter(|(theta, _)| *theta > self.max_angle) {
+            self.max_angle = theta;
+            // The screw axis: r = ω × v / θ² is its point closest to the origin (r ⊥ u).
+            let m = moments(&xi.omega.into(), &xi.v.into());
+            let line = Line {
+                point: Vector3::from(m.moment) * (1.0 / (theta * theta)),
+                direction: xi.omega / theta,
+            };
+            self.max_line = Some((line, xi.omega));
         }
     }
 
@@ -198,7 +204,7 @@ pub(super) struct Segmenter {
     model: Option<FrameModel>,
     blocks: Vec<Block>,
     /// The last block's moving-frame statistics, until it is closed.
-    open: OpenSums,
+    open: MovingFrameSums,
     block_size: u64,
     segments: Vec<SegState>,
     rest_acc: RestAcc,
@@ -245,7 +251,7 @@ impl Segmenter {
             // and faulted the copies' pages in, on the per-frame path. Pages never used are
             // never touched, so a short file costs no more memory.
             blocks: Vec::with_capacity(MAX_BLOCKS),
-            open: OpenSums::default(),
+            open: MovingFrameSums::default(),
             block_size: 1,
             segments: Vec::new(),
             rest_acc: RestAcc::default(),
@@ -371,22 +377,8 @@ impl Segmenter {
     }
 
     /// A moving frame; `slow_start` when it reveals that the rest before it was a slow motion.
-    ///
-    /// Relative to the segment reference `(R_ref, p_ref)` the frame is
-    /// `q_rel = q_ref⁻¹ q`, `t = R_refᵀ (p - p_ref)`, with twist `(v, ω) = log(q_rel, t)` and
-    /// θ² = |ω|². It is significant (it votes) when `θ²/σ_r² + |t|²/σ_p²` exceeds the χ²₆
-    /// level; then it enters the plane statistics, and, when `θ²/σ_r²` also exceeds
-    /// [`FrameModel::axis_chi2`], the line statistics with its screw axis: direction `u = ω/θ`,
-    /// point `r = ω × v / θ²` (closest to the origin), chord `c² = (2 sin(θ/2))² = 4|imag(q_rel)|²`,
-    /// weights
-    ///
-    /// * point: `w = 1/σ²_point`, `σ²_point = (σ_p² + s_p² + (σ_r² + s_r²) d²)/c² + tol_p²`,
-    ///   with `d = min(|r|, MAX_AXIS_DISTANCE_M)` and `s_p`, `s_r` the reference settling,
-    /// * direction: `a = 1/σ²_dir`, `σ²_dir = (σ_r² + s_r²)/θ² + tol_r²`,
-    /// * pitch χ²: `(u·t)²/(σ_p² + tol_p²)`.
-    ///
-    /// The frame enters its block's statistics through [`OpenSums::push`] (which also says
-    /// how they are computed).
+    /// Its pose relative to the segment reference enters its block's statistics (the model:
+    /// [`super::frame_model`]) through [`MovingFrameSums::push`].
     ///
     /// Inlined into its caller (the rest front end's loop, in that loop's code); the one
     /// rare caller goes through [`Segmenter::slow_motion_found`].
@@ -480,7 +472,9 @@ impl Segmenter {
     /// Add the open statistics to the last block.
     fn close_block(&mut self) {
         if let (Some(b), Some(m)) = (self.blocks.last_mut(), &self.model) {
-            self.open.close_into(b, m);
+            if let Some(s) = self.open.close(m) {
+                b.add_moving(&s);
+            }
         }
     }
 

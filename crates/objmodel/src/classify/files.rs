@@ -2,6 +2,7 @@
 
 use super::{Analyzer, Classification, Config, RotatingCleaner};
 use crate::clean::RawFrame;
+use crate::fast::avx2_or_baseline;
 use crate::format;
 use crate::recording::Recorder;
 use crate::trajectory::StampedPose;
@@ -294,22 +295,7 @@ impl<T: Copy + Send + 'static> CleanedFrames<T> {
 /// only 1 ns/pose of it).
 #[inline(always)]
 fn push_batch<F: Front>(front: &mut F, batch: &[StampedPose], chunk: &mut Vec<F::Out>) {
-    #[cfg(target_arch = "x86_64")]
-    if crate::lanes::avx2() {
-        // SAFETY: the processor runs AVX2 code (checked just above).
-        return unsafe { push_batch_avx2(front, batch, chunk) };
-    }
-    push_batch_with(front, batch, chunk)
-}
-
-/// [`push_batch`] compiled for AVX2.
-///
-/// # Safety
-/// The processor must run AVX2 code.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn push_batch_avx2<F: Front>(front: &mut F, batch: &[StampedPose], chunk: &mut Vec<F::Out>) {
-    push_batch_with(front, batch, chunk)
+    avx2_or_baseline!(push_batch_with(front, batch, chunk))
 }
 
 #[inline(always)]
@@ -324,22 +310,7 @@ fn push_batch_with<F: Front>(front: &mut F, batch: &[StampedPose], chunk: &mut V
 /// (the choice of code in the rest front end then folds away).
 #[inline(always)]
 fn push_handed(a: &mut Analyzer, chunk: &[Handed], index: &mut usize) {
-    #[cfg(target_arch = "x86_64")]
-    if crate::lanes::avx2() {
-        // SAFETY: the processor runs AVX2 code (checked just above).
-        return unsafe { push_handed_avx2(a, chunk, index) };
-    }
-    push_handed_with(a, chunk, index)
-}
-
-/// [`push_handed`] compiled for AVX2.
-///
-/// # Safety
-/// The processor must run AVX2 code.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn push_handed_avx2(a: &mut Analyzer, chunk: &[Handed], index: &mut usize) {
-    push_handed_with(a, chunk, index)
+    avx2_or_baseline!(push_handed_with(a, chunk, index))
 }
 
 #[inline(always)]
@@ -398,14 +369,14 @@ mod tests {
 
     impl BaselineOnly {
         fn new() -> Self {
-            crate::lanes::set_baseline_only(true);
+            crate::fast::set_baseline_only(true);
             Self
         }
     }
 
     impl Drop for BaselineOnly {
         fn drop(&mut self) {
-            crate::lanes::set_baseline_only(false);
+            crate::fast::set_baseline_only(false);
         }
     }
 

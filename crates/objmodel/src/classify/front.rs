@@ -4,6 +4,7 @@
 use super::rest::{Item, ItemRef, ItemSink, RestDetector, RotationSum};
 use super::Config;
 use crate::clean::RawFrame;
+use crate::fast::avx2_or_baseline;
 use crate::noise::{self, NoiseModel};
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -136,46 +137,19 @@ impl RestFront {
         rot: &Vector3<f64>,
         out: &mut impl Verdicts,
     ) {
-        #[cfg(target_arch = "x86_64")]
-        if crate::lanes::avx2() {
-            // SAFETY: the processor runs AVX2 code (checked just above).
-            return unsafe { self.push_frame_avx2(index, t, q, p, rot, out) };
-        }
-        self.push_frame_base(index, t, q, p, rot, out)
-    }
-
-    /// [`RestFront::push_frame`] in baseline code.
-    #[inline(never)]
-    fn push_frame_base(
-        &mut self,
-        index: usize,
-        t: f64,
-        q: &UnitQuaternion<f64>,
-        p: &Vector3<f64>,
-        rot: &Vector3<f64>,
-        out: &mut impl Verdicts,
-    ) {
-        self.push_frame_with(index, t, q, p, rot, out)
-    }
-
-    /// [`RestFront::push_frame`] compiled for AVX2 (with what it inlines: the rest test and
-    /// the consumer's per-frame code), the same operations and bits.
-    ///
-    /// # Safety
-    /// The processor must run AVX2 code.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    #[inline(never)]
-    unsafe fn push_frame_avx2(
-        &mut self,
-        index: usize,
-        t: f64,
-        q: &UnitQuaternion<f64>,
-        p: &Vector3<f64>,
-        rot: &Vector3<f64>,
-        out: &mut impl Verdicts,
-    ) {
-        self.push_frame_with(index, t, q, p, rot, out)
+        // Compiled for AVX2 where the processor has it, with what it inlines: the rest test
+        // and the consumer's per-frame code.
+        avx2_or_baseline!(#[inline(never)] fn(
+            this: &mut RestFront = self,
+            index: usize = index,
+            t: f64 = t,
+            q: &UnitQuaternion<f64> = q,
+            p: &Vector3<f64> = p,
+            rot: &Vector3<f64> = rot,
+            out: &mut impl Verdicts = out,
+        ) {
+            this.push_frame_with(index, t, q, p, rot, out)
+        })
     }
 
     #[inline(always)]

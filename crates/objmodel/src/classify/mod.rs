@@ -30,8 +30,8 @@
 mod blocks;
 mod files;
 mod fit;
+pub(crate) mod frame_model;
 mod front;
-mod moving;
 mod msac;
 mod paper;
 mod rest;

@@ -11,10 +11,12 @@ use super::rest::Item;
 use super::{Classification, Config, Kind, Label, LabelRun, Method, Segment, Votes};
 use crate::edge::EdgeObservation;
 use crate::face::{FaceObservation, FaceSource};
+use crate::fast::avx2_or_baseline;
+use crate::fast::lanes::{F4, M4, V4};
+use crate::fast::twist4::Twist4;
 use crate::geometry::Line;
-use crate::lanes::{F4, M4, V4};
 use crate::screw::{plane_normal, Screw};
-use crate::se3::{Twist, Twist4};
+use crate::se3::Twist;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 /// Algorithm 2's candidate: (θ \[rad\], axis point \[m\], unit axis direction, ω \[rad\]).
@@ -130,20 +132,7 @@ impl PaperCore {
     /// Judge the pending frames.
     #[inline(never)]
     fn flush(&mut self) {
-        #[cfg(target_arch = "x86_64")]
-        if crate::lanes::avx2() {
-            // SAFETY: the processor runs AVX2 code (checked just above).
-            unsafe { self.flush_avx2() };
-            return;
-        }
-        self.flush_lanes();
-    }
-
-    /// [`PaperCore::flush`] compiled for AVX2 (the same operations, on 256-bit vectors).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    fn flush_avx2(&mut self) {
-        self.flush_lanes();
+        avx2_or_baseline!(self.flush_lanes())
     }
 
     /// The logarithms of the pending frames and their screws (eq. 1-3, as
@@ -155,7 +144,7 @@ impl PaperCore {
         let valid = M4([p.n > 0, p.n > 1, p.n > 2, p.n > 3]);
         let qw = valid.select(p.qw, F4::splat(1.0));
         let xi = Twist4::log_quat(qw, &p.qv, &p.tr);
-        let screws = Screw::from_twists(&xi);
+        let screws = xi.screws();
         for (k, screw) in screws.into_iter().enumerate().take(p.n) {
             let x = xi.lane(k);
             let screw = screw.or_else(|| Screw::from_twist(&x));

@@ -3,9 +3,10 @@
 //! [`super::blocks`], which keeps one for the current rest, one for its latest part, and one
 //! to probe a slow motion for its end).
 
-use super::moving::FrameModel;
+use super::frame_model::FrameModel;
 use crate::clean::RawFrame;
-use crate::lanes::F4;
+use crate::fast::avx2_or_baseline;
+use crate::fast::lanes::F4;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3, Vector4};
 
 /// Mean pose over a rest, and the least-squares drift of the pose over the whole rest (to tell
@@ -104,29 +105,14 @@ impl RestAcc {
     /// time for a slow turn about a fixed axis, which the drift test is about.
     #[inline(always)]
     pub(super) fn add(&mut self, f: &RawFrame, rot: &Vector3<f64>, head_s: f64) {
-        #[cfg(target_arch = "x86_64")]
-        if crate::lanes::avx2() {
-            // SAFETY: the processor runs AVX2 code (checked just above).
-            return unsafe { self.add_avx2(f, rot, head_s) };
-        }
-        self.add_base(f, rot, head_s)
-    }
-
-    /// [`RestAcc::add`] in baseline code.
-    #[inline(never)]
-    fn add_base(&mut self, f: &RawFrame, rot: &Vector3<f64>, head_s: f64) {
-        self.add_with(f, rot, head_s)
-    }
-
-    /// [`RestAcc::add`] compiled for AVX2 (the same operations and bits).
-    ///
-    /// # Safety
-    /// The processor must run AVX2 code.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    #[inline(never)]
-    unsafe fn add_avx2(&mut self, f: &RawFrame, rot: &Vector3<f64>, head_s: f64) {
-        self.add_with(f, rot, head_s)
+        avx2_or_baseline!(#[inline(never)] fn(
+            this: &mut RestAcc = self,
+            f: &RawFrame = f,
+            rot: &Vector3<f64> = rot,
+            head_s: f64 = head_s,
+        ) {
+            this.add_with(f, rot, head_s)
+        })
     }
 
     #[inline(always)]
