@@ -5,7 +5,8 @@
 //! `cargo run --release --example clean_bench -p objmodel [FILE.tum] [REPS]`
 
 use nalgebra::{UnitQuaternion, Vector3};
-use objmodel::classify::{Analyzer, Config, RotatingCleaner};
+use objmodel::bench::{AnalyzerStages, RotatingCleaner};
+use objmodel::classify::{Analyzer, Config};
 use objmodel::trajectory::StampedPose;
 use std::path::PathBuf;
 use std::time::Instant;

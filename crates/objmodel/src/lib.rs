@@ -55,6 +55,9 @@ mod testing;
 pub mod trajectory;
 pub mod tree;
 
+#[doc(hidden)]
+pub use fast::bench;
+
 pub use error::{Error, Result};
 pub use se3::Twist;
 pub use trajectory::{Demonstration, StampedPose};

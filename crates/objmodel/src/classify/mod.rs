@@ -25,24 +25,29 @@
 //!   5. the label of a frame is topple if it fits the line, else slide if it fits the plane, else
 //!      general; the demonstration's kind is the most frequent label (ties: topple, slide);
 //!   6. the frames after a completed topple's edge rotation (it ended at rest on the adjacent
-//!      face across the edge) are its landing and do not vote (see `fit::completed_topple`).
+//!      face across the edge) are its landing and do not vote (see `analysis::completed_topple`).
 
-mod blocks;
+mod analysis;
+mod analyzer;
+mod block;
+pub(crate) mod cleaning;
+mod conclusion;
 mod files;
-mod fit;
 pub(crate) mod frame_model;
-mod front;
 mod msac;
+mod palm;
 mod paper;
 mod rest;
-mod rest_acc;
-mod stream;
+mod rest_stats;
+pub(crate) mod rest_test;
+mod robust;
+pub(crate) mod rotation_sum;
+pub(crate) mod sample;
+mod segments;
 
+pub use analyzer::Analyzer;
 pub use files::classify_files;
 pub(crate) use files::classify_files_recording;
-pub use front::Judged;
-pub use rest::{Item, RotationSum};
-pub use stream::{Analyzer, ObjectCleaner, ObjectFront, RotatingCleaner};
 
 use crate::edge::EdgeObservation;
 use crate::face::FaceObservation;

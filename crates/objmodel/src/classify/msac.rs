@@ -1,8 +1,8 @@
-//! The robust fits that a segment's analysis ([`super::fit`]) rests on: MSAC over a
+//! The robust fits that a segment's analysis ([`super::analysis`]) rests on: MSAC over a
 //! segment's blocks for a fixed line (topple hypothesis) and a fixed plane of motion (slide
 //! hypothesis), with χ² thresholds by degrees of freedom, the block costs and inlier tests.
 
-use super::blocks::Block;
+use super::block::Block;
 use crate::fast::line_costs::LineCosts;
 use crate::geometry::{Line, LineChi2, LineStats, PlaneStats};
 use nalgebra::Vector3;

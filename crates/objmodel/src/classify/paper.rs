@@ -7,7 +7,7 @@
 //! [`super::PaperThresholds::motion_translation`]; Algorithm 2 takes the frame of largest
 //! rotation over all frames.
 
-use super::rest::Item;
+use super::sample::Sample;
 use super::{Classification, Config, Kind, Label, LabelRun, Method, Segment, Votes};
 use crate::edge::EdgeObservation;
 use crate::face::{FaceObservation, FaceSource};
@@ -26,7 +26,7 @@ type Best = (f64, Vector3<f64>, Vector3<f64>, Vector3<f64>);
 type Reference = (UnitQuaternion<f64>, Vector3<f64>, Option<Vector3<f64>>);
 
 /// Streaming state of the literal algorithm.
-pub(super) struct PaperCore {
+pub(super) struct PaperMethod {
     config: Config,
     reference: Option<Reference>,
     /// `g(0)⁻¹`'s rotation, kept to form `g(0)⁻¹ g(t)` per frame.
@@ -62,7 +62,7 @@ struct Pending {
     tr: V4,
 }
 
-impl PaperCore {
+impl PaperMethod {
     pub(super) fn new(config: &Config) -> Self {
         Self {
             config: *config,
@@ -102,8 +102,8 @@ impl PaperCore {
     }
 
     /// Push the next item; `down` is the unit "down" in the frame the poses are relative to.
-    pub(super) fn push(&mut self, item: Item, down: Option<Vector3<f64>>) {
-        let Item::Frame(f) = item else { return };
+    pub(super) fn push(&mut self, item: Sample, down: Option<Vector3<f64>>) {
+        let Sample::Frame(f) = item else { return };
         if self.reference.is_none() {
             self.reference = Some((f.q, f.p, down.map(|d| f.q.inverse() * d)));
             self.reference_inv = f.q.inverse();

@@ -21,10 +21,13 @@
 //! * [`handover`]: the parsing thread and the buffers that hand its output over;
 //! * [`bench`]: a doorway for the benchmark examples, hidden from the documentation.
 //!
-//! A test hook ([`set_baseline_only`], tests only) makes every choice take the baseline copy,
+//! A test hook (`set_baseline_only`, tests only) makes every choice take the baseline copy,
 //! so that the tests can compare both.
 
 pub mod atan;
+#[doc(hidden)]
+pub mod bench;
+pub mod handover;
 pub mod lanes;
 pub mod line_costs;
 pub mod moving_sums;
@@ -33,7 +36,7 @@ pub mod twist4;
 pub use lanes::Real;
 
 /// Whether this processor runs AVX2 code (x86-64 only; checked once, then cached by `std`),
-/// unless the test hook [`set_baseline_only`] said otherwise.
+/// unless the test hook `set_baseline_only` said otherwise.
 #[inline]
 pub fn avx2() -> bool {
     #[cfg(target_arch = "x86_64")]
@@ -142,4 +145,78 @@ fn baseline_only() -> bool {
 #[inline(always)]
 fn baseline_only() -> bool {
     false
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::classify::{classify_files, Config};
+    use crate::format;
+    use crate::synth::{self, SynthBox, SynthDemo, SynthNoise, ToppleParams};
+    use rand::{rngs::StdRng, SeedableRng};
+
+    /// Takes the baseline code while it lives.
+    struct BaselineOnly;
+
+    impl BaselineOnly {
+        fn new() -> Self {
+            super::set_baseline_only(true);
+            Self
+        }
+    }
+
+    impl Drop for BaselineOnly {
+        fn drop(&mut self) {
+            super::set_baseline_only(false);
+        }
+    }
+
+    /// Every kernel that chooses AVX2 code at run time gives the same classification, bit for
+    /// bit, in its baseline code (the claim of `crate::lanes`): files of a topple, an
+    /// instrumented topple, a quasi-static topple (the slow-motion path), a slide and a general
+    /// motion, at real tracking noise, each classified from its files both ways. (On a
+    /// processor without AVX2 both ways are the baseline code.)
+    #[test]
+    fn baseline_and_avx2_code_classify_alike() {
+        let dir = std::env::temp_dir().join(format!("objmodel-isa-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let noise = SynthNoise::REAL;
+        let mut rng = StdRng::seed_from_u64(77);
+        let b = SynthBox::random(&mut rng);
+        let topple = |push_s: f64, seed: u64| {
+            let p = ToppleParams {
+                side: (seed % 4) as usize,
+                push_s,
+                ..Default::default()
+            };
+            synth::topple(&b, &p, &noise, 30.0, seed)
+        };
+        let demos: Vec<(&str, SynthDemo)> = vec![
+            ("topple", topple(1.5, 1)),
+            (
+                "instrumented",
+                synth::instrumented_topple(&b, 2, 0.2, &noise, 30.0, 2),
+            ),
+            ("quasi_static", topple(60.0, 3)),
+            ("slide", synth::slide(&b, &noise, 30.0, 4)),
+            ("general", synth::general(&b, &noise, 30.0, 5)),
+        ];
+        let config = Config::default();
+        for (name, d) in &demos {
+            let object = dir.join(format!("{name}.tum"));
+            format::write_tum(&object, &d.demo.object, name).unwrap();
+            let palm = d.demo.palm.as_ref().map(|p| {
+                let path = dir.join(format!("{name}.palm.tum"));
+                format::write_tum(&path, p, name).unwrap();
+                path
+            });
+            let fast = classify_files(&object, palm.as_deref(), &config).unwrap();
+            let base = {
+                let _baseline = BaselineOnly::new();
+                classify_files(&object, palm.as_deref(), &config).unwrap()
+            };
+            assert_eq!(fast.kind, d.truth.kind, "{name}");
+            assert_eq!(format!("{fast:?}"), format!("{base:?}"), "{name}");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -54,7 +54,7 @@ const PENDING_GROUPS: usize = PENDING_FRAMES / 4;
 /// The plane sums are kept unweighted (`Σ ω ωᵀ`, `Σ t tᵀ`: the weights 1/σ² are the same for
 /// every frame and are applied on closing) and `Σ a u uᵀ` is taken as `Σ ω ωᵀ/D` with
 /// `D = θ²/a` (see [`FrameTerms`]), so that `ω ωᵀ` serves both; the axis of the largest
-/// rotation is kept as its twist and made a [`Line`] on closing.
+/// rotation is kept as its twist and made a [`crate::geometry::Line`] on closing.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct LaneSums {
     /// Frames measurably displaced from the segment reference.

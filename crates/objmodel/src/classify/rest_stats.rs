@@ -1,6 +1,6 @@
 //! The statistics of a rest: its mean pose, and the least-squares drift of the pose over it,
 //! which tells a real rest from a motion too slow for the windowed rest test (see
-//! [`super::blocks`], which keeps one for the current rest, one for its latest part, and one
+//! [`super::segments`], which keeps one for the current rest, one for its latest part, and one
 //! to probe a slow motion for its end).
 
 use super::frame_model::FrameModel;
@@ -12,16 +12,16 @@ use nalgebra::{Quaternion, UnitQuaternion, Vector3, Vector4};
 /// Mean pose over a rest, and the least-squares drift of the pose over the whole rest (to tell
 /// a real rest from a motion too slow for the windowed rest test).
 ///
-/// The sums that every frame adds to are kept in whole lanes ([`RestAcc::sums`]): a frame is
+/// The sums that every frame adds to are kept in whole lanes ([`RestStats::sums`]): a frame is
 /// seven four-lane additions, whose loads and stores are the same from frame to frame. With
 /// the sums in separate fields, the compiler combined fields into vectors differently for
 /// loads and stores, and one load straddled a store of the frame before: the processor could
-/// not forward it, and each call waited for the store (half of the time of `RestAcc::add`, which
+/// not forward it, and each call waited for the store (half of the time of `RestStats::add`, which
 /// the 10^6-pose benchmark calls for nearly every frame, its whole topple being a slow motion).
 #[derive(Clone, Copy, Debug, Default)]
-pub(super) struct RestAcc {
+pub(super) struct RestStats {
     /// Σx (two lanes), Σ dt·x (two), Σq (sign-aligned, `(x, y, z, w)`), `(Σp, 0)` and
-    /// `(n, Σdt, Σdt², 0)`, with `x` the fitted coordinates about [`RestAcc::origin`] (see
+    /// `(n, Σdt, Σdt², 0)`, with `x` the fitted coordinates about [`RestStats::origin`] (see
     /// [`fitted`]) and `dt = t - t0`.
     sums: [F4; 7],
     /// Time \[s\] of the first frame.
@@ -35,7 +35,7 @@ pub(super) struct RestAcc {
     head: Option<(UnitQuaternion<f64>, Vector3<f64>, f64)>,
 }
 
-/// Where [`RestAcc::sums`] keeps Σx (two groups of lanes),
+/// Where [`RestStats::sums`] keeps Σx (two groups of lanes),
 const SUM_X: usize = 0;
 /// Σ dt·x (two groups),
 const SUM_TX: usize = 2;
@@ -46,14 +46,14 @@ const SUM_P: usize = 5;
 /// and `(n, Σdt, Σdt², 0)`.
 const SUM_N: usize = 6;
 
-/// The six coordinates whose drift a [`RestAcc`] fits, the accumulated rotation `r` \[rad\]
+/// The six coordinates whose drift a [`RestStats`] fits, the accumulated rotation `r` \[rad\]
 /// and the position `p` \[m\], in two groups of four lanes: `(r, p_x)` and `(p_y, p_z, 0, 0)`.
 #[inline(always)]
 fn fitted(r: &Vector3<f64>, p: &Vector3<f64>) -> [F4; 2] {
     [F4([r.x, r.y, r.z, p.x]), F4([p.y, p.z, 0.0, 0.0])]
 }
 
-impl RestAcc {
+impl RestStats {
     /// Number of frames.
     #[inline(always)]
     pub(super) fn n(&self) -> f64 {
@@ -100,13 +100,13 @@ impl RestAcc {
     }
 
     /// Add a frame; `rot` is its accumulated rotation (sum of the logs of the frame-to-frame
-    /// rotations, from [`super::rest::RestDetector`]): over a rest it differs from the log of the rotation
+    /// rotations, [`super::rotation_sum::RotationSum`]): over a rest it differs from the log of the rotation
     /// from the first frame only at second order in the (small) angles, and it stays linear in
     /// time for a slow turn about a fixed axis, which the drift test is about.
     #[inline(always)]
     pub(super) fn add(&mut self, f: &RawFrame, rot: &Vector3<f64>, head_s: f64) {
         avx2_or_baseline!(#[inline(never)] fn(
-            this: &mut RestAcc = self,
+            this: &mut RestStats = self,
             f: &RawFrame = f,
             rot: &Vector3<f64> = rot,
             head_s: f64 = head_s,
