@@ -26,6 +26,10 @@
 //! * [`learn`]: **the learning pipeline**, the one entry point every front end calls.
 //! * [`synth`]: a small kinematic generator of demonstrations with exact ground truth.
 //!
+//! The code that exists only for speed (four-lane kernels, their AVX2 copies, the parsing
+//! thread) is a crate-private implementation detail behind one module, `fast`; every kernel
+//! there gives the bits of the plainer code it mirrors in the modules above.
+//!
 //! Units are SI throughout (m, rad, s, kg). Transforms are named by frames: `world_from_object`
 //! maps a point in object coordinates to world coordinates.
 

@@ -12,8 +12,7 @@
 //! ω = 0 (a pure translation) the axis is `{λ v/|v|}`, the pitch is infinite and the magnitude
 //! is |v| \[m\]. Eq. 5's plane normal is ω/θ for ω ≠ 0 and `v(t) × v(t-1)` normalised otherwise.
 
-use crate::fast::lanes::{cross, dot};
-use crate::fast::Real;
+use crate::fast::{cross, dot, Real};
 use crate::se3::Twist;
 use nalgebra::{Unit, Vector3};
 

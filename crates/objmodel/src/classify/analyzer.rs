@@ -129,7 +129,7 @@ impl Analyzer {
         let Classifier::Robust(core) = &mut self.back else {
             return None;
         };
-        if self.instrumented || self.object.is_none() || core.front.is_none() {
+        if self.instrumented || self.object.is_none() || core.rest_test.is_none() {
             return None;
         }
         core.seg.down = self.down_world;
@@ -138,7 +138,7 @@ impl Analyzer {
                 cleaner: self.object.take()?,
                 frames: 0,
             },
-            front: core.front.take()?,
+            rest_test: core.rest_test.take()?,
         })
     }
 

@@ -149,25 +149,28 @@ fn rotated(rotation: &mut RotationSum, f: &RawFrame, outlier: bool) -> Vector3<f
 /// without a palm.
 pub struct ObjectRestTest {
     pub(super) cleaner: ObjectCleaner,
-    pub(super) front: RestTest,
+    pub(super) rest_test: RestTest,
 }
 
 impl ObjectRestTest {
     /// Push the next object pose; what is judged goes to `out`.
     pub fn push(&mut self, p: &StampedPose, out: &mut impl FnMut(Verdict)) {
-        let front = &mut self.front;
+        let rest_test = &mut self.rest_test;
         let mut out = OwnedVerdicts(out);
         self.cleaner.push(p, &mut |f, outlier| {
-            front.push(sample(f, outlier), &mut out)
+            rest_test.push(sample(f, outlier), &mut out)
         });
     }
 
     /// Flush the last frames.
     pub fn finish(self, out: &mut impl FnMut(Verdict)) {
-        let Self { cleaner, mut front } = self;
+        let Self {
+            cleaner,
+            mut rest_test,
+        } = self;
         let mut out = OwnedVerdicts(out);
-        cleaner.finish(&mut |f, outlier| front.push(sample(f, outlier), &mut out));
-        front.finish(&mut out);
+        cleaner.finish(&mut |f, outlier| rest_test.push(sample(f, outlier), &mut out));
+        rest_test.finish(&mut out);
     }
 }
 

@@ -26,6 +26,22 @@
 //!      general; the demonstration's kind is the most frequent label (ties: topple, slide);
 //!   6. the frames after a completed topple's edge rotation (it ended at rest on the adjacent
 //!      face across the edge) are its landing and do not vote (see `analysis::completed_topple`).
+//!
+//! The modules, in the order the data flows through them (each imports only modules above it,
+//! and the result and configuration types here):
+//!
+//! * `sample`: a kept frame or the place of a rejected one, as the stages pass them on;
+//! * `cleaning`: noise warm-up and tag-flip rejection per stream; `palm`: the motion relative
+//!   to a tracked palm;
+//! * `rotation_sum`, `rest_sums`, `rest`: the accumulated rotation and the windowed χ² rest
+//!   test; `rest_test`: the test with its noise warm-up, and the verdicts it passes on;
+//! * `frame_model`: a moving frame's motion and screw against its segment's reference, and its
+//!   noise model; `rest_stats`: a rest's mean pose and drift;
+//! * `block`: the sufficient statistics of a run of frames; `segments`: the motion segments;
+//! * `msac`: the fixed-line and fixed-plane fits; `analysis`: what one segment teaches;
+//!   `conclusion`: what the segments teach together (votes, topples by edge);
+//! * `robust`, `paper`: the two methods, streaming; `analyzer`: the [`Analyzer`] that drives
+//!   them; `files`: [`classify_files`].
 
 mod analysis;
 mod analyzer;
@@ -39,6 +55,7 @@ mod palm;
 mod paper;
 mod rest;
 mod rest_stats;
+mod rest_sums;
 pub(crate) mod rest_test;
 mod robust;
 pub(crate) mod rotation_sum;

@@ -13,14 +13,14 @@ use nalgebra::{UnitQuaternion, Vector3};
 /// it runs elsewhere, and the segments and blocks fed by it ([`Segmenter`]).
 pub(super) struct RobustMethod {
     /// `None` when the front end was taken to run on another thread.
-    pub(super) front: Option<RestTest>,
+    pub(super) rest_test: Option<RestTest>,
     pub(super) seg: Segmenter,
 }
 
 impl RobustMethod {
     pub(super) fn new(config: &Config) -> Self {
         Self {
-            front: Some(RestTest::new(config)),
+            rest_test: Some(RestTest::new(config)),
             seg: Segmenter::new(config),
         }
     }
@@ -28,9 +28,9 @@ impl RobustMethod {
     /// Push the next item; `down` is the unit "down" in the frame the poses are relative to.
     pub(super) fn push(&mut self, item: Sample, down: Option<Vector3<f64>>) {
         self.seg.down = down;
-        let Self { front, seg } = self;
-        if let Some(front) = front {
-            front.push(item, seg);
+        let Self { rest_test, seg } = self;
+        if let Some(rest_test) = rest_test {
+            rest_test.push(item, seg);
         }
     }
 
@@ -46,11 +46,11 @@ impl RobustMethod {
         down: Option<Vector3<f64>>,
     ) {
         self.seg.down = down;
-        let Self { front, seg } = self;
-        if let Some(front) = front {
+        let Self { rest_test, seg } = self;
+        if let Some(rest_test) = rest_test {
             match frame {
-                Some((q, p, rot)) => front.push_frame(index, t, q, p, rot, seg),
-                None => front.push_outlier(index, t, seg),
+                Some((q, p, rot)) => rest_test.push_frame(index, t, q, p, rot, seg),
+                None => rest_test.push_outlier(index, t, seg),
             }
         }
     }
@@ -61,9 +61,9 @@ impl RobustMethod {
         instrumented: bool,
         frames: u64,
     ) -> crate::Result<Classification> {
-        let Self { front, mut seg } = self;
-        if let Some(front) = front {
-            front.finish(&mut seg);
+        let Self { rest_test, mut seg } = self;
+        if let Some(rest_test) = rest_test {
+            rest_test.finish(&mut seg);
         }
         Ok(conclude(seg.finish(), name, instrumented, frames))
     }

@@ -50,7 +50,7 @@ pub(super) struct Segmenter {
     open: MovingFrameSums,
     block_size: u64,
     segments: Vec<MotionSegment>,
-    rest_acc: RestStats,
+    rest: RestStats,
     in_motion: bool,
     outliers: u64,
     /// Unit "down" in the frame the poses are relative to, if known.
@@ -97,7 +97,7 @@ impl Segmenter {
             open: MovingFrameSums::default(),
             block_size: 1,
             segments: Vec::new(),
-            rest_acc: RestStats::default(),
+            rest: RestStats::default(),
             in_motion: false,
             outliers: 0,
             down: None,
@@ -140,12 +140,12 @@ impl Segmenter {
             SampleRef::Frame(f) => {
                 if self.in_motion {
                     self.in_motion = false;
-                    self.rest_acc = RestStats::default();
+                    self.rest = RestStats::default();
                     self.recent = RestStats::default();
                 }
                 let min_rest = self.config.robust.min_rest_s;
-                self.rest_acc.add(f, rot, min_rest);
-                let full = self.rest_acc.t1 - self.rest_acc.t0;
+                self.rest.add(f, rot, min_rest);
+                let full = self.rest.t1 - self.rest.t0;
                 if self.recent.n() > 0.0 && self.recent.t1 - self.recent.t0 >= 0.5 * full {
                     self.recent = RestStats::default();
                 }
@@ -171,7 +171,7 @@ impl Segmenter {
     /// quarter of it), so that the drift is not a transient such as contacts settling. Tested
     /// every [`SLOW_CHECK_FRAMES`] frames.
     fn is_slow_motion(&self) -> bool {
-        let (r, recent) = (&self.rest_acc, &self.recent);
+        let (r, recent) = (&self.rest, &self.recent);
         let m = self.model.unwrap();
         let full = r.t1 - r.t0;
         (r.n() as u64).is_multiple_of(SLOW_CHECK_FRAMES)
@@ -202,7 +202,7 @@ impl Segmenter {
         let m = self.model.unwrap();
         if p.drift_chi2(&m) <= m.displaced {
             // A real rest: the slow motion is over, and this rest may start a new segment.
-            self.rest_acc = slow.probe;
+            self.rest = slow.probe;
             self.recent = RestStats::default();
             self.in_motion = false;
             self.slow = None;
@@ -249,18 +249,18 @@ impl Segmenter {
     #[inline(never)]
     fn start_motion(&mut self, f: &RawFrame, slow_start: bool) {
         let m = self.model.unwrap();
-        let long_rest = self.rest_acc.n() > 0.0
-            && self.rest_acc.t1 - self.rest_acc.t0 >= self.config.robust.min_rest_s
-            && self.rest_acc.drift_chi2(&m) <= m.displaced;
+        let long_rest = self.rest.n() > 0.0
+            && self.rest.t1 - self.rest.t0 >= self.config.robust.min_rest_s
+            && self.rest.drift_chi2(&m) <= m.displaced;
         if !(self.segments.is_empty()
             || ((long_rest || slow_start) && self.segments.len() < MAX_SEGMENTS))
         {
             return;
         }
         let start = if slow_start {
-            self.rest_acc.start()
+            self.rest.start()
         } else {
-            self.rest_acc.mean().map(|(q, p)| (q, p, self.rest_acc.n()))
+            self.rest.mean().map(|(q, p)| (q, p, self.rest.n()))
         };
         let rest_down = start
             .zip(self.down)
@@ -353,7 +353,7 @@ impl Segmenter {
     pub(super) fn finish(mut self) -> Segmented {
         self.close_block();
         if !self.in_motion {
-            let rest_down = self.rest_acc.down(self.down);
+            let rest_down = self.rest.down(self.down);
             if let Some(prev) = self.segments.last_mut() {
                 prev.rest_after = rest_down;
             }

@@ -18,6 +18,7 @@
 //!   [`crate::screw::Screw::from_twist`]);
 //! * [`line_costs`]: the MSAC line cost of many blocks, four per step (AVX2 intrinsics);
 //! * [`moving_sums`]: a segment's per-frame sums taken sixteen frames at a time;
+//! * [`drift_sums`]: a rest's sums kept in whole lanes (store forwarding);
 //! * [`handover`]: the parsing thread and the buffers that hand its output over;
 //! * [`bench`]: a doorway for the benchmark examples, hidden from the documentation.
 //!
@@ -27,13 +28,14 @@
 pub mod atan;
 #[doc(hidden)]
 pub mod bench;
+pub mod drift_sums;
 pub mod handover;
 pub mod lanes;
 pub mod line_costs;
 pub mod moving_sums;
 pub mod twist4;
 
-pub use lanes::Real;
+pub use lanes::{cross, dot, Real};
 
 /// Whether this processor runs AVX2 code (x86-64 only; checked once, then cached by `std`),
 /// unless the test hook `set_baseline_only` said otherwise.
@@ -171,7 +173,7 @@ mod tests {
     }
 
     /// Every kernel that chooses AVX2 code at run time gives the same classification, bit for
-    /// bit, in its baseline code (the claim of `crate::lanes`): files of a topple, an
+    /// bit, in its baseline code (the claim of [`super::avx2_or_baseline!`]): files of a topple, an
     /// instrumented topple, a quasi-static topple (the slow-motion path), a slide and a general
     /// motion, at real tracking noise, each classified from its files both ways. (On a
     /// processor without AVX2 both ways are the baseline code.)

@@ -1,11 +1,12 @@
 //! The SE(3) logarithm of four rigid motions and their screws, lane by lane: each lane has the
 //! bits of the scalar original ([`Twist::log_quat`], [`Screw::from_twist`]), and four frames
-//! share each division and square root of the logarithm's long dependent chain.
+//! share each division and square root of the logarithm's long dependent chain; and the buffer
+//! of four motions the paper's method fills ([`FourMotions`]).
 
-use super::lanes::{cross, dot, lane, scale, F4, V4};
+use super::lanes::{cross, dot, lane, scale, F4, M4, V4};
 use crate::screw::{moments, Screw, ZERO_ROTATION_RAD};
 use crate::se3::{coef_vinv_series, Twist, SERIES_THRESHOLD_RAD};
-use nalgebra::Unit;
+use nalgebra::{Unit, UnitQuaternion, Vector3};
 
 /// [`crate::se3::so3_log_parts`] of four quaternions `(w, v)`, lane by lane, each rounded as the scalar one
 /// (the series and the arctangent are both taken only when the lanes need both).
@@ -113,10 +114,70 @@ impl Twist4 {
     }
 }
 
+/// Up to four frames' motions waiting for their logarithms (the paper's `g(0)⁻¹ g(t)`, see
+/// `crate::classify`'s paper method), which are taken
+/// together in four lanes ([`Twist4::log_quat`], in AVX2 code when the processor has it): each
+/// logarithm is a long chain of square roots and divisions, and four share each instruction.
+/// Every lane has the bits of the frame-by-frame logarithm.
+#[derive(Default)]
+pub struct FourMotions {
+    n: usize,
+    /// Frame index and time \[s\].
+    index: [usize; 4],
+    t: [f64; 4],
+    /// The motion's rotation `(w, x, y, z)` and translation \[m\], by coordinate.
+    qw: F4,
+    qv: V4,
+    tr: V4,
+}
+
+impl FourMotions {
+    /// Add frame `index` at time `t` \[s\], its motion's rotation `q` and translation `tr`
+    /// \[m\]; true when there are four.
+    #[inline(always)]
+    pub fn push(
+        &mut self,
+        index: usize,
+        t: f64,
+        q: &UnitQuaternion<f64>,
+        tr: &Vector3<f64>,
+    ) -> bool {
+        let k = self.n;
+        (self.index[k], self.t[k]) = (index, t);
+        self.qw.0[k] = q.w;
+        for i in 0..3 {
+            self.qv[i].0[k] = q.imag()[i];
+            self.tr[i].0[k] = tr[i];
+        }
+        self.n += 1;
+        self.n == 4
+    }
+
+    /// Whether no frame waits.
+    pub fn is_empty(&self) -> bool {
+        self.n == 0
+    }
+
+    /// Each waiting frame's index, time, twist and screw (`None` for the zero twist), in
+    /// order: the logarithms and the screws of rotations taken four at a time.
+    #[inline(always)]
+    pub fn twists_and_screws(self, mut each: impl FnMut(usize, f64, Twist, Option<Screw>)) {
+        // Identities after the last frame.
+        let valid = M4([self.n > 0, self.n > 1, self.n > 2, self.n > 3]);
+        let qw = valid.select(self.qw, F4::splat(1.0));
+        let xi = Twist4::log_quat(qw, &self.qv, &self.tr);
+        let screws = xi.screws();
+        for (k, screw) in screws.into_iter().enumerate().take(self.n) {
+            let x = xi.lane(k);
+            let screw = screw.or_else(|| Screw::from_twist(&x));
+            each(self.index[k], self.t[k], x, screw);
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::{UnitQuaternion, Vector3};
 
     #[test]
     fn four_lane_log_has_the_scalar_bits() {
