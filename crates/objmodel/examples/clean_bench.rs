@@ -56,7 +56,9 @@ fn main() {
             .take_object_cleaner()
             .expect("robust");
         for p in &poses {
-            c.push(p, &mut |f, o| chunk.keep((f.t, f.q, f.p, o)));
+            c.push(p, |f: objmodel::clean::RawFrame, o| {
+                chunk.keep((f.t, f.q, f.p, o))
+            });
         }
     });
     let rotated = best(reps, |chunk| {

@@ -115,7 +115,10 @@ impl PaperMethod {
     #[inline(always)]
     fn judge_pending(&mut self) {
         let pending = std::mem::take(&mut self.pending);
-        pending.twists_and_screws(|index, t, xi, screw| self.judge(index, t, xi, screw));
+        pending.twists_and_screws(
+            #[inline(always)]
+            |index, t, xi, screw| self.judge(index, t, xi, screw),
+        );
     }
 
     /// Algorithm 1 for one frame: its twist `xi` of `g(0)⁻¹ g(t)` and screw, against the

@@ -204,7 +204,13 @@ impl<T: Copy + Send + 'static> CleanedFrames<T> {
 /// only 1 ns/pose of it).
 #[inline(always)]
 fn push_batch<F: ParsingThreadWork>(front: &mut F, batch: &[StampedPose], chunk: &mut Vec<F::Out>) {
-    avx2_or_baseline!(push_batch_with(front, batch, chunk))
+    avx2_or_baseline!(#[inline(never)] fn<F: ParsingThreadWork>(
+        front: &mut F = front,
+        batch: &[StampedPose] = batch,
+        chunk: &mut Vec<F::Out> = chunk,
+    ) {
+        push_batch_with(front, batch, chunk)
+    })
 }
 
 #[inline(always)]
@@ -223,7 +229,13 @@ fn push_batch_with<F: ParsingThreadWork>(
 /// (the choice of code in the rest front end then folds away).
 #[inline(always)]
 pub fn push_cleaned_frames(a: &mut Analyzer, chunk: &[CleanedFrame], index: &mut usize) {
-    avx2_or_baseline!(push_cleaned_frames_with(a, chunk, index))
+    avx2_or_baseline!(#[inline(never)] fn(
+        a: &mut Analyzer = a,
+        chunk: &[CleanedFrame] = chunk,
+        index: &mut usize = index,
+    ) {
+        push_cleaned_frames_with(a, chunk, index)
+    })
 }
 
 #[inline(always)]
