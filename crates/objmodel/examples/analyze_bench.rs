@@ -13,6 +13,7 @@
 //! (both handy under `perf record`), `ONLY_BACK=1` times the back end alone (`BACK_PASSES=10`
 //! passes per timing), `REST_WINDOW=30` sets the rest window \[s\].
 
+use objmodel::bench::AnalyzerStages;
 use objmodel::classify::{Analyzer, Config};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -65,10 +66,10 @@ fn main() {
     // `learn`'s parsing thread.
     let front = best(front_reps, || {
         let mut a = Analyzer::new("bench", &config, false);
-        let mut front = a.take_object_front().expect("robust, no palm");
+        let mut front = a.take_object_rest_test().expect("robust, no palm");
         let mut chunk = Vec::with_capacity(8192);
         let mut k = 0usize;
-        let mut keep = |j: objmodel::classify::Judged| {
+        let mut keep = |j: objmodel::bench::Verdict| {
             chunk.push(j);
             if chunk.len() == 8192 {
                 k += std::hint::black_box(&chunk).len();
@@ -107,11 +108,11 @@ fn main() {
     let mut split_kind = String::new();
     let split = best(if only_clean { 0 } else { front_reps }, || {
         let mut a = Analyzer::new("bench", &config, false);
-        let mut front = a.take_object_front().expect("robust, no palm");
+        let mut front = a.take_object_rest_test().expect("robust, no palm");
         for p in &poses {
-            front.push(p, &mut |j| a.push_judged(j));
+            front.push(p, &mut |j| a.push_verdict(j));
         }
-        front.finish(&mut |j| a.push_judged(j));
+        front.finish(&mut |j| a.push_verdict(j));
         split_kind = a.finish().expect("classify").kind.as_str().to_string();
     });
     assert_eq!(kind, split_kind);
@@ -119,7 +120,7 @@ fn main() {
     let mut judged = Vec::with_capacity(poses.len() + 1);
     {
         let mut a = Analyzer::new("bench", &config, false);
-        let mut front = a.take_object_front().expect("robust, no palm");
+        let mut front = a.take_object_rest_test().expect("robust, no palm");
         for p in &poses {
             front.push(p, &mut |j| judged.push(j));
         }
@@ -134,9 +135,9 @@ fn main() {
     let back = best(if only_clean { 0 } else { reps }, || {
         for _ in 0..passes {
             let mut a = Analyzer::new("bench", &config, false);
-            let _front = a.take_object_front().expect("robust, no palm");
+            let _front = a.take_object_rest_test().expect("robust, no palm");
             for j in &judged {
-                a.push_judged(*j);
+                a.push_verdict(*j);
             }
             back_kind = a.finish().expect("classify").kind.as_str().to_string();
         }

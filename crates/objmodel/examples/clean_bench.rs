@@ -5,7 +5,8 @@
 //! `cargo run --release --example clean_bench -p objmodel [FILE.tum] [REPS]`
 
 use nalgebra::{UnitQuaternion, Vector3};
-use objmodel::classify::{Analyzer, Config, RotatingCleaner};
+use objmodel::bench::{AnalyzerStages, RotatingCleaner};
+use objmodel::classify::{Analyzer, Config};
 use objmodel::trajectory::StampedPose;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -55,7 +56,9 @@ fn main() {
             .take_object_cleaner()
             .expect("robust");
         for p in &poses {
-            c.push(p, &mut |f, o| chunk.keep((f.t, f.q, f.p, o)));
+            c.push(p, |f: objmodel::clean::RawFrame, o| {
+                chunk.keep((f.t, f.q, f.p, o))
+            });
         }
     });
     let rotated = best(reps, |chunk| {

@@ -4,7 +4,8 @@
 //!
 //! `cargo run --release --example front_dump -p objmodel -- OUT_DIR FILE.tum...`
 
-use objmodel::classify::{Analyzer, Config, Item, Judged};
+use objmodel::bench::{AnalyzerStages, Sample, Verdict};
+use objmodel::classify::{Analyzer, Config};
 use std::io::Write;
 
 fn main() {
@@ -14,16 +15,16 @@ fn main() {
         let poses = objmodel::format::read_trajectory(std::path::Path::new(&path)).expect("file");
         let config = Config::default();
         let mut a = Analyzer::new("dump", &config, false);
-        let mut front = a.take_object_front().expect("robust, no palm");
+        let mut front = a.take_object_rest_test().expect("robust, no palm");
         let name = path.replace('/', "_");
         let mut w = std::io::BufWriter::new(std::fs::File::create(dir.join(name)).unwrap());
         let (mut k, mut last) = (0usize, None::<bool>);
-        let mut emit = |j: Judged| match j {
-            Judged::Noise(n) => writeln!(w, "noise {:?}", n).unwrap(),
-            Judged::Item(i, m, r) => {
+        let mut emit = |j: Verdict| match j {
+            Verdict::Noise(n) => writeln!(w, "noise {:?}", n).unwrap(),
+            Verdict::Sample(i, m, r) => {
                 match i {
-                    Item::Outlier(index, t) => writeln!(w, "outlier {index} {t:?}").unwrap(),
-                    Item::Frame(f) => {
+                    Sample::Outlier(index, t) => writeln!(w, "outlier {index} {t:?}").unwrap(),
+                    Sample::Frame(f) => {
                         if last != Some(m) {
                             writeln!(w, "moving={m} from {}", f.index).unwrap();
                             last = Some(m);

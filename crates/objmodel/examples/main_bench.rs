@@ -5,7 +5,8 @@
 //!
 //! `cargo run --release --example main_bench -p objmodel [FILE.tum] [REPS]`
 
-use objmodel::classify::{Analyzer, Config, RotatingCleaner};
+use objmodel::bench::{AnalyzerStages, RotatingCleaner};
+use objmodel::classify::{Analyzer, Config};
 use std::path::PathBuf;
 use std::time::Instant;
 

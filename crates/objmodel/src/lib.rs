@@ -16,8 +16,6 @@
 //! * [`trajectory`]: time-stamped poses, demonstrations (optionally with a palm).
 //! * [`clean`]: quaternion sign continuity and rejection of single-frame tag flips.
 //! * [`noise`]: tracking-noise estimation from the data itself.
-//! * [`numeric`]: small numeric kernels of the per-frame loops (a first-quadrant `atan2`).
-//! * [`lanes`]: four `f64` lanes for the kernels that take frames four at a time.
 //! * [`stats`]: the few distributions the tests need (chi-square quantiles).
 //! * [`classify`]: Algorithm 1, the paper-literal version and the robust one.
 //! * [`edge`], [`face`]: Algorithm 2 and eq. 5 estimates with covariances.
@@ -32,6 +30,10 @@
 //!   pair the shape and the CoM predict, demonstrated or not.
 //! * [`synth`]: a small kinematic generator of demonstrations with exact ground truth.
 //!
+//! The code that exists only for speed (four-lane kernels, their AVX2 copies, the parsing
+//! thread) is a crate-private implementation detail behind one module, `fast`; every kernel
+//! there gives the bits of the plainer code it mirrors in the modules above.
+//!
 //! Units are SI throughout (m, rad, s, kg). Transforms are named by frames: `world_from_object`
 //! maps a point in object coordinates to world coordinates.
 
@@ -44,13 +46,12 @@ pub mod edge;
 pub mod error;
 pub mod export;
 pub mod face;
+mod fast;
 pub mod format;
 pub mod geometry;
-pub mod lanes;
 pub mod learn;
 pub mod mass;
 pub mod noise;
-pub mod numeric;
 pub mod observation;
 pub mod pendulum;
 pub mod prediction;
@@ -65,6 +66,9 @@ pub mod synth;
 mod testing;
 pub mod trajectory;
 pub mod tree;
+
+#[doc(hidden)]
+pub use fast::bench;
 
 pub use error::{Error, Result};
 pub use se3::Twist;

@@ -12,8 +12,8 @@
 //! ω = 0 (a pure translation) the axis is `{λ v/|v|}`, the pitch is infinite and the magnitude
 //! is |v| \[m\]. Eq. 5's plane normal is ω/θ for ω ≠ 0 and `v(t) × v(t-1)` normalised otherwise.
 
-use crate::lanes::{cross, dot, lane, scale};
-use crate::se3::{Twist, Twist4};
+use crate::fast::{cross, dot, Real};
+use crate::se3::Twist;
 use nalgebra::{Unit, Vector3};
 
 /// |ω| \[rad\] at or below which a twist counts as a pure translation (ω = 0 in eq. 1-3).
@@ -36,15 +36,16 @@ impl Screw {
     /// The screw of a twist (eq. 1-3). `None` for the zero twist, which has no axis.
     #[inline]
     pub fn from_twist(xi: &Twist) -> Option<Self> {
-        let theta = xi.omega.norm();
+        let m = moments(&xi.omega.into(), &xi.v.into());
+        let theta = m.theta2.sqrt();
         if theta > ZERO_ROTATION_RAD {
             // One division; the rest are products with 1/θ and 1/θ².
             let inv = 1.0 / theta;
             let inv2 = inv * inv;
             Some(Self {
                 direction: Unit::new_unchecked(xi.omega * inv),
-                point: xi.omega.cross(&xi.v) * inv2,
-                pitch: xi.omega.dot(&xi.v) * inv2,
+                point: Vector3::from(m.moment) * inv2,
+                pitch: m.omega_v * inv2,
                 magnitude: theta,
             })
         } else {
@@ -58,31 +59,34 @@ impl Screw {
         }
     }
 
-    /// [`Screw::from_twist`] of four twists: lane `k` is the screw of twist `k`, with its
-    /// bits; `None` in the lanes whose rotation is at or below [`ZERO_ROTATION_RAD`] (a
-    /// translation or nothing: take [`Screw::from_twist`] of that twist).
-    #[inline(always)]
-    pub fn from_twists(xi: &Twist4) -> [Option<Self>; 4] {
-        let theta = dot(&xi.omega, &xi.omega).sqrt();
-        let inv = 1.0 / theta;
-        let inv2 = inv * inv;
-        let direction = scale(&xi.omega, inv);
-        let point = scale(&cross(&xi.omega, &xi.v), inv2);
-        let pitch = dot(&xi.omega, &xi.v) * inv2;
-        let screw = |k: usize| {
-            (theta.0[k] > ZERO_ROTATION_RAD).then(|| Self {
-                direction: Unit::new_unchecked(lane(&direction, k)),
-                point: lane(&point, k),
-                pitch: pitch.0[k],
-                magnitude: theta.0[k],
-            })
-        };
-        [screw(0), screw(1), screw(2), screw(3)]
-    }
-
     /// True for a pure rotation or screw (ω ≠ 0), false for a pure translation.
     pub fn is_rotation(&self) -> bool {
         self.pitch.is_finite()
+    }
+}
+
+/// A twist's screw before its division by θ²: `θ² = |ω|²`, the moment `ω × v = θ² r` (r the
+/// axis point, eq. 1, 4) and `ωᵀv = θ² p` (p the pitch, eq. 2), for `ω` and `v` by coordinate.
+/// Generic over the number type, so that [`Screw::from_twist`] and the kernels that take four
+/// frames at a time (in `crate::fast`) compute them alike, rounded as nalgebra's `dot` and
+/// `cross`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Moments<T> {
+    /// θ² = |ω|² \[rad²\].
+    pub theta2: T,
+    /// ω × v \[m rad²\].
+    pub moment: [T; 3],
+    /// ωᵀ v \[m rad²\].
+    pub omega_v: T,
+}
+
+/// The [`Moments`] of the twist `(v, ω)`.
+#[inline(always)]
+pub(crate) fn moments<T: Real>(omega: &[T; 3], v: &[T; 3]) -> Moments<T> {
+    Moments {
+        theta2: dot(omega, omega),
+        moment: cross(omega, v),
+        omega_v: dot(omega, v),
     }
 }
 
@@ -144,38 +148,6 @@ mod tests {
             let g = Isometry3::from_parts(Translation3::from(q - r * q + u * advance), r);
             let s = Screw::from_twist(&Twist::log(&g)).unwrap();
             prop_assert!((s.pitch - advance / theta).abs() < 1e-9);
-        }
-    }
-
-    #[test]
-    fn four_lane_screws_have_the_scalar_bits() {
-        use crate::lanes::{F4, V4};
-        let mut state = 0x1234_5678_9abc_def1_u64;
-        let mut r = || crate::testing::unit(&mut state) - 0.5;
-        for _ in 0..500 {
-            // Rotations of all sizes, down to none (a pure translation) and the zero twist.
-            let twists: [Twist; 4] = std::array::from_fn(|k| {
-                let scale = [1.0, 1e-6, 1e-13, 0.0][k];
-                Twist::new(
-                    Vector3::new(r(), r(), r()) * if k == 3 { 0.0 } else { 1.0 },
-                    Vector3::new(r(), r(), r()) * scale,
-                )
-            });
-            let v4 = |f: &dyn Fn(&Twist) -> Vector3<f64>| -> V4 {
-                std::array::from_fn(|i| F4::from_fn(|k| f(&twists[k])[i]))
-            };
-            let four = Twist4 {
-                v: v4(&|x| x.v),
-                omega: v4(&|x| x.omega),
-            };
-            let screws = Screw::from_twists(&four);
-            for (k, x) in twists.iter().enumerate() {
-                let one = Screw::from_twist(x);
-                match screws[k] {
-                    Some(s) => assert_eq!(Some(s), one),
-                    None => assert!(x.omega.norm() <= ZERO_ROTATION_RAD),
-                }
-            }
         }
     }
 

@@ -16,7 +16,7 @@
 //! next term is below 1e-17 relative. At exactly θ = π the rotation axis sign is arbitrary
 //! (both logs are valid); this module returns the one with the quaternion's vector part.
 
-use crate::lanes::{cross, dot, scale, Real, F4, V4};
+use crate::fast::Real;
 use nalgebra::{Isometry3, Matrix3, Quaternion, Translation3, UnitQuaternion, Vector3, Vector6};
 
 /// Rotation angle \[rad\] below which the coefficients `C(θ)` and `c(θ)` come from their Taylor
@@ -62,7 +62,7 @@ fn coef_vinv(theta: f64) -> f64 {
 /// The Taylor series of `c(θ)` in `θ²` (see [`coef_vinv`]), exact to 2e-16 below
 /// [`SERIES_THRESHOLD_RAD`].
 #[inline(always)]
-fn coef_vinv_series<T: Real>(t2: T) -> T {
+pub(crate) fn coef_vinv_series<T: Real>(t2: T) -> T {
     t2 / 720.0 + 1.0 / 12.0 + t2 * t2 / 30240.0 + t2 * t2 * t2 / 1_209_600.0
 }
 
@@ -96,7 +96,7 @@ pub fn so3_log(q: &UnitQuaternion<f64>) -> Vector3<f64> {
 /// [`so3_log`] with the parts the SE(3) logarithm reuses: `(ω, θ/|q_v|, |w|)` for the
 /// quaternion taken with `w ≥ 0` (`θ/|q_v|` is `2` at the identity).
 #[inline(always)]
-fn so3_log_parts(q: &UnitQuaternion<f64>) -> (Vector3<f64>, f64, f64) {
+pub(crate) fn so3_log_parts(q: &UnitQuaternion<f64>) -> (Vector3<f64>, f64, f64) {
     let q = q.quaternion();
     let (w, v) = if q.w < 0.0 {
         (-q.w, -q.imag())
@@ -113,92 +113,9 @@ fn so3_log_parts(q: &UnitQuaternion<f64>) -> (Vector3<f64>, f64, f64) {
         2.0 * inv_w * (1.0 - x2 * (1.0 / 3.0 - x2 * (1.0 / 5.0 - x2 / 7.0)))
     } else {
         let s = s2.sqrt();
-        2.0 * crate::numeric::atan2_nonneg(s, w) / s
+        2.0 * crate::fast::atan::atan2_nonneg(s, w) / s
     };
     (v * k, k, w)
-}
-
-/// [`so3_log_parts`] of four quaternions `(w, v)`, lane by lane, each rounded as the scalar one
-/// (the series and the arctangent are both taken only when the lanes need both).
-#[inline(always)]
-fn so3_log_parts4(qw: F4, qv: &V4) -> (V4, F4, F4) {
-    let neg = qw.lt(F4::splat(0.0));
-    let w = neg.select(-qw, qw);
-    let v: V4 = [
-        neg.select(-qv[0], qv[0]),
-        neg.select(-qv[1], qv[1]),
-        neg.select(-qv[2], qv[2]),
-    ];
-    let s2 = dot(&v, &v);
-    let series = s2.lt((w * w) * 1e-4);
-    let k = if series.all() {
-        so3_log_k_series(s2, w)
-    } else if !series.any() {
-        so3_log_k_atan(s2, w)
-    } else {
-        series.select(so3_log_k_series(s2, w), so3_log_k_atan(s2, w))
-    };
-    (scale(&v, k), k, w)
-}
-
-/// `θ/|q_v|` of [`so3_log_parts`] by its series (`|q_v|² = s2`, scalar part `w`).
-#[inline(always)]
-fn so3_log_k_series(s2: F4, w: F4) -> F4 {
-    let inv_w = 1.0 / w;
-    let x2 = s2 * inv_w * inv_w;
-    2.0 * inv_w * (1.0 - x2 * (1.0 / 3.0 - x2 * (1.0 / 5.0 - x2 / 7.0)))
-}
-
-/// `θ/|q_v|` of [`so3_log_parts`] by the arctangent.
-#[inline(always)]
-fn so3_log_k_atan(s2: F4, w: F4) -> F4 {
-    let s = s2.sqrt();
-    2.0 * crate::numeric::atan2_nonneg4(s, w) / s
-}
-
-/// Four twists, lane by lane (see [`crate::lanes`]): lane `k` of each coordinate is the `k`-th
-/// twist.
-#[derive(Clone, Copy, Debug)]
-pub struct Twist4 {
-    /// Linear parts v \[m\].
-    pub v: V4,
-    /// Angular parts ω \[rad\].
-    pub omega: V4,
-}
-
-impl Twist4 {
-    /// [`Twist::log_quat`] of four rigid motions: quaternions by their scalar parts `qw` and
-    /// vector parts `qv`, translations `t`. Each lane has the bits of the scalar logarithm.
-    #[inline(always)]
-    pub fn log_quat(qw: F4, qv: &V4, t: &V4) -> Self {
-        let (omega, k, w) = so3_log_parts4(qw, qv);
-        let theta2 = dot(&omega, &omega);
-        let small = theta2.lt(F4::splat(SERIES_THRESHOLD_RAD * SERIES_THRESHOLD_RAD));
-        let c = if small.all() {
-            coef_vinv_series(theta2)
-        } else if !small.any() {
-            (1.0 - 0.5 * k * w) / theta2
-        } else {
-            small.select(coef_vinv_series(theta2), (1.0 - 0.5 * k * w) / theta2)
-        };
-        let wxt = cross(&omega, t);
-        let wwxt = cross(&omega, &wxt);
-        let v = [
-            t[0] - 0.5 * wxt[0] + c * wwxt[0],
-            t[1] - 0.5 * wxt[1] + c * wwxt[1],
-            t[2] - 0.5 * wxt[2] + c * wwxt[2],
-        ];
-        Self { v, omega }
-    }
-
-    /// Lane `k` as a [`Twist`].
-    #[inline(always)]
-    pub fn lane(&self, k: usize) -> Twist {
-        Twist {
-            v: crate::lanes::lane(&self.v, k),
-            omega: crate::lanes::lane(&self.omega, k),
-        }
-    }
 }
 
 /// A twist ξ = (v, ω) ∈ se(3): `omega` \[rad\] is the rotation vector, `v` \[m\] the linear part.
@@ -285,7 +202,7 @@ pub fn rotation_angle_between(a: &UnitQuaternion<f64>, b: &UnitQuaternion<f64>) 
     // 2·atan2(|a⁻¹b|_v, |w|), accurate for small angles unlike 2·acos(d).
     let rel = a.inverse() * b;
     let s = rel.quaternion().imag().norm();
-    2.0 * crate::numeric::atan2_nonneg(s, d)
+    2.0 * crate::fast::atan::atan2_nonneg(s, d)
 }
 
 #[cfg(test)]
@@ -371,45 +288,6 @@ mod tests {
                 };
                 Twist::new(Vector3::from(v), omega)
             })
-    }
-
-    #[test]
-    fn four_lane_log_has_the_scalar_bits() {
-        // Angles from 1e-12 to π - 1e-7, across both series thresholds, both quaternion
-        // signs, lanes of mixed cases.
-        let mut state = 0x5851_f42d_4c95_7f2d_u64;
-        let mut r = || crate::testing::unit(&mut state);
-        let angles = [
-            0.0, 1e-12, 1e-6, 0.0199, 0.02, 0.0201, 0.0999, 0.1, 0.1001, 1.0, 3.0,
-        ];
-        let mut motions = Vec::new();
-        for i in 0..4000 {
-            let axis = Vector3::new(r() - 0.5, r() - 0.5, r() - 0.5).normalize();
-            let angle = match i % 3 {
-                0 => angles[i / 3 % angles.len()],
-                1 => r() * std::f64::consts::PI,
-                _ => std::f64::consts::PI - 1e-7 * r(),
-            };
-            let mut q = UnitQuaternion::from_scaled_axis(axis * angle);
-            if r() < 0.5 {
-                q = UnitQuaternion::new_unchecked(-q.into_inner());
-            }
-            motions.push((q, Vector3::new(r() - 0.5, r() - 0.5, r() - 0.5)));
-        }
-        for c in motions.chunks(4) {
-            let qw = F4::from_fn(|k| c[k].0.w);
-            let qv: V4 = std::array::from_fn(|i| F4::from_fn(|k| c[k].0.imag()[i]));
-            let t: V4 = std::array::from_fn(|i| F4::from_fn(|k| c[k].1[i]));
-            let four = Twist4::log_quat(qw, &qv, &t);
-            for (k, (q, t)) in c.iter().enumerate() {
-                let one = Twist::log_quat(q, t);
-                let lane = four.lane(k);
-                for i in 0..3 {
-                    assert_eq!(lane.omega[i].to_bits(), one.omega[i].to_bits(), "{q:?}");
-                    assert_eq!(lane.v[i].to_bits(), one.v[i].to_bits(), "{q:?}");
-                }
-            }
-        }
     }
 
     proptest! {

@@ -419,6 +419,7 @@ fn quasi_static_topples_give_the_edge() {
 /// on another thread) gives exactly the same classification as the sequential analyser.
 #[test]
 fn split_front_end_gives_the_same_classification() {
+    use objmodel::bench::AnalyzerStages;
     use objmodel::classify::Analyzer;
     for kind in 0..4 {
         for d in demos(kind, 3, &SynthNoise::REAL) {
@@ -428,11 +429,11 @@ fn split_front_end_gives_the_same_classification() {
             let config = Config::default();
             let sequential = classify(&d.demo, &config).unwrap();
             let mut a = Analyzer::new(&d.demo.name, &config, false);
-            let mut front = a.take_object_front().expect("robust, no palm");
+            let mut front = a.take_object_rest_test().expect("robust, no palm");
             for p in &d.demo.object {
-                front.push(p, &mut |j| a.push_judged(j));
+                front.push(p, &mut |j| a.push_verdict(j));
             }
-            front.finish(&mut |j| a.push_judged(j));
+            front.finish(&mut |j| a.push_verdict(j));
             assert_eq!(a.finish().unwrap(), sequential);
         }
     }

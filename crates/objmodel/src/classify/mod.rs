@@ -25,24 +25,46 @@
 //!   5. the label of a frame is topple if it fits the line, else slide if it fits the plane, else
 //!      general; the demonstration's kind is the most frequent label (ties: topple, slide);
 //!   6. the frames after a completed topple's edge rotation (it ended at rest on the adjacent
-//!      face across the edge) are its landing and do not vote (see `fit::completed_topple`).
+//!      face across the edge) are its landing and do not vote (see `analysis::completed_topple`).
+//!
+//! The modules, in the order the data flows through them (each imports only modules above it,
+//! and the result and configuration types here):
+//!
+//! * `sample`: a kept frame or the place of a rejected one, as the stages pass them on;
+//! * `cleaning`: noise warm-up and tag-flip rejection per stream; `palm`: the motion relative
+//!   to a tracked palm;
+//! * `rotation_sum`, `rest_sums`, `rest`: the accumulated rotation and the windowed χ² rest
+//!   test; `rest_test`: the test with its noise warm-up, and the verdicts it passes on;
+//! * `frame_model`: a moving frame's motion and screw against its segment's reference, and its
+//!   noise model; `rest_stats`: a rest's mean pose and drift;
+//! * `block`: the sufficient statistics of a run of frames; `segments`: the motion segments;
+//! * `msac`: the fixed-line and fixed-plane fits; `analysis`: what one segment teaches;
+//!   `conclusion`: what the segments teach together (votes, topples by edge);
+//! * `robust`, `paper`: the two methods, streaming; `analyzer`: the [`Analyzer`] that drives
+//!   them; `files`: [`classify_files`].
 
-mod blocks;
+mod analysis;
+mod analyzer;
+mod block;
+pub(crate) mod cleaning;
+mod conclusion;
 mod files;
-mod fit;
-mod front;
-mod moving;
+pub(crate) mod frame_model;
 mod msac;
+mod palm;
 mod paper;
 mod rest;
-mod rest_acc;
-mod stream;
+mod rest_stats;
+mod rest_sums;
+pub(crate) mod rest_test;
+mod robust;
+pub(crate) mod rotation_sum;
+pub(crate) mod sample;
+mod segments;
 
+pub use analyzer::Analyzer;
 pub use files::classify_files;
 pub(crate) use files::classify_files_recording;
-pub use front::Judged;
-pub use rest::{Item, RotationSum};
-pub use stream::{Analyzer, ObjectCleaner, ObjectFront, RotatingCleaner};
 
 use crate::edge::EdgeObservation;
 use crate::face::FaceObservation;

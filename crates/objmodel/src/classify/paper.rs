@@ -7,14 +7,15 @@
 //! [`super::PaperThresholds::motion_translation`]; Algorithm 2 takes the frame of largest
 //! rotation over all frames.
 
-use super::rest::Item;
+use super::sample::Sample;
 use super::{Classification, Config, Kind, Label, LabelRun, Method, Segment, Votes};
 use crate::edge::EdgeObservation;
 use crate::face::{FaceObservation, FaceSource};
+use crate::fast::avx2_or_baseline;
+use crate::fast::twist4::FourMotions;
 use crate::geometry::Line;
-use crate::lanes::{F4, M4, V4};
 use crate::screw::{plane_normal, Screw};
-use crate::se3::{Twist, Twist4};
+use crate::se3::Twist;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 /// Algorithm 2's candidate: (θ \[rad\], axis point \[m\], unit axis direction, ω \[rad\]).
@@ -24,7 +25,7 @@ type Best = (f64, Vector3<f64>, Vector3<f64>, Vector3<f64>);
 type Reference = (UnitQuaternion<f64>, Vector3<f64>, Option<Vector3<f64>>);
 
 /// Streaming state of the literal algorithm.
-pub(super) struct PaperCore {
+pub(super) struct PaperMethod {
     config: Config,
     reference: Option<Reference>,
     /// `g(0)⁻¹`'s rotation, kept to form `g(0)⁻¹ g(t)` per frame.
@@ -40,27 +41,11 @@ pub(super) struct PaperCore {
     /// Cosines of the axis and normal angle thresholds.
     cos_axis: f64,
     cos_normal: f64,
-    /// Frames waiting for their logarithms, taken four at a time (see [`Pending`]).
-    pending: Pending,
+    /// Frames waiting for their logarithms, taken four at a time.
+    pending: FourMotions,
 }
 
-/// Up to four frames' motions `g(0)⁻¹ g(t)` waiting for their logarithms, which are taken
-/// together in four lanes ([`Twist4::log_quat`], in AVX2 code when the processor has it): each
-/// logarithm is a long chain of square roots and divisions, and four share each instruction.
-/// Every lane has the bits of the frame-by-frame logarithm.
-#[derive(Default)]
-struct Pending {
-    n: usize,
-    /// Frame index and time \[s\].
-    index: [usize; 4],
-    t: [f64; 4],
-    /// The motion's rotation `(w, x, y, z)` and translation \[m\], by coordinate.
-    qw: F4,
-    qv: V4,
-    tr: V4,
-}
-
-impl PaperCore {
+impl PaperMethod {
     pub(super) fn new(config: &Config) -> Self {
         Self {
             config: *config,
@@ -75,7 +60,7 @@ impl PaperCore {
             t_range: None,
             cos_axis: config.paper.axis_angle.cos(),
             cos_normal: config.paper.normal_angle.cos(),
-            pending: Pending::default(),
+            pending: FourMotions::default(),
         }
     }
 
@@ -100,8 +85,8 @@ impl PaperCore {
     }
 
     /// Push the next item; `down` is the unit "down" in the frame the poses are relative to.
-    pub(super) fn push(&mut self, item: Item, down: Option<Vector3<f64>>) {
-        let Item::Frame(f) = item else { return };
+    pub(super) fn push(&mut self, item: Sample, down: Option<Vector3<f64>>) {
+        let Sample::Frame(f) = item else { return };
         if self.reference.is_none() {
             self.reference = Some((f.q, f.p, down.map(|d| f.q.inverse() * d)));
             self.reference_inv = f.q.inverse();
@@ -113,16 +98,7 @@ impl PaperCore {
         }
         let q0_inv = self.reference_inv;
         let (q, t) = (q0_inv * f.q, q0_inv * (f.p - p0));
-        let p = &mut self.pending;
-        let k = p.n;
-        (p.index[k], p.t[k]) = (f.index, f.t);
-        p.qw.0[k] = q.w;
-        for i in 0..3 {
-            p.qv[i].0[k] = q.imag()[i];
-            p.tr[i].0[k] = t[i];
-        }
-        p.n += 1;
-        if p.n == 4 {
+        if self.pending.push(f.index, f.t, &q, &t) {
             self.flush();
         }
     }
@@ -130,37 +106,19 @@ impl PaperCore {
     /// Judge the pending frames.
     #[inline(never)]
     fn flush(&mut self) {
-        #[cfg(target_arch = "x86_64")]
-        if crate::lanes::avx2() {
-            // SAFETY: the processor runs AVX2 code (checked just above).
-            unsafe { self.flush_avx2() };
-            return;
-        }
-        self.flush_lanes();
-    }
-
-    /// [`PaperCore::flush`] compiled for AVX2 (the same operations, on 256-bit vectors).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    fn flush_avx2(&mut self) {
-        self.flush_lanes();
+        avx2_or_baseline!(self.judge_pending())
     }
 
     /// The logarithms of the pending frames and their screws (eq. 1-3, as
-    /// [`Screw::from_twist`]), four at a time; then each frame is judged in order.
+    /// [`Twist::log_quat`] and [`Screw::from_twist`]), four at a time; then each frame is judged
+    /// in order.
     #[inline(always)]
-    fn flush_lanes(&mut self) {
-        let p = std::mem::take(&mut self.pending);
-        // Identities after the last frame.
-        let valid = M4([p.n > 0, p.n > 1, p.n > 2, p.n > 3]);
-        let qw = valid.select(p.qw, F4::splat(1.0));
-        let xi = Twist4::log_quat(qw, &p.qv, &p.tr);
-        let screws = Screw::from_twists(&xi);
-        for (k, screw) in screws.into_iter().enumerate().take(p.n) {
-            let x = xi.lane(k);
-            let screw = screw.or_else(|| Screw::from_twist(&x));
-            self.judge(p.index[k], p.t[k], x, screw);
-        }
+    fn judge_pending(&mut self) {
+        let pending = std::mem::take(&mut self.pending);
+        pending.twists_and_screws(
+            #[inline(always)]
+            |index, t, xi, screw| self.judge(index, t, xi, screw),
+        );
     }
 
     /// Algorithm 1 for one frame: its twist `xi` of `g(0)⁻¹ g(t)` and screw, against the
@@ -226,7 +184,7 @@ impl PaperCore {
         instrumented: bool,
         frames: u64,
     ) -> crate::Result<Classification> {
-        if self.pending.n > 0 {
+        if !self.pending.is_empty() {
             self.flush();
         }
         let kind = self.votes.winner().unwrap_or(Kind::General);

@@ -22,8 +22,9 @@
 //! O(1) per frame) so that long files do not lose precision to cancellation: they span a few
 //! windows at most.
 
+use super::rest_sums::{terms, Sums, TERMS};
+use super::sample::{Sample, SampleRef, SampleSink};
 use crate::clean::RawFrame;
-use crate::se3::so3_log;
 use nalgebra::{UnitQuaternion, Vector3};
 
 /// Frames between two re-computations of the prefix sums from scratch (re-basing).
@@ -38,195 +39,6 @@ use nalgebra::{UnitQuaternion, Vector3};
 /// window. (Re-basing every 256 frames instead cost 1.3% of `learn`'s samples on 10^6 poses, and
 /// gave the same outputs on every file of the regression set.)
 pub const REBASE_EVERY: usize = 1024;
-
-/// An item flowing through the detector: a good frame or a rejected one (kept for ordering).
-#[derive(Clone, Copy, Debug)]
-pub enum Item {
-    /// A frame.
-    Frame(RawFrame),
-    /// A frame rejected as an outlier (index, time).
-    Outlier(usize, f64),
-}
-
-impl Item {
-    /// The item, borrowed.
-    #[inline(always)]
-    pub fn as_ref(&self) -> ItemRef<'_> {
-        match self {
-            Item::Frame(f) => ItemRef::Frame(f),
-            Item::Outlier(index, t) => ItemRef::Outlier(*index, *t),
-        }
-    }
-}
-
-/// An item as the [`RestDetector`] passes it on: a frame is borrowed from the detector's
-/// window, so that it is read where it was stored. (A copy assembled on the stack field by
-/// field and read back in other widths stalls the CPU on store forwarding: measured as the
-/// largest single cost of the robust analysis before this.)
-#[derive(Clone, Copy, Debug)]
-pub enum ItemRef<'a> {
-    /// A frame.
-    Frame(&'a RawFrame),
-    /// A frame rejected as an outlier (index, time).
-    Outlier(usize, f64),
-}
-
-impl ItemRef<'_> {
-    /// The item, owned.
-    pub fn to_item(self) -> Item {
-        match self {
-            ItemRef::Frame(f) => Item::Frame(*f),
-            ItemRef::Outlier(index, t) => Item::Outlier(index, t),
-        }
-    }
-}
-
-/// Where a [`RestDetector`] passes its items, in order, each with its verdict (`moving`, false
-/// for outliers) and its accumulated rotation \[rad\] (zero for outliers). Any
-/// `FnMut(ItemRef, bool, &Vector3<f64>)` is one; a type of its own can promise that its method
-/// is inlined into the detector's loop, which a closure cannot.
-pub trait ItemSink {
-    /// Take the next judged item.
-    fn item(&mut self, item: ItemRef<'_>, moving: bool, rot: &Vector3<f64>);
-}
-
-impl<F: FnMut(ItemRef<'_>, bool, &Vector3<f64>)> ItemSink for F {
-    #[inline(always)]
-    fn item(&mut self, item: ItemRef<'_>, moving: bool, rot: &Vector3<f64>) {
-        self(item, moving, rot)
-    }
-}
-
-/// `sin²(θ/2)` below which [`step_log`] uses its series (rotations below 1.15°).
-const STEP_SERIES_S2: f64 = 1e-4;
-
-/// The rotation vector ω \[rad\] of `q0⁻¹ q`, the rotation from one frame to the next: nearly
-/// always tiny, so computed without a division or `atan2`.
-///
-/// For a unit quaternion `(w, v)` with `w >= 0` and `s = |v| = sin(θ/2)`, `θ = 2 asin(s)`, so
-/// `ω = v · 2 asin(s)/s` with `asin(s)/s = 1 + s²/6 + 3s⁴/40 + 5s⁶/112 + 35s⁸/1152 + …`; for
-/// `s² <` [`STEP_SERIES_S2`] the series truncated after s⁸ is exact to 3e-22 (and `w < 0` only
-/// flips the sign). It equals [`so3_log`] up to rounding and the quaternion's norm (`|q|² = 1 + δ`
-/// changes ω by `δ/2` relative, ~1e-16 for normalised inputs); larger rotations go to
-/// [`so3_log`].
-#[inline(always)]
-fn step_log(q0: &UnitQuaternion<f64>, q: &UnitQuaternion<f64>) -> Vector3<f64> {
-    let d = q0.inverse() * q;
-    let v = d.imag();
-    let s2 = v.norm_squared();
-    if s2 < STEP_SERIES_S2 {
-        let half_k =
-            1.0 + s2 * (1.0 / 6.0 + s2 * (3.0 / 40.0 + s2 * (5.0 / 112.0 + s2 * (35.0 / 1152.0))));
-        let k = if d.w < 0.0 { -2.0 } else { 2.0 } * half_k;
-        v * k
-    } else {
-        so3_log(&d)
-    }
-}
-
-/// The accumulated rotation \[rad\] of a stream of frames: the sum of the logs of the
-/// frame-to-frame rotations since the first frame (`step_log`). A stage of its own, so that
-/// it can run on another thread than the rest detector that fits it.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct RotationSum {
-    sum: Vector3<f64>,
-    last: Option<UnitQuaternion<f64>>,
-}
-
-impl RotationSum {
-    /// The accumulated rotation at the next frame, of orientation `q`.
-    #[inline(always)]
-    pub fn next(&mut self, q: &UnitQuaternion<f64>) -> Vector3<f64> {
-        if let Some(q0) = self.last {
-            self.sum += step_log(&q0, q);
-        }
-        self.last = Some(*q);
-        self.sum
-    }
-}
-
-/// Number of running sums (padded to an even count for two-lane SIMD).
-const TERMS: usize = 16;
-
-/// Least-squares sums of (t, x) over a run of items, about a local origin: with `dt = t - t₀`
-/// and `x = x - x₀`, the terms of a frame are `[1, dt, dt², 0, x₀..x₅, dt·x₀..dt·x₅]`, so adding
-/// an item is one vector addition. (The padding lane 3 keeps each group on whole SIMD lanes.)
-#[derive(Clone, Copy, Debug)]
-struct Sums([f64; TERMS]);
-
-/// Lane of the first `x` sum in [`Sums`].
-const SX: usize = 4;
-/// Lane of the first `dt·x` sum in [`Sums`].
-const STX: usize = 10;
-
-impl Default for Sums {
-    fn default() -> Self {
-        Sums([0.0; TERMS])
-    }
-}
-
-/// The terms of a frame at `t, x` about `origin` (see [`Sums`]).
-#[inline(always)]
-fn terms(t: f64, x: &[f64; 6], origin: &(f64, [f64; 6])) -> [f64; TERMS] {
-    let dt = t - origin.0;
-    let mut v = [0.0; TERMS];
-    v[0] = 1.0;
-    v[1] = dt;
-    v[2] = dt * dt;
-    for j in 0..6 {
-        let d = x[j] - origin.1[j];
-        v[SX + j] = d;
-        v[STX + j] = dt * d;
-    }
-    v
-}
-
-impl Sums {
-    // `add` and `minus` work on copies, written back whole: in place, the compiler cannot rule
-    // out that the operand overlaps the sums, and adds lane by lane through memory.
-
-    /// Add the terms of an item.
-    #[inline(always)]
-    fn add(&mut self, terms: &[f64; TERMS]) {
-        let (mut s, v) = (self.0, *terms);
-        for j in 0..TERMS {
-            s[j] += v[j];
-        }
-        self.0 = s;
-    }
-
-    /// `self - other`: the sums over the items in one run and not in the other.
-    #[inline(always)]
-    fn minus(&self, other: &Sums) -> Sums {
-        let (mut s, v) = (self.0, other.0);
-        for j in 0..TERMS {
-            s[j] -= v[j];
-        }
-        Sums(s)
-    }
-
-    /// Whether the χ²₆ statistic of the slope exceeds `threshold` (never with fewer than 3
-    /// frames). With `D = n S_tt - S_t²` the slope is `β_j = (n S_tx_j - S_t S_x_j) / D` and
-    /// its variance `σ_j² n / D`, so the statistic is `Σ_j (n S_tx_j - S_t S_x_j)² / (σ_j² n D)`,
-    /// compared here without a division.
-    #[inline(always)]
-    fn exceeds(&self, inv_var: &[f64; 6], threshold: f64) -> bool {
-        let [n, st, stt, ..] = self.0;
-        if n < 2.5 {
-            return false;
-        }
-        let den = n * stt - st * st;
-        if den <= 0.0 {
-            return false;
-        }
-        let mut sum = 0.0;
-        for (j, iv) in inv_var.iter().enumerate() {
-            let b = n * self.0[STX + j] - st * self.0[SX + j];
-            sum += b * b * iv;
-        }
-        sum > threshold * n * den
-    }
-}
 
 /// One item in the detector's window: the sums over the items before it since the last
 /// re-basing (see [`Sums`]), whether it is a frame (or an outlier, of which only the index and
@@ -267,11 +79,11 @@ impl Slot {
 
     /// The item this slot holds.
     #[inline(always)]
-    fn item(&self) -> ItemRef<'_> {
+    fn sample(&self) -> SampleRef<'_> {
         if self.is_frame() {
-            ItemRef::Frame(&self.f)
+            SampleRef::Frame(&self.f)
         } else {
-            ItemRef::Outlier(self.f.index, self.f.t)
+            SampleRef::Outlier(self.f.index, self.f.t)
         }
     }
 }
@@ -383,7 +195,7 @@ impl RestDetector {
     }
 
     /// Push the next frame, given by its index, time \[s\], orientation and position \[m\],
-    /// with its accumulated rotation `r` \[rad\] (see [`RotationSum`], [`RestDetector::push`]).
+    /// with its accumulated rotation `r` \[rad\] (see [`RotationSum`](super::rotation_sum::RotationSum), [`RestDetector::push`]).
     /// The parts are taken by reference and stored field by field, so that they are read
     /// where the caller has them.
     #[inline(always)]
@@ -394,7 +206,7 @@ impl RestDetector {
         q: &UnitQuaternion<f64>,
         p: &Vector3<f64>,
         r: &Vector3<f64>,
-        out: &mut impl ItemSink,
+        out: &mut impl SampleSink,
     ) {
         let x = [r.x, r.y, r.z, p.x, p.y, p.z];
         let origin = self.origin;
@@ -415,7 +227,7 @@ impl RestDetector {
 
     /// Push the next item, a frame rejected as an outlier (see [`RestDetector::push`]).
     #[inline(always)]
-    pub fn push_outlier(&mut self, index: usize, t: f64, out: &mut impl ItemSink) {
+    pub fn push_outlier(&mut self, index: usize, t: f64, out: &mut impl SampleSink) {
         let total = self.total;
         let slot = self.next_slot();
         slot.before = total;
@@ -428,23 +240,23 @@ impl RestDetector {
     }
 
     /// Push the next item, with its accumulated rotation `rot` \[rad\] (of the frames up to it,
-    /// see [`RotationSum`]; ignored for outliers); judged items are passed to `out` with
+    /// see [`RotationSum`](super::rotation_sum::RotationSum); ignored for outliers); judged items are passed to `out` with
     /// `moving` (false for outliers) and that rotation (zero for outliers).
     #[inline(always)]
-    pub fn push(&mut self, item: &Item, rot: &Vector3<f64>, out: &mut impl ItemSink) {
+    pub fn push(&mut self, item: &Sample, rot: &Vector3<f64>, out: &mut impl SampleSink) {
         match item {
-            Item::Frame(f) => self.push_frame(f.index, f.t, &f.q, &f.p, rot, out),
-            Item::Outlier(index, t) => self.push_outlier(*index, *t, out),
+            Sample::Frame(f) => self.push_frame(f.index, f.t, &f.q, &f.p, rot, out),
+            Sample::Outlier(index, t) => self.push_outlier(*index, *t, out),
         }
     }
 
     /// Flush the remaining items at the end of the stream.
-    pub fn finish(mut self, out: &mut impl ItemSink) {
+    pub fn finish(mut self, out: &mut impl SampleSink) {
         self.drain(true, out);
     }
 
     #[inline(always)]
-    fn drain(&mut self, at_end: bool, out: &mut impl ItemSink) {
+    fn drain(&mut self, at_end: bool, out: &mut impl SampleSink) {
         while self.center < self.tail {
             let tc = self.slot(self.center).f.t;
             // Extend the right window [tc, tc + w].
@@ -475,7 +287,7 @@ impl RestDetector {
                     .before(self.hi)
                     .minus(&e.before)
                     .exceeds(&self.inv_var, self.threshold);
-            out.item(e.item(), moving, &e.rot);
+            out.sample(e.sample(), moving, &e.rot);
             self.center += 1;
         }
     }
@@ -484,15 +296,16 @@ impl RestDetector {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::classify::rotation_sum::{step_log, RotationSum};
     use std::collections::VecDeque;
 
     /// An item, comparable: a frame, or an outlier's index and time.
     type Key = Result<RawFrame, (usize, f64)>;
 
-    fn key(i: &Item) -> Key {
+    fn key(i: &Sample) -> Key {
         match *i {
-            Item::Frame(f) => Ok(f),
-            Item::Outlier(index, t) => Err((index, t)),
+            Sample::Frame(f) => Ok(f),
+            Sample::Outlier(index, t) => Err((index, t)),
         }
     }
 
@@ -500,11 +313,11 @@ mod tests {
     /// updated item by item), as a reference for the ring buffer of prefix sums. The sums are
     /// formed in another order, so they agree to rounding, and the verdicts unless a statistic
     /// is within rounding of its threshold (which these data do not have).
-    fn reference(d: &RestDetector, items: &[Item]) -> Vec<(Key, bool, [f64; 3])> {
+    fn reference(d: &RestDetector, items: &[Sample]) -> Vec<(Key, bool, [f64; 3])> {
         let (window, threshold, inv_var) = (d.window, d.threshold, d.inv_var);
         // (t, is_frame, x, terms), and the items.
         let mut buf: VecDeque<(f64, bool, [f64; 6], [f64; TERMS])> = VecDeque::new();
-        let mut queued: VecDeque<Item> = VecDeque::new();
+        let mut queued: VecDeque<Sample> = VecDeque::new();
         let (mut center, mut hi, mut since_rebase) = (0, 0, 0);
         let (mut left, mut right) = (Sums::default(), Sums::default());
         let (mut cum_rot, mut last_q) = (Vector3::zeros(), None::<UnitQuaternion<f64>>);
@@ -513,7 +326,7 @@ mod tests {
         for (k, item) in items.iter().enumerate() {
             let at_end = k + 1 == items.len();
             buf.push_back(match item {
-                Item::Frame(f) => {
+                Sample::Frame(f) => {
                     if let Some(q0) = last_q {
                         cum_rot += step_log(&q0, &f.q);
                     }
@@ -521,7 +334,7 @@ mod tests {
                     let x = [cum_rot.x, cum_rot.y, cum_rot.z, f.p.x, f.p.y, f.p.z];
                     (f.t, true, x, terms(f.t, &x, &origin))
                 }
-                Item::Outlier(_, t) => (*t, false, [0.0; 6], [0.0; TERMS]),
+                Sample::Outlier(_, t) => (*t, false, [0.0; 6], [0.0; TERMS]),
             });
             queued.push_back(*item);
             for end in [false, at_end] {
@@ -567,24 +380,6 @@ mod tests {
     }
 
     #[test]
-    fn step_log_is_the_log() {
-        let mut seed = 0x1234_5678_9abc_def1_u64;
-        let mut rnd = move || crate::testing::unit(&mut seed) - 0.5;
-        for k in 0..20000 {
-            let scale = [1e-9, 1e-5, 1e-3, 0.019, 0.021, 0.3, 3.0][k % 7];
-            let q0 = UnitQuaternion::from_scaled_axis(Vector3::new(rnd(), rnd(), rnd()) * 6.0);
-            let w = Vector3::new(rnd(), rnd(), rnd()) * scale;
-            let mut q = q0 * UnitQuaternion::from_scaled_axis(w);
-            if k % 3 == 0 {
-                q = UnitQuaternion::new_unchecked(-q.into_inner());
-            }
-            let exact = so3_log(&(q0.inverse() * q));
-            let err = (step_log(&q0, &q) - exact).norm();
-            assert!(err <= 2e-15 * exact.norm(), "{w} {exact} {err:e}");
-        }
-    }
-
-    #[test]
     fn matches_the_queue_based_reference() {
         // Rests and motions at random speeds, outliers, gaps in time; windows of 3 to ~600 items
         // (the ring grows).
@@ -594,7 +389,7 @@ mod tests {
         for (window, n) in [(0.1, 50), (0.6, 3000), (5.0, 2000), (0.6, 1)] {
             let (mut t, mut w, mut v) = (0.0, Vector3::zeros(), Vector3::zeros());
             let (mut q, mut p) = (UnitQuaternion::identity(), Vector3::zeros());
-            let items: Vec<Item> = (0..n)
+            let items: Vec<Sample> = (0..n)
                 .map(|index| {
                     t += if rnd() < 0.01 { 0.5 } else { 1.0 / 120.0 };
                     if rnd() < 0.01 {
@@ -609,9 +404,9 @@ mod tests {
                         Vector3::new(r() - 0.5, r() - 0.5, r() - 0.5) * s
                     };
                     if rnd() < 0.05 {
-                        return Item::Outlier(index, t);
+                        return Sample::Outlier(index, t);
                     }
-                    Item::Frame(RawFrame {
+                    Sample::Frame(RawFrame {
                         index,
                         t,
                         q: q * UnitQuaternion::from_scaled_axis(noise(&mut rnd, 0.02)),
@@ -622,14 +417,14 @@ mod tests {
             let mut d = RestDetector::new(window, 1e-3, 0.0087, 1e-3);
             let expected = reference(&d, &items);
             let mut got = Vec::new();
-            let mut keep = |i: ItemRef<'_>, m: bool, r: &Vector3<f64>| {
-                got.push((key(&i.to_item()), m, [r.x, r.y, r.z]));
+            let mut keep = |i: SampleRef<'_>, m: bool, r: &Vector3<f64>| {
+                got.push((key(&i.to_sample()), m, [r.x, r.y, r.z]));
             };
             let mut rotation = RotationSum::default();
             for i in &items {
                 let rot = match i {
-                    Item::Frame(f) => rotation.next(&f.q),
-                    Item::Outlier(..) => Vector3::zeros(),
+                    Sample::Frame(f) => rotation.next(&f.q),
+                    Sample::Outlier(..) => Vector3::zeros(),
                 };
                 d.push(i, &rot, &mut keep);
             }
@@ -657,12 +452,12 @@ mod tests {
             };
             let rot = rotation.next(&f.q);
             d.push(
-                &Item::Frame(f),
+                &Sample::Frame(f),
                 &rot,
-                &mut |i: ItemRef<'_>, m, _: &Vector3<f64>| verdicts.push((i.to_item(), m)),
+                &mut |i: SampleRef<'_>, m, _: &Vector3<f64>| verdicts.push((i.to_sample(), m)),
             );
         }
-        d.finish(&mut |i: ItemRef<'_>, m, _: &Vector3<f64>| verdicts.push((i.to_item(), m)));
+        d.finish(&mut |i: SampleRef<'_>, m, _: &Vector3<f64>| verdicts.push((i.to_sample(), m)));
         assert_eq!(verdicts.len(), 120);
         let moving: Vec<bool> = verdicts.iter().map(|v| v.1).collect();
         assert!(moving[..20].iter().all(|m| !m), "{moving:?}");

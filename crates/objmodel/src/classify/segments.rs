@@ -1,120 +1,29 @@
-//! Segments and blocks: after rest detection, frames are split into motion segments (each with
-//! the mean pose of the rest before it as reference) and summarised, relative to that
-//! reference, into per-frame statistics, with memory bounded independently of the file length.
-//!
-//! Frames are summarised into *blocks* of sufficient statistics ([`LineStats`], [`PlaneStats`]).
-//! While a file has fewer than [`MAX_BLOCKS`] frames every block is one frame, so per-frame
-//! labels are exact; beyond that, adjacent blocks of the same phase and segment are merged in
-//! pairs (and new blocks take twice as many frames), so labels become per block of 2, 4, ...
-//! frames and memory stays flat.
+//! Segments: after rest detection, frames are split into motion segments, each with the mean
+//! pose of the rest before it as reference (a rest too short, or over which the pose drifted,
+//! does not split; a motion too slow for the windowed rest test is found by its drift), and
+//! summarised, relative to that reference, into blocks of per-frame statistics
+//! ([`super::block`]), with memory bounded independently of the file length.
 
-use super::fit;
-use super::front::{Judged, RestFront, Verdicts};
-use super::moving::{FrameModel, OpenSums};
-use super::rest::{Item, ItemRef};
-use super::rest_acc::RestAcc;
-use super::{Classification, Config, Label, LabelRun, Method, Votes};
+use super::block::{Block, Phase, MAX_BLOCKS};
+use super::frame_model::FrameModel;
+use super::rest_stats::RestStats;
+use super::rest_test::{Verdict, VerdictSink};
+use super::sample::SampleRef;
+use super::Config;
 use crate::clean::RawFrame;
-use crate::geometry::{Line, LineStats, PlaneStats};
+use crate::fast::moving_sums::MovingFrameSums;
 use crate::noise::NoiseModel;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
-/// Largest number of blocks kept per demonstration.
-pub const MAX_BLOCKS: usize = 1 << 12;
-/// Smallest rotation, in units of the rotation noise σ_r, from which a frame's screw axis is
-/// used: the axis estimate's bias is of order (σ_r/θ)² relative, 1% at 10 σ_r.
-pub const MIN_AXIS_SNR: f64 = 10.0;
-/// How far \[m\] a resting object's contact settles when it starts to turn onto an edge (the
-/// load concentrates on the edge; rigid-body simulators and real compliant contacts both show
-/// about 0.1 mm): an uncertainty of the reference pose, whose effect on the axis shrinks as 1/θ.
-pub const REFERENCE_SETTLING_M: f64 = 1e-4;
-/// The same for orientation \[rad\] (0.2°).
-pub const REFERENCE_SETTLING_RAD: f64 = 3.5e-3;
 /// Largest number of motion segments per demonstration; later rests no longer split.
 pub const MAX_SEGMENTS: usize = 256;
 /// Rest frames between two drift tests of the rest so far (a slow motion is found at most this
 /// many frames late).
 pub const SLOW_CHECK_FRAMES: u64 = 32;
 
-/// Upper bound \[m\] on the axis distance used in the axis-point variance (beyond the palm the
-/// frame cannot be a topple anyway; this keeps far-away axes from underflowing the weight).
-pub(super) const MAX_AXIS_DISTANCE_M: f64 = 10.0;
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Phase {
-    Rest,
-    Outlier,
-    Moving,
-}
-
-/// Sufficient statistics of a run of consecutive frames of one phase and segment.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Block {
-    pub first: usize,
-    pub last: usize,
-    pub t0: f64,
-    pub t1: f64,
-    pub frames: u64,
-    pub phase: Phase,
-    pub segment: Option<usize>,
-    /// Frames measurably displaced from the segment reference (they vote).
-    pub significant: u64,
-    pub line: LineStats,
-    pub plane: PlaneStats,
-    /// Largest rotation in the block and the screw axis at that frame.
-    pub max_angle: f64,
-    pub max_line: Option<(Line, Vector3<f64>)>,
-    pub label: Label,
-}
-
-impl Block {
-    pub(super) fn new(index: usize, t: f64, phase: Phase, segment: Option<usize>) -> Self {
-        Self {
-            first: index,
-            last: index,
-            t0: t,
-            t1: t,
-            frames: 0,
-            phase,
-            segment,
-            significant: 0,
-            line: LineStats::default(),
-            plane: PlaneStats::default(),
-            max_angle: 0.0,
-            max_line: None,
-            label: match phase {
-                Phase::Rest => Label::Rest,
-                Phase::Outlier => Label::Outlier,
-                Phase::Moving => Label::Still,
-            },
-        }
-    }
-
-    fn merge(&mut self, o: &Block) {
-        // A mixed block takes the phase that carries the most information.
-        let rank = |p: Phase| match p {
-            Phase::Moving => 2,
-            Phase::Rest => 1,
-            Phase::Outlier => 0,
-        };
-        if rank(o.phase) > rank(self.phase) {
-            self.phase = o.phase;
-            self.label = o.label;
-        }
-        self.last = o.last;
-        self.t1 = o.t1;
-        self.frames += o.frames;
-        self.significant += o.significant;
-        self.line.merge(&o.line);
-        self.plane.merge(&o.plane);
-        if o.max_angle > self.max_angle {
-            self.max_angle = o.max_angle;
-            self.max_line = o.max_line;
-        }
-    }
-}
-
-pub(super) struct SegState {
+/// One motion segment as the segmenter keeps it: its reference pose, its time span, "down"
+/// and the faces rested on before and after.
+pub(super) struct MotionSegment {
     /// The reference pose's inverse rotation, as a quaternion (for the relative rotation) and
     /// as a matrix (for the relative translation, cheaper than rotating by the quaternion).
     pub ref_q_inv: UnitQuaternion<f64>,
@@ -131,95 +40,35 @@ pub(super) struct SegState {
     pub rest_after: Option<Vector3<f64>>,
 }
 
-/// The robust core: the rest front end ([`RestFront`]: noise warm-up, rest detection), unless
-/// it runs elsewhere, and the segments and blocks fed by it ([`Segmenter`]).
-pub(super) struct Core {
-    /// `None` when the front end was taken to run on another thread.
-    pub(super) front: Option<RestFront>,
-    pub(super) seg: Segmenter,
-}
-
-impl Core {
-    pub(super) fn new(config: &Config) -> Self {
-        Self {
-            front: Some(RestFront::new(config)),
-            seg: Segmenter::new(config),
-        }
-    }
-
-    /// Push the next item; `down` is the unit "down" in the frame the poses are relative to.
-    pub(super) fn push(&mut self, item: Item, down: Option<Vector3<f64>>) {
-        self.seg.down = down;
-        let Self { front, seg } = self;
-        if let Some(front) = front {
-            front.push(item, seg);
-        }
-    }
-
-    /// [`Core::push`] for a frame (index, time \[s\], orientation, position \[m\]; `None`
-    /// for an outlier, of which only the index and time count) whose accumulated rotation
-    /// \[rad\] was taken elsewhere (see [`RestFront::push_frame`]).
-    #[inline(always)]
-    pub(super) fn push_rotated(
-        &mut self,
-        index: usize,
-        t: f64,
-        frame: Option<(&UnitQuaternion<f64>, &Vector3<f64>, &Vector3<f64>)>,
-        down: Option<Vector3<f64>>,
-    ) {
-        self.seg.down = down;
-        let Self { front, seg } = self;
-        if let Some(front) = front {
-            match frame {
-                Some((q, p, rot)) => front.push_frame(index, t, q, p, rot, seg),
-                None => front.push_outlier(index, t, seg),
-            }
-        }
-    }
-
-    pub(super) fn finish(
-        self,
-        name: &str,
-        instrumented: bool,
-        frames: u64,
-    ) -> crate::Result<Classification> {
-        let Self { front, mut seg } = self;
-        if let Some(front) = front {
-            front.finish(&mut seg);
-        }
-        seg.finish(name, instrumented, frames)
-    }
-}
-
-/// Segments and blocks: consumes the rest front end's output ([`Judged`]).
+/// Segments and blocks: consumes the rest front end's output ([`Verdict`]).
 pub(super) struct Segmenter {
     config: Config,
     noise: Option<NoiseModel>,
     model: Option<FrameModel>,
     blocks: Vec<Block>,
     /// The last block's moving-frame statistics, until it is closed.
-    open: OpenSums,
+    open: MovingFrameSums,
     block_size: u64,
-    segments: Vec<SegState>,
-    rest_acc: RestAcc,
+    segments: Vec<MotionSegment>,
+    rest: RestStats,
     in_motion: bool,
     outliers: u64,
     /// Unit "down" in the frame the poses are relative to, if known.
     pub(super) down: Option<Vector3<f64>>,
     /// The latest part (a quarter to a half) of the current rest, to tell a persistent drift
     /// (a slow motion) from a transient one (contacts settling after a landing).
-    recent: RestAcc,
+    recent: RestStats,
     /// In a slow motion (see [`Slow`]).
     slow: Option<Slow>,
 }
 
-impl Verdicts for Segmenter {
+impl VerdictSink for Segmenter {
     fn noise(&mut self, noise: NoiseModel) {
         self.set_noise(noise)
     }
     #[inline(always)]
-    fn item(&mut self, item: ItemRef<'_>, moving: bool, rot: &Vector3<f64>) {
-        Segmenter::item(self, item, moving, rot)
+    fn sample(&mut self, item: SampleRef<'_>, moving: bool, rot: &Vector3<f64>) {
+        Segmenter::sample(self, item, moving, rot)
     }
 }
 
@@ -232,7 +81,7 @@ struct Slow {
     /// Duration \[s\] of the span that revealed the slow motion.
     span_s: f64,
     /// Frames since the windowed test last saw motion, or since the last probe.
-    probe: RestAcc,
+    probe: RestStats,
 }
 
 impl Segmenter {
@@ -245,14 +94,14 @@ impl Segmenter {
             // and faulted the copies' pages in, on the per-frame path. Pages never used are
             // never touched, so a short file costs no more memory.
             blocks: Vec::with_capacity(MAX_BLOCKS),
-            open: OpenSums::default(),
+            open: MovingFrameSums::default(),
             block_size: 1,
             segments: Vec::new(),
-            rest_acc: RestAcc::default(),
+            rest: RestStats::default(),
             in_motion: false,
             outliers: 0,
             down: None,
-            recent: RestAcc::default(),
+            recent: RestStats::default(),
             slow: None,
         }
     }
@@ -264,47 +113,47 @@ impl Segmenter {
     }
 
     /// Take the next output of the rest front end, owned.
-    pub(super) fn judged(&mut self, j: Judged) {
+    pub(super) fn verdict(&mut self, j: Verdict) {
         match j {
-            Judged::Noise(n) => self.set_noise(n),
-            Judged::Item(item, moving, rot) => self.item(item.as_ref(), moving, &rot),
+            Verdict::Noise(n) => self.set_noise(n),
+            Verdict::Sample(item, moving, rot) => self.sample(item.as_ref(), moving, &rot),
         }
     }
 
     #[inline(always)]
-    fn item(&mut self, item: ItemRef<'_>, moving: bool, rot: &Vector3<f64>) {
+    fn sample(&mut self, item: SampleRef<'_>, moving: bool, rot: &Vector3<f64>) {
         match item {
-            ItemRef::Outlier(index, t) => {
+            SampleRef::Outlier(index, t) => {
                 self.outliers += 1;
                 let segment = self.segments.len().checked_sub(1);
                 self.block(index, t, Phase::Outlier, segment);
             }
             // A moving frame, or any frame of a slow motion (all of which count as moving): the
             // common cases, inlined into the caller (the rest front end's loop), in its code.
-            ItemRef::Frame(f) if moving || self.slow.is_some() => {
+            SampleRef::Frame(f) if moving || self.slow.is_some() => {
                 let slow = self.slow.is_some();
                 self.moving(f, false);
                 if slow {
                     self.probe_slow(f, rot, moving);
                 }
             }
-            ItemRef::Frame(f) => {
+            SampleRef::Frame(f) => {
                 if self.in_motion {
                     self.in_motion = false;
-                    self.rest_acc = RestAcc::default();
-                    self.recent = RestAcc::default();
+                    self.rest = RestStats::default();
+                    self.recent = RestStats::default();
                 }
                 let min_rest = self.config.robust.min_rest_s;
-                self.rest_acc.add(f, rot, min_rest);
-                let full = self.rest_acc.t1 - self.rest_acc.t0;
+                self.rest.add(f, rot, min_rest);
+                let full = self.rest.t1 - self.rest.t0;
                 if self.recent.n() > 0.0 && self.recent.t1 - self.recent.t0 >= 0.5 * full {
-                    self.recent = RestAcc::default();
+                    self.recent = RestStats::default();
                 }
                 self.recent.add(f, rot, min_rest);
                 if self.is_slow_motion() {
                     self.slow = Some(Slow {
                         span_s: full,
-                        probe: RestAcc::default(),
+                        probe: RestStats::default(),
                     });
                     self.in_motion = false;
                     self.slow_motion_found(f);
@@ -322,7 +171,7 @@ impl Segmenter {
     /// quarter of it), so that the drift is not a transient such as contacts settling. Tested
     /// every [`SLOW_CHECK_FRAMES`] frames.
     fn is_slow_motion(&self) -> bool {
-        let (r, recent) = (&self.rest_acc, &self.recent);
+        let (r, recent) = (&self.rest, &self.recent);
         let m = self.model.unwrap();
         let full = r.t1 - r.t0;
         (r.n() as u64).is_multiple_of(SLOW_CHECK_FRAMES)
@@ -341,7 +190,7 @@ impl Segmenter {
         };
         if moving {
             if slow.probe.n() > 0.0 {
-                slow.probe = RestAcc::default();
+                slow.probe = RestStats::default();
             }
             return;
         }
@@ -353,12 +202,12 @@ impl Segmenter {
         let m = self.model.unwrap();
         if p.drift_chi2(&m) <= m.displaced {
             // A real rest: the slow motion is over, and this rest may start a new segment.
-            self.rest_acc = slow.probe;
-            self.recent = RestAcc::default();
+            self.rest = slow.probe;
+            self.recent = RestStats::default();
             self.in_motion = false;
             self.slow = None;
         } else {
-            slow.probe = RestAcc::default();
+            slow.probe = RestStats::default();
         }
     }
 
@@ -371,22 +220,8 @@ impl Segmenter {
     }
 
     /// A moving frame; `slow_start` when it reveals that the rest before it was a slow motion.
-    ///
-    /// Relative to the segment reference `(R_ref, p_ref)` the frame is
-    /// `q_rel = q_ref⁻¹ q`, `t = R_refᵀ (p - p_ref)`, with twist `(v, ω) = log(q_rel, t)` and
-    /// θ² = |ω|². It is significant (it votes) when `θ²/σ_r² + |t|²/σ_p²` exceeds the χ²₆
-    /// level; then it enters the plane statistics, and, when `θ²/σ_r²` also exceeds
-    /// [`FrameModel::axis_chi2`], the line statistics with its screw axis: direction `u = ω/θ`,
-    /// point `r = ω × v / θ²` (closest to the origin), chord `c² = (2 sin(θ/2))² = 4|imag(q_rel)|²`,
-    /// weights
-    ///
-    /// * point: `w = 1/σ²_point`, `σ²_point = (σ_p² + s_p² + (σ_r² + s_r²) d²)/c² + tol_p²`,
-    ///   with `d = min(|r|, MAX_AXIS_DISTANCE_M)` and `s_p`, `s_r` the reference settling,
-    /// * direction: `a = 1/σ²_dir`, `σ²_dir = (σ_r² + s_r²)/θ² + tol_r²`,
-    /// * pitch χ²: `(u·t)²/(σ_p² + tol_p²)`.
-    ///
-    /// The frame enters its block's statistics through [`OpenSums::push`] (which also says
-    /// how they are computed).
+    /// Its pose relative to the segment reference enters its block's statistics (the model:
+    /// [`super::frame_model`]) through [`MovingFrameSums::push`].
     ///
     /// Inlined into its caller (the rest front end's loop, in that loop's code); the one
     /// rare caller goes through [`Segmenter::slow_motion_found`].
@@ -414,18 +249,18 @@ impl Segmenter {
     #[inline(never)]
     fn start_motion(&mut self, f: &RawFrame, slow_start: bool) {
         let m = self.model.unwrap();
-        let long_rest = self.rest_acc.n() > 0.0
-            && self.rest_acc.t1 - self.rest_acc.t0 >= self.config.robust.min_rest_s
-            && self.rest_acc.drift_chi2(&m) <= m.displaced;
+        let long_rest = self.rest.n() > 0.0
+            && self.rest.t1 - self.rest.t0 >= self.config.robust.min_rest_s
+            && self.rest.drift_chi2(&m) <= m.displaced;
         if !(self.segments.is_empty()
             || ((long_rest || slow_start) && self.segments.len() < MAX_SEGMENTS))
         {
             return;
         }
         let start = if slow_start {
-            self.rest_acc.start()
+            self.rest.start()
         } else {
-            self.rest_acc.mean().map(|(q, p)| (q, p, self.rest_acc.n()))
+            self.rest.mean().map(|(q, p)| (q, p, self.rest.n()))
         };
         let rest_down = start
             .zip(self.down)
@@ -436,7 +271,7 @@ impl Segmenter {
         let (ref_q, ref_p, n_ref) = start.unwrap_or((f.q, f.p, 1.0));
         let down_ref = rest_down.or_else(|| self.down.map(|d| (f.q.inverse() * d).normalize()));
         let ref_q_inv = ref_q.inverse();
-        self.segments.push(SegState {
+        self.segments.push(MotionSegment {
             ref_q_inv,
             ref_r_inv: ref_q_inv.to_rotation_matrix().into_inner(),
             ref_p,
@@ -480,7 +315,9 @@ impl Segmenter {
     /// Add the open statistics to the last block.
     fn close_block(&mut self) {
         if let (Some(b), Some(m)) = (self.blocks.last_mut(), &self.model) {
-            self.open.close_into(b, m);
+            if let Some(s) = self.open.close(m) {
+                b.add_moving(&s);
+            }
         }
     }
 
@@ -512,84 +349,36 @@ impl Segmenter {
         }
     }
 
-    pub(super) fn finish(
-        mut self,
-        name: &str,
-        instrumented: bool,
-        frames: u64,
-    ) -> crate::Result<Classification> {
+    /// Close the last block and the last segment: what the segment analysis takes.
+    pub(super) fn finish(mut self) -> Segmented {
         self.close_block();
         if !self.in_motion {
-            let rest_down = self.rest_acc.down(self.down);
+            let rest_down = self.rest.down(self.down);
             if let Some(prev) = self.segments.last_mut() {
                 prev.rest_after = rest_down;
             }
         }
-        let alpha = self.config.robust.alpha;
-        // The fits use the noise in force (given or estimated).
-        let mut config = self.config;
-        config.robust.noise = self.noise;
-        let mut segments = Vec::with_capacity(self.segments.len());
-        let mut votes = Votes::default();
-        let mut warnings = Vec::new();
-        for (i, seg) in self.segments.iter().enumerate() {
-            let (s, warning) =
-                fit::analyse_segment(i, instrumented, seg, &mut self.blocks, &config, alpha, name);
-            warnings.extend(warning);
-            votes.add(s.kind, 0);
-            for (k, n) in [
-                (super::Kind::Topple, s.votes.topple),
-                (super::Kind::Slide, s.votes.slide),
-                (super::Kind::General, s.votes.general),
-            ] {
-                votes.add(k, n);
-            }
-            segments.push(s);
-        }
-        let topples = fit::group_topples(&segments, alpha, name);
-        let paper_edge = topples
-            .iter()
-            .max_by_key(|t| t.edge.frames)
-            .and_then(|t| t.edge.paper_line);
-        Ok(Classification {
-            name: name.to_string(),
-            kind: votes.winner().unwrap_or(super::Kind::General),
-            method: Method::Robust,
-            instrumented,
-            frames,
-            outliers: self.outliers,
-            votes,
+        Segmented {
+            config: self.config,
             noise: self.noise,
-            segments,
-            topples,
-            labels: runs(&self.blocks),
-            paper_edge,
-            warnings,
-        })
+            segments: self.segments,
+            blocks: self.blocks,
+            outliers: self.outliers,
+        }
     }
 }
 
-/// Run-length encode block labels.
-pub(super) fn runs(blocks: &[Block]) -> Vec<LabelRun> {
-    let mut out: Vec<LabelRun> = Vec::new();
-    for b in blocks {
-        if let Some(r) = out.last_mut() {
-            if r.label == b.label && r.segment == b.segment {
-                r.last = b.last;
-                r.t_end = b.t1;
-                r.frames += b.frames;
-                continue;
-            }
-        }
-        out.push(LabelRun {
-            first: b.first,
-            last: b.last,
-            t_start: b.t0,
-            t_end: b.t1,
-            frames: b.frames,
-            label: b.label,
-            segment: b.segment,
-        });
-    }
-    out
+/// A demonstration split into motion segments and summarised in blocks, for the segment
+/// analysis ([`super::conclusion::conclude`]).
+pub(super) struct Segmented {
+    /// The configuration.
+    pub config: Config,
+    /// The noise in force (given or estimated).
+    pub noise: Option<NoiseModel>,
+    /// The segments.
+    pub segments: Vec<MotionSegment>,
+    /// The blocks of all segments, in time order.
+    pub blocks: Vec<Block>,
+    /// Frames rejected as outliers.
+    pub outliers: u64,
 }

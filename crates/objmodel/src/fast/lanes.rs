@@ -1,7 +1,7 @@
 //! Four `f64` lanes, for the per-frame kernels that take frames four at a time.
 //!
 //! [`F4`] is a plain `[f64; 4]` with element-wise arithmetic. Compiled inside a function built
-//! for AVX2 (see [`avx2`]), each operation is one 256-bit instruction; elsewhere it is two
+//! for AVX2 (see [`super::avx2_or_baseline!`]), each operation is one 256-bit instruction; elsewhere it is two
 //! 128-bit ones (SSE2, every x86-64) or four scalar ones. Every lane is rounded exactly as the
 //! scalar expression it mirrors (IEEE-754 `+ - * / sqrt` are correctly rounded whatever the
 //! vector width, and Rust never fuses a multiply and an add), so a four-lane kernel gives the
@@ -208,13 +208,13 @@ impl Real for F4 {}
 
 /// `a · b`, rounded as nalgebra's `Vector3::dot`: `(a_x b_x + a_y b_y) + a_z b_z`.
 #[inline(always)]
-pub fn dot(a: &V4, b: &V4) -> F4 {
+pub fn dot<T: Real>(a: &[T; 3], b: &[T; 3]) -> T {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// `a × b`, rounded as nalgebra's `Vector3::cross`.
 #[inline(always)]
-pub fn cross(a: &V4, b: &V4) -> V4 {
+pub fn cross<T: Real>(a: &[T; 3], b: &[T; 3]) -> [T; 3] {
     [
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],
@@ -228,36 +228,10 @@ pub fn lane(a: &V4, k: usize) -> nalgebra::Vector3<f64> {
     nalgebra::Vector3::new(a[0].0[k], a[1].0[k], a[2].0[k])
 }
 
-/// `s a` for a lane scalar `s`.
+/// `s a` for a scalar `s` (of lanes, for lanes).
 #[inline(always)]
-pub fn scale(a: &V4, s: F4) -> V4 {
+pub fn scale<T: Real>(a: &[T; 3], s: T) -> [T; 3] {
     [a[0] * s, a[1] * s, a[2] * s]
-}
-
-/// Set by [`set_baseline_only`].
-static BASELINE_ONLY: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
-
-/// Make [`avx2`] answer false from now on (`on`), or again what the processor runs: so that
-/// every kernel that chooses its code at run time takes its baseline code, to test that it
-/// gives the same bits. Process-wide; meant for tests and benchmarks.
-#[doc(hidden)]
-pub fn set_baseline_only(on: bool) {
-    BASELINE_ONLY.store(on, std::sync::atomic::Ordering::Relaxed);
-}
-
-/// Whether this processor runs AVX2 code (x86-64 only; checked once, then cached by `std`),
-/// unless [`set_baseline_only`] said otherwise.
-#[inline]
-pub fn avx2() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::arch::is_x86_feature_detected!("avx2")
-            && !BASELINE_ONLY.load(std::sync::atomic::Ordering::Relaxed)
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
 }
 
 #[cfg(test)]

@@ -1,23 +1,37 @@
-//! The statistics of moving frames: each frame's pose relative to its segment's reference,
-//! its SE(3) logarithm and what it adds to its block's line and plane sums (see
-//! [`super::blocks`]), and the per-frame noise model they are weighted with.
+//! A segment's moving-frame sums, sixteen frames at a time: each frame's logarithm and the
+//! terms of its block's line and plane statistics, four frames to a step (the per-frame model
+//! they compute is `crate::classify`'s [`FrameModel`]; the frame-by-frame reference is in the
+//! tests).
 
-use super::blocks::{
-    Block, MAX_AXIS_DISTANCE_M, MIN_AXIS_SNR, REFERENCE_SETTLING_M, REFERENCE_SETTLING_RAD,
-};
-use crate::geometry::{Line, LineStats, PlaneStats, Sym3};
-use crate::lanes::{cross, dot, scale, F4, M4, V4};
-use crate::noise::NoiseModel;
-use crate::se3::{Twist, Twist4};
+use super::avx2_or_baseline;
+use super::lanes::{dot, scale, F4, M4, V4};
+use super::twist4::Twist4;
+use crate::classify::frame_model::{FrameModel, MAX_AXIS_DISTANCE_M};
+use crate::geometry::{LineStats, PlaneStats, Sym3};
+use crate::screw::moments;
+use crate::se3::Twist;
 use nalgebra::{UnitQuaternion, Vector3};
 
-/// The moving-frame statistics of the last block while it takes frames, added to the block
-/// when it is closed ([`OpenSums::close_into`]): the sums of the frames added so far, and the
-/// frames waiting to be added (see [`OpenSums::push`]), by their poses relative to the
+/// What a block's moving frames add to its statistics (see [`MovingFrameSums::close`]).
+#[derive(Clone, Copy, Debug)]
+pub struct MovingStats {
+    /// Frames measurably displaced from the segment reference (they vote).
+    pub significant: u64,
+    /// Their line statistics (the frames with an axis).
+    pub line: LineStats,
+    /// Their plane statistics.
+    pub plane: PlaneStats,
+    /// The largest rotation \[rad\] among the frames with an axis, and that frame's twist.
+    pub largest: Option<(f64, Twist)>,
+}
+
+/// The moving-frame statistics of the last block while it takes frames, handed to the block
+/// when it is closed ([`MovingFrameSums::close`]): the sums of the frames added so far, and the
+/// frames waiting to be added (see [`MovingFrameSums::push`]), by their poses relative to the
 /// segment reference.
 #[derive(Clone, Copy, Debug, Default)]
-pub(super) struct OpenSums {
-    sums: MovingSums,
+pub struct MovingFrameSums {
+    sums: LaneSums,
     pending: usize,
     /// The pending frames by coordinate, four to an [`F4`] (frame `k` is lane `k % 4` of
     /// group `k / 4`), so that a kernel loads them as they are: translations `x, y, z`, and
@@ -26,7 +40,7 @@ pub(super) struct OpenSums {
     pending_q: [[F4; PENDING_GROUPS]; 4],
 }
 
-/// Moving frames whose logarithms are taken together (see [`OpenSums::push`]).
+/// Moving frames whose logarithms are taken together (see [`MovingFrameSums::push`]).
 const PENDING_FRAMES: usize = 16;
 /// Groups of four frames among them.
 const PENDING_GROUPS: usize = PENDING_FRAMES / 4;
@@ -34,15 +48,15 @@ const PENDING_GROUPS: usize = PENDING_FRAMES / 4;
 /// A block's moving-frame statistics in compact form: symmetric matrices by their 6 distinct
 /// entries (ordered as [`Sym3`]), and every sum in four lanes, lane `k` over the frames that
 /// were in lane `k` of a [`FrameTerms`]. The lanes are added up on closing
-/// ([`MovingSums::close_into`]), so a sum over n frames is rounded as four partial sums and
+/// ([`LaneSums::close`]), so a sum over n frames is rounded as four partial sums and
 /// their total, not as one running sum (the same results to about 1e-16 relative).
 ///
 /// The plane sums are kept unweighted (`Σ ω ωᵀ`, `Σ t tᵀ`: the weights 1/σ² are the same for
 /// every frame and are applied on closing) and `Σ a u uᵀ` is taken as `Σ ω ωᵀ/D` with
 /// `D = θ²/a` (see [`FrameTerms`]), so that `ω ωᵀ` serves both; the axis of the largest
-/// rotation is kept as its twist and made a [`Line`] on closing.
+/// rotation is kept as its twist and made a [`crate::geometry::Line`] on closing.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-struct MovingSums {
+struct LaneSums {
     /// Frames measurably displaced from the segment reference.
     significant: u64,
     /// Σ ω ωᵀ \[rad²\] and Σ t tᵀ \[m²\] over those frames.
@@ -64,19 +78,14 @@ struct MovingSums {
     max_twist: Option<Twist>,
 }
 
-impl OpenSums {
+impl MovingFrameSums {
     /// Take a moving frame, its pose `(t_rel, q_rel)` relative to the segment reference (`m`
     /// the frame model). Frames are added [`PENDING_FRAMES`] at a time, four in each step of
-    /// the kernel ([`FrameTerms`], [`MovingSums::add`]): each frame is a long chain of
+    /// the kernel ([`FrameTerms`], [`LaneSums::add`]): each frame is a long chain of
     /// dependent operations (square roots, divisions, the arc tangent), which four frames then
     /// share (back end 62 → 42 ns a frame on the benchmark file, against frame by frame).
     #[inline]
-    pub(super) fn push(
-        &mut self,
-        t_rel: &Vector3<f64>,
-        q_rel: &UnitQuaternion<f64>,
-        m: &FrameModel,
-    ) {
+    pub fn push(&mut self, t_rel: &Vector3<f64>, q_rel: &UnitQuaternion<f64>, m: &FrameModel) {
         let q = q_rel.quaternion();
         self.set_pending(self.pending, [q.w, q.i, q.j, q.k], (*t_rel).into());
         self.pending += 1;
@@ -106,20 +115,7 @@ impl OpenSums {
         if n == 0 {
             return;
         }
-        #[cfg(target_arch = "x86_64")]
-        if crate::lanes::avx2() {
-            // SAFETY: the processor runs AVX2 code (checked just above).
-            unsafe { self.add_pending_avx2(n, m) };
-            return;
-        }
-        self.add_pending_lanes(n, m);
-    }
-
-    /// [`OpenSums::add_pending`] compiled for AVX2 (the same operations, on 256-bit vectors).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    fn add_pending_avx2(&mut self, n: usize, m: &FrameModel) {
-        self.add_pending_lanes(n, m);
+        avx2_or_baseline!(self.add_pending_lanes(n, m));
     }
 
     #[inline(always)]
@@ -139,18 +135,16 @@ impl OpenSums {
         }
     }
 
-    /// Add the sums to `b` (the block they were taken for; `m` the frame model they were
-    /// taken with) and start afresh.
-    pub(super) fn close_into(&mut self, b: &mut Block, m: &FrameModel) {
+    /// The statistics of the frames pushed since the last call (`m` the frame model they were
+    /// pushed with), if any was significant; start afresh.
+    pub fn close(&mut self, m: &FrameModel) -> Option<MovingStats> {
         self.add_pending(m);
-        if self.sums.significant > 0 {
-            std::mem::take(&mut self.sums).close_into(b, m);
-        }
+        (self.sums.significant > 0).then(|| std::mem::take(&mut self.sums).close(m))
     }
 }
 
-impl MovingSums {
-    /// Add four moving frames' terms, as [`super::blocks::Segmenter::moving`] describes, each into its lane.
+impl LaneSums {
+    /// Add four moving frames' terms (as [`FrameModel`] describes them), each into its lane.
     #[inline(always)]
     fn add(&mut self, f: &FrameTerms) {
         let o = self;
@@ -190,37 +184,29 @@ impl MovingSums {
         }
     }
 
-    /// Add the sums to `b` (the block they were taken for; `m` the frame model they were
-    /// taken with).
-    fn close_into(self, b: &mut Block, m: &FrameModel) {
-        b.significant += self.significant;
+    /// The statistics, the lanes added up (`m` the frame model they were taken with).
+    fn close(self, m: &FrameModel) -> MovingStats {
         let sym = |x: &[F4; 6]| Sym3([0, 1, 2, 3, 4, 5].map(|i| total(x[i]))).to_matrix();
-        b.plane.merge(&PlaneStats {
-            n: self.significant as f64,
-            sww: sym(&self.sum_ww) * m.w_r,
-            stt: sym(&self.sum_tt) * m.w_p,
-        });
-        b.line.merge(&LineStats {
-            n: total(self.line_n),
-            sw: total(self.sw),
-            sww: total(self.sww),
-            swr: Vector3::new(total(self.swr[0]), total(self.swr[1]), total(self.swr[2])),
-            swrr: sym(&self.swrr),
-            sa: total(self.sa),
-            saa: total(self.saa),
-            sauu: sym(&self.sauu),
-            pitch_chi2: total(self.pitch_chi2),
-            sw_inv_chord: total(self.sw_inv_chord),
-        });
-        if let Some(xi) = self.max_twist.filter(|_| self.max_angle > b.max_angle) {
-            let theta = self.max_angle;
-            b.max_angle = theta;
-            // The screw axis: r = ω × v / θ² is its point closest to the origin (r ⊥ u).
-            let line = Line {
-                point: xi.omega.cross(&xi.v) * (1.0 / (theta * theta)),
-                direction: xi.omega / theta,
-            };
-            b.max_line = Some((line, xi.omega));
+        MovingStats {
+            significant: self.significant,
+            plane: PlaneStats {
+                n: self.significant as f64,
+                sww: sym(&self.sum_ww) * m.w_r,
+                stt: sym(&self.sum_tt) * m.w_p,
+            },
+            line: LineStats {
+                n: total(self.line_n),
+                sw: total(self.sw),
+                sww: total(self.sww),
+                swr: Vector3::new(total(self.swr[0]), total(self.swr[1]), total(self.swr[2])),
+                swrr: sym(&self.swrr),
+                sa: total(self.sa),
+                saa: total(self.saa),
+                sauu: sym(&self.sauu),
+                pitch_chi2: total(self.pitch_chi2),
+                sw_inv_chord: total(self.sw_inv_chord),
+            },
+            largest: self.max_twist.map(|xi| (self.max_angle, xi)),
         }
     }
 }
@@ -232,9 +218,9 @@ fn total(x: F4) -> f64 {
     (a + b) + (c + d)
 }
 
-/// What four moving frames add to a block's [`MovingSums`], lane by lane: each frame's
-/// logarithm and the terms of its sums, computed together (see [`crate::lanes`]) and added one
-/// in lanes ([`MovingSums::add`]).
+/// What four moving frames add to a block's [`LaneSums`], lane by lane: each frame's
+/// logarithm and the terms of its sums, computed together (see [`super::lanes`]) and added one
+/// in lanes ([`LaneSums::add`]).
 ///
 /// For a frame with twist `ξ = (v, ω)` and pose `(t, q)` relative to the segment reference,
 /// with `θ² = |ω|²` and `g = ω × v = θ² r` (r the axis point), the quantities take three
@@ -283,7 +269,7 @@ impl FrameTerms {
         let axis = !chi2_r.le(F4::splat(m.axis_chi2));
         // With g = ω × v = θ² r, everything over θ⁴ so that no division waits for another:
         // θ⁴ d² = min(|g|², θ⁴ MAX_AXIS_DISTANCE_M²), θ⁴ E, and w r rᵀ = (w/θ⁴) g gᵀ.
-        let g = cross(omega, &xi.v);
+        let g = moments(omega, &xi.v).moment;
         let theta4 = theta2 * theta2;
         let g2 = dot(&g, &g).min(theta4 * (MAX_AXIS_DISTANCE_M * MAX_AXIS_DISTANCE_M));
         // Chord 2 sin(θ/2) = 2 |imag(q)|, from the quaternion (no sine).
@@ -335,66 +321,14 @@ fn upper(y: &V4, x: &V4) -> [F4; 6] {
     ]
 }
 
-/// Per-frame variances and the χ² levels, shared by the block statistics; with the derived
-/// weights (inverse variances) the per-frame work uses, so that it multiplies instead of
-/// dividing.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct FrameModel {
-    /// Position noise variance σ_p² \[m²\].
-    pub(super) var_p: f64,
-    /// Rotation noise variance σ_r² \[rad²\].
-    pub(super) var_r: f64,
-    /// Squared model tolerances \[m²\], \[rad²\].
-    pub(super) tol_p2: f64,
-    pub(super) tol_r2: f64,
-    /// χ²₆ level of a pose displaced from the reference.
-    pub(super) displaced: f64,
-    /// 1/σ_p² \[1/m²\] and 1/σ_r² \[1/rad²\] (significance test).
-    pub(super) inv_var_p: f64,
-    pub(super) inv_var_r: f64,
-    /// 1/(σ_p² + tol_p²) \[1/m²\] and 1/(σ_r² + tol_r²) \[1/rad²\]: plane weights, pitch χ².
-    pub(super) w_p: f64,
-    pub(super) w_r: f64,
-    /// Smallest θ²/σ_r² from which a frame's screw axis is used: the larger of the χ²₃ level
-    /// of a rotation and [`MIN_AXIS_SNR`]².
-    pub(super) axis_chi2: f64,
-    /// Variances of the reference pose, noise plus settling: σ_p² + s_p² \[m²\],
-    /// σ_r² + s_r² \[rad²\] (see [`REFERENCE_SETTLING_M`], [`REFERENCE_SETTLING_RAD`]).
-    pub(super) ref_var_p: f64,
-    pub(super) ref_var_r: f64,
-}
-
-impl FrameModel {
-    pub(super) fn new(n: &NoiseModel, r: &super::RobustConfig) -> Self {
-        let var_p = n.sigma_position.powi(2);
-        let var_r = n.sigma_rotation.powi(2);
-        let tol_p2 = r.edge_tolerance_m.powi(2);
-        let tol_r2 = r.edge_tolerance_rad.powi(2);
-        let rotated = crate::stats::chi2_threshold(3.0, r.alpha);
-        Self {
-            var_p,
-            var_r,
-            tol_p2,
-            tol_r2,
-            displaced: crate::stats::chi2_threshold(6.0, r.alpha),
-            inv_var_p: 1.0 / var_p,
-            inv_var_r: 1.0 / var_r,
-            w_p: 1.0 / (var_p + tol_p2),
-            w_r: 1.0 / (var_r + tol_r2),
-            axis_chi2: rotated.max(MIN_AXIS_SNR * MIN_AXIS_SNR),
-            ref_var_p: var_p + REFERENCE_SETTLING_M * REFERENCE_SETTLING_M,
-            ref_var_r: var_r + REFERENCE_SETTLING_RAD * REFERENCE_SETTLING_RAD,
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::noise::NoiseModel;
     use crate::testing::unit;
 
     /// The frame-by-frame sums, as one running sum each (the original of [`FrameTerms`] and
-    /// [`MovingSums::add`]).
+    /// [`LaneSums::add`]).
     #[derive(Default)]
     struct Reference {
         significant: u64,
@@ -470,14 +404,14 @@ mod tests {
                 sigma_position: 1e-3,
                 sigma_rotation: 8.7e-3,
             },
-            &crate::classify::Config::default().robust,
+            &crate::classify::RobustConfig::default(),
         );
         let mut state = 0x0123_4567_89ab_cdef_u64;
         // Runs of 1 to 40 frames (all remainders of 16 and 4): still, barely moving, small and
         // large rotations about random lines, both quaternion signs. Sums agree to rounding
         // (they are added in another order), the rest bit for bit.
         for run in 1..=40 {
-            let (mut open, mut reference) = (OpenSums::default(), Reference::default());
+            let (mut open, mut reference) = (MovingFrameSums::default(), Reference::default());
             for _ in 0..run {
                 let mut r = || unit(&mut state);
                 let scale = [0.0, 1e-3, 0.05, 0.5, 2.5][(r() * 5.0) as usize];

@@ -1,55 +1,58 @@
 //! The robust classifier's front end: the noise warm-up, then the [`RestDetector`], and what
-//! they pass on ([`Verdicts`], [`Judged`]).
+//! they pass on ([`VerdictSink`], [`Verdict`]).
 
-use super::rest::{Item, ItemRef, ItemSink, RestDetector, RotationSum};
+use super::rest::RestDetector;
+use super::rotation_sum::RotationSum;
+use super::sample::{Sample, SampleRef, SampleSink};
 use super::Config;
 use crate::clean::RawFrame;
+use crate::fast::avx2_or_baseline;
 use crate::noise::{self, NoiseModel};
 use nalgebra::{UnitQuaternion, Vector3};
 
 /// What the rest front end passes on: first the noise model in force (once, before any item),
 /// then every item in order with its verdict.
 #[derive(Clone, Copy, Debug)]
-pub enum Judged {
+pub enum Verdict {
     /// The tracking noise, given or estimated from the first frames.
     Noise(NoiseModel),
     /// An item, `moving` or not, with its accumulated rotation \[rad\]: the sum of the logs of
     /// the frame-to-frame rotations since the first frame (zero for outliers).
-    Item(Item, bool, Vector3<f64>),
+    Sample(Sample, bool, Vector3<f64>),
 }
 
 /// Where the rest front end's output goes, in order: first the noise model in force (once,
-/// before any item), then every item with its verdict (see [`Judged`]).
-pub trait Verdicts {
+/// before any item), then every item with its verdict (see [`Verdict`]).
+pub trait VerdictSink {
     /// The tracking noise, given or estimated from the first frames.
     fn noise(&mut self, noise: NoiseModel);
     /// An item, `moving` or not, with its accumulated rotation `rot` \[rad\] (zero for
     /// outliers).
-    fn item(&mut self, item: ItemRef<'_>, moving: bool, rot: &Vector3<f64>);
+    fn sample(&mut self, item: SampleRef<'_>, moving: bool, rot: &Vector3<f64>);
 }
 
-/// A [`Verdicts`] as the [`RestDetector`]'s [`ItemSink`], its `item` inlined into the
+/// A [`VerdictSink`] as the [`RestDetector`]'s [`SampleSink`], its `item` inlined into the
 /// detector's loop.
-struct ToVerdicts<'a, V>(&'a mut V);
+struct ToSampleSink<'a, V>(&'a mut V);
 
-impl<V: Verdicts> ItemSink for ToVerdicts<'_, V> {
+impl<V: VerdictSink> SampleSink for ToSampleSink<'_, V> {
     #[inline(always)]
-    fn item(&mut self, item: ItemRef<'_>, moving: bool, rot: &Vector3<f64>) {
-        self.0.item(item, moving, rot)
+    fn sample(&mut self, item: SampleRef<'_>, moving: bool, rot: &Vector3<f64>) {
+        self.0.sample(item, moving, rot)
     }
 }
 
-/// [`Verdicts`] as owned [`Judged`] values passed to a closure (to keep them, or to send them
+/// [`VerdictSink`] as owned [`Verdict`] values passed to a closure (to keep them, or to send them
 /// to another thread).
-pub struct ToJudged<F>(pub F);
+pub struct OwnedVerdicts<F>(pub F);
 
-impl<F: FnMut(Judged)> Verdicts for ToJudged<F> {
+impl<F: FnMut(Verdict)> VerdictSink for OwnedVerdicts<F> {
     fn noise(&mut self, noise: NoiseModel) {
-        (self.0)(Judged::Noise(noise))
+        (self.0)(Verdict::Noise(noise))
     }
     #[inline(always)]
-    fn item(&mut self, item: ItemRef<'_>, moving: bool, rot: &Vector3<f64>) {
-        (self.0)(Judged::Item(item.to_item(), moving, *rot))
+    fn sample(&mut self, item: SampleRef<'_>, moving: bool, rot: &Vector3<f64>) {
+        (self.0)(Verdict::Sample(item.to_sample(), moving, *rot))
     }
 }
 
@@ -58,16 +61,16 @@ impl<F: FnMut(Judged)> Verdicts for ToJudged<F> {
 /// [`RestDetector`]. It only looks at the cleaned stream, so it can run on another thread than
 /// the segments and blocks that consume its output.
 #[derive(Debug)]
-pub struct RestFront {
+pub struct RestTest {
     config: Config,
-    /// The accumulated rotation, for items pushed without it ([`RestFront::push`]).
+    /// The accumulated rotation, for items pushed without it ([`RestTest::push`]).
     rotation: RotationSum,
-    warm: Vec<(Item, Vector3<f64>)>,
+    warm: Vec<(Sample, Vector3<f64>)>,
     noise: Option<NoiseModel>,
     rest: Option<RestDetector>,
 }
 
-impl RestFront {
+impl RestTest {
     /// A front end for `config`.
     pub fn new(config: &Config) -> Self {
         Self {
@@ -79,14 +82,14 @@ impl RestFront {
         }
     }
 
-    fn start(&mut self, out: &mut impl Verdicts) {
+    fn start(&mut self, out: &mut impl VerdictSink) {
         let noise = self.noise.unwrap_or_else(|| {
             let samples: Vec<noise::PoseSample> = self
                 .warm
                 .iter()
                 .filter_map(|(i, _)| match i {
-                    Item::Frame(f) => Some((f.t, f.q, f.p)),
-                    Item::Outlier(..) => None,
+                    Sample::Frame(f) => Some((f.t, f.q, f.p)),
+                    Sample::Outlier(..) => None,
                 })
                 .collect();
             noise::estimate(&samples).unwrap_or(NoiseModel {
@@ -104,26 +107,26 @@ impl RestFront {
             r.alpha,
         );
         for (item, rot) in std::mem::take(&mut self.warm) {
-            rest.push(&item, &rot, &mut ToVerdicts(out));
+            rest.push(&item, &rot, &mut ToSampleSink(out));
         }
         self.rest = Some(rest);
     }
 
     /// Push the next item; what is judged goes to `out`.
-    pub fn push(&mut self, item: Item, out: &mut impl Verdicts) {
+    pub fn push(&mut self, item: Sample, out: &mut impl VerdictSink) {
         match item {
-            Item::Frame(f) => {
+            Sample::Frame(f) => {
                 let rot = self.rotation.next(&f.q);
                 self.push_frame(f.index, f.t, &f.q, &f.p, &rot, out)
             }
-            Item::Outlier(index, t) => self.push_outlier(index, t, out),
+            Sample::Outlier(index, t) => self.push_outlier(index, t, out),
         }
     }
 
     /// Push the next frame (index, time \[s\], orientation, position \[m\]) with its
     /// accumulated rotation \[rad\], taken elsewhere (with a [`RotationSum`] over the frames,
     /// outliers left out); what is judged goes to `out`. The parts are read where the caller
-    /// has them (see [`ItemRef`]).
+    /// has them (see [`SampleRef`]).
     // The work is not inlined into the caller's loop (measured faster: register pressure),
     // only the choice of code.
     #[inline(always)]
@@ -134,48 +137,21 @@ impl RestFront {
         q: &UnitQuaternion<f64>,
         p: &Vector3<f64>,
         rot: &Vector3<f64>,
-        out: &mut impl Verdicts,
+        out: &mut impl VerdictSink,
     ) {
-        #[cfg(target_arch = "x86_64")]
-        if crate::lanes::avx2() {
-            // SAFETY: the processor runs AVX2 code (checked just above).
-            return unsafe { self.push_frame_avx2(index, t, q, p, rot, out) };
-        }
-        self.push_frame_base(index, t, q, p, rot, out)
-    }
-
-    /// [`RestFront::push_frame`] in baseline code.
-    #[inline(never)]
-    fn push_frame_base(
-        &mut self,
-        index: usize,
-        t: f64,
-        q: &UnitQuaternion<f64>,
-        p: &Vector3<f64>,
-        rot: &Vector3<f64>,
-        out: &mut impl Verdicts,
-    ) {
-        self.push_frame_with(index, t, q, p, rot, out)
-    }
-
-    /// [`RestFront::push_frame`] compiled for AVX2 (with what it inlines: the rest test and
-    /// the consumer's per-frame code), the same operations and bits.
-    ///
-    /// # Safety
-    /// The processor must run AVX2 code.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    #[inline(never)]
-    unsafe fn push_frame_avx2(
-        &mut self,
-        index: usize,
-        t: f64,
-        q: &UnitQuaternion<f64>,
-        p: &Vector3<f64>,
-        rot: &Vector3<f64>,
-        out: &mut impl Verdicts,
-    ) {
-        self.push_frame_with(index, t, q, p, rot, out)
+        // Compiled for AVX2 where the processor has it, with what it inlines: the rest test
+        // and the consumer's per-frame code.
+        avx2_or_baseline!(#[inline(never)] fn(
+            this: &mut RestTest = self,
+            index: usize = index,
+            t: f64 = t,
+            q: &UnitQuaternion<f64> = q,
+            p: &Vector3<f64> = p,
+            rot: &Vector3<f64> = rot,
+            out: &mut impl VerdictSink = out,
+        ) {
+            this.push_frame_with(index, t, q, p, rot, out)
+        })
     }
 
     #[inline(always)]
@@ -186,10 +162,10 @@ impl RestFront {
         q: &UnitQuaternion<f64>,
         p: &Vector3<f64>,
         rot: &Vector3<f64>,
-        out: &mut impl Verdicts,
+        out: &mut impl VerdictSink,
     ) {
         match self.rest.as_mut() {
-            Some(rest) => rest.push_frame(index, t, q, p, rot, &mut ToVerdicts(out)),
+            Some(rest) => rest.push_frame(index, t, q, p, rot, &mut ToSampleSink(out)),
             None => {
                 let f = RawFrame {
                     index,
@@ -197,23 +173,23 @@ impl RestFront {
                     q: *q,
                     p: *p,
                 };
-                self.warm_up(Item::Frame(f), rot, out)
+                self.warm_up(Sample::Frame(f), rot, out)
             }
         }
     }
 
     /// Push the next item, a frame rejected as an outlier (index, time \[s\]); what is judged
     /// goes to `out`.
-    pub fn push_outlier(&mut self, index: usize, t: f64, out: &mut impl Verdicts) {
+    pub fn push_outlier(&mut self, index: usize, t: f64, out: &mut impl VerdictSink) {
         match self.rest.as_mut() {
-            Some(rest) => rest.push_outlier(index, t, &mut ToVerdicts(out)),
-            None => self.warm_up(Item::Outlier(index, t), &Vector3::zeros(), out),
+            Some(rest) => rest.push_outlier(index, t, &mut ToSampleSink(out)),
+            None => self.warm_up(Sample::Outlier(index, t), &Vector3::zeros(), out),
         }
     }
 
     /// Keep an item of the warm-up; start the detector when there are enough.
     #[cold]
-    fn warm_up(&mut self, item: Item, rot: &Vector3<f64>, out: &mut impl Verdicts) {
+    fn warm_up(&mut self, item: Sample, rot: &Vector3<f64>, out: &mut impl VerdictSink) {
         self.warm.push((item, *rot));
         if self.warm.len() >= self.config.robust.warmup_frames.max(3) {
             self.start(out);
@@ -221,12 +197,12 @@ impl RestFront {
     }
 
     /// Flush the remaining items at the end of the stream.
-    pub fn finish(mut self, out: &mut impl Verdicts) {
+    pub fn finish(mut self, out: &mut impl VerdictSink) {
         if self.rest.is_none() {
             self.start(out);
         }
         if let Some(rest) = self.rest.take() {
-            rest.finish(&mut ToVerdicts(out));
+            rest.finish(&mut ToSampleSink(out));
         }
     }
 }

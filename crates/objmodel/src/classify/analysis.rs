@@ -1,9 +1,10 @@
-//! A segment's analysis: its edge line and face plane fitted over its blocks ([`super::msac`]),
-//! the change-point trimming of the edge, the labels the fits give, and the grouping of
-//! topples by edge.
+//! What one finished segment teaches: its edge line and face plane fitted over its blocks
+//! ([`super::msac`]), the change-point trimming of the edge, whether a topple completed, the
+//! labels and votes the fits give, and the edge observation (topple) or face (slide).
 
-use super::blocks::{Block, Phase, SegState};
+use super::block::{Block, Phase};
 use super::msac::{fit_line, fit_plane, line_inlier, plane_inlier, slide_normal, Thresholds};
+use super::segments::MotionSegment;
 use super::{Config, Kind, Label, Segment, Votes};
 use crate::edge::EdgeObservation;
 use crate::face::{FaceObservation, FaceSource};
@@ -114,7 +115,7 @@ impl PointSums {
 /// down direction must have turned about the line against the rotation: a body turned by θ
 /// about `u` sees a fixed direction turned by -θ, so `(d_before × d_after) · ω < 0` with ω the
 /// largest rotation of the edge's last block.
-fn completed_topple(line: &Line, end: &Block, seg: &SegState, sin_tilt: f64) -> bool {
+fn completed_topple(line: &Line, end: &Block, seg: &MotionSegment, sin_tilt: f64) -> bool {
     let (Some(before), Some(after), Some((_, omega))) =
         (seg.rest_before, seg.rest_after, end.max_line)
     else {
@@ -149,62 +150,13 @@ pub(super) fn edge_observation(
     })
 }
 
-/// Group the topple segments of a demonstration by edge. The line of a topple is fixed in the
-/// object, so per-frame line statistics of different segments (different reference poses) are
-/// directly comparable: a segment joins a group when the likelihood-ratio statistic
-/// `χ²(pooled) - χ²(group) - χ²(segment)`, each about its own mean line, is below the χ²₄
-/// quantile at `alpha` (4 = the parameters of a line). A topple that paused half way (or a
-/// quasi-static one slow enough to pass for rest now and then) thus stays one topple.
-pub(super) fn group_topples(segments: &[Segment], alpha: f64, demo: &str) -> Vec<super::Topple> {
-    let threshold = crate::stats::chi2_threshold(4.0, alpha);
-    let own = |s: &LineStats| s.mean().map_or(0.0, |l| s.chi2(&l));
-    let mut groups: Vec<(Vec<usize>, LineStats, super::LargestRotation)> = Vec::new();
-    for (i, seg) in segments.iter().enumerate() {
-        let (Kind::Topple, Some(best)) = (seg.kind, seg.topple_best) else {
-            continue;
-        };
-        let s = &seg.topple_stats;
-        let joinable = groups
-            .iter_mut()
-            .map(|g| {
-                let mut pooled = g.1;
-                pooled.merge(s);
-                (own(&pooled) - own(&g.1) - own(s), g)
-            })
-            .filter(|(lr, _)| *lr < threshold)
-            .min_by(|a, b| a.0.total_cmp(&b.0));
-        match joinable {
-            Some((_, g)) => {
-                g.0.push(i);
-                g.1.merge(s);
-                if best.0 > g.2 .0 {
-                    g.2 = best;
-                }
-            }
-            None => groups.push((vec![i], *s, best)),
-        }
-    }
-    groups
-        .into_iter()
-        .filter_map(|(idx, stats, best)| {
-            let edge = edge_observation(&stats, best, demo)?;
-            Some(super::Topple {
-                resting_normal_before: segments[idx[0]].resting_normal_before,
-                resting_normal_after: segments[*idx.last().unwrap()].resting_normal_after,
-                segments: idx,
-                edge,
-            })
-        })
-        .collect()
-}
-
 /// Fit, label and summarise one motion segment; with it, a warning when the segment is general
 /// only because of the given gravity (see [`gravity_warning`]).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn analyse_segment(
     index: usize,
     instrumented: bool,
-    seg: &SegState,
+    seg: &MotionSegment,
     blocks: &mut [Block],
     config: &Config,
     alpha: f64,

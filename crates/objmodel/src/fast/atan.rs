@@ -1,10 +1,10 @@
-//! Small numeric kernels of the per-frame loops.
+//! A first-quadrant `atan2`, scalar and in four lanes.
 //!
 //! [`atan2_nonneg`] is the arctangent of the rotation angle in every SE(3) logarithm of the
 //! classifiers (`θ = 2·atan2(|q_v|, |w|)`), where libm's general `atan2` was the largest single
 //! cost per frame. Both arguments are non-negative there, which removes the quadrant logic.
 
-use crate::lanes::{Real, F4};
+use super::lanes::{Real, F4};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
 
 /// `π/2 = FRAC_PI_2 + MOREBITS`: the part of π/2 below the last bit of `FRAC_PI_2`, added back

@@ -1,0 +1,115 @@
+//! What a demonstration's segments teach together: each segment's analysis
+//! ([`super::analysis`]), the votes, and the topples grouped by edge.
+
+use super::analysis::{analyse_segment, edge_observation};
+use super::block::runs;
+use super::segments::Segmented;
+use super::{Classification, Kind, Method, Segment, Votes};
+use crate::geometry::LineStats;
+
+/// The classification of a segmented demonstration (the robust method's result).
+pub(super) fn conclude(
+    mut segmented: Segmented,
+    name: &str,
+    instrumented: bool,
+    frames: u64,
+) -> Classification {
+    let config0 = segmented.config;
+    let alpha = config0.robust.alpha;
+    // The fits use the noise in force (given or estimated).
+    let mut config = config0;
+    config.robust.noise = segmented.noise;
+    let mut segments = Vec::with_capacity(segmented.segments.len());
+    let mut votes = Votes::default();
+    let mut warnings = Vec::new();
+    for (i, seg) in segmented.segments.iter().enumerate() {
+        let (s, warning) = analyse_segment(
+            i,
+            instrumented,
+            seg,
+            &mut segmented.blocks,
+            &config,
+            alpha,
+            name,
+        );
+        warnings.extend(warning);
+        votes.add(s.kind, 0);
+        for (k, n) in [
+            (Kind::Topple, s.votes.topple),
+            (Kind::Slide, s.votes.slide),
+            (Kind::General, s.votes.general),
+        ] {
+            votes.add(k, n);
+        }
+        segments.push(s);
+    }
+    let topples = group_topples(&segments, alpha, name);
+    let paper_edge = topples
+        .iter()
+        .max_by_key(|t| t.edge.frames)
+        .and_then(|t| t.edge.paper_line);
+    Classification {
+        name: name.to_string(),
+        kind: votes.winner().unwrap_or(Kind::General),
+        method: Method::Robust,
+        instrumented,
+        frames,
+        outliers: segmented.outliers,
+        votes,
+        noise: segmented.noise,
+        segments,
+        topples,
+        labels: runs(&segmented.blocks),
+        paper_edge,
+        warnings,
+    }
+}
+
+/// Group the topple segments of a demonstration by edge. The line of a topple is fixed in the
+/// object, so per-frame line statistics of different segments (different reference poses) are
+/// directly comparable: a segment joins a group when the likelihood-ratio statistic
+/// `χ²(pooled) - χ²(group) - χ²(segment)`, each about its own mean line, is below the χ²₄
+/// quantile at `alpha` (4 = the parameters of a line). A topple that paused half way (or a
+/// quasi-static one slow enough to pass for rest now and then) thus stays one topple.
+pub(super) fn group_topples(segments: &[Segment], alpha: f64, demo: &str) -> Vec<super::Topple> {
+    let threshold = crate::stats::chi2_threshold(4.0, alpha);
+    let own = |s: &LineStats| s.mean().map_or(0.0, |l| s.chi2(&l));
+    let mut groups: Vec<(Vec<usize>, LineStats, super::LargestRotation)> = Vec::new();
+    for (i, seg) in segments.iter().enumerate() {
+        let (Kind::Topple, Some(best)) = (seg.kind, seg.topple_best) else {
+            continue;
+        };
+        let s = &seg.topple_stats;
+        let joinable = groups
+            .iter_mut()
+            .map(|g| {
+                let mut pooled = g.1;
+                pooled.merge(s);
+                (own(&pooled) - own(&g.1) - own(s), g)
+            })
+            .filter(|(lr, _)| *lr < threshold)
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        match joinable {
+            Some((_, g)) => {
+                g.0.push(i);
+                g.1.merge(s);
+                if best.0 > g.2 .0 {
+                    g.2 = best;
+                }
+            }
+            None => groups.push((vec![i], *s, best)),
+        }
+    }
+    groups
+        .into_iter()
+        .filter_map(|(idx, stats, best)| {
+            let edge = edge_observation(&stats, best, demo)?;
+            Some(super::Topple {
+                resting_normal_before: segments[idx[0]].resting_normal_before,
+                resting_normal_after: segments[*idx.last().unwrap()].resting_normal_after,
+                segments: idx,
+                edge,
+            })
+        })
+        .collect()
+}
