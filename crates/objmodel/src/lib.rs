@@ -6,8 +6,10 @@
 //! Data flows one way, and each stage has a module named after the paper's concept:
 //!
 //! ```text
-//! file ─format─▶ trajectory ─clean─▶ screws (se3, screw) ─classify─▶ labels
-//!      ─edge / face─▶ features ─tree─▶ object description tree ─▶ skill
+//! file ─format─▶ trajectory ─clean─▶ screws (se3, screw) ─classify─▶ segments
+//!      ─edge / face / dynamics─▶ observation ─tree─▶ object description tree
+//!      ─shape / mass─▶ export (MJCF, URDF) / prediction / skill
+//! (learn: the one pipeline that orders these stages)
 //! ```
 //!
 //! * [`se3`]: exact exponential and logarithm of SE(3) and SO(3), twists.

@@ -13,7 +13,7 @@
 //! | file | with | `fast_float2` alone |
 //! | --- | --- | --- |
 //! | benchmark, 10⁶ poses, AVX2 | 63.9 ms | 63.9 ms |
-//! | the same, AVX2 off (`lanes::set_baseline_only`) | 79.8 ms | 150.4 ms |
+//! | the same, AVX2 off (`fast::set_baseline_only`) | 79.8 ms | 150.4 ms |
 //! | 3·10⁵ poses, trailing zeros stripped (shapes keep changing), AVX2 | 36.0 ms | 59.9 ms |
 //!
 //! On the benchmark file with AVX2 the lines go to `simd.rs` and this is idle; it is the

@@ -45,11 +45,11 @@ const LANE: usize = 16;
 /// Slots of the shape table (a power of two).
 const SLOTS: usize = 64;
 
-/// Whether this processor runs the scanner's code: AVX2 ([`crate::lanes::avx2`], which tests
+/// Whether this processor runs the scanner's code: AVX2 ([`crate::fast::avx2`], which tests
 /// can turn off), BMI1 and POPCNT (checked once, then cached by `std`).
 #[inline(always)]
 pub(super) fn available() -> bool {
-    crate::lanes::avx2()
+    crate::fast::avx2()
         && std::arch::is_x86_feature_detected!("bmi1")
         && std::arch::is_x86_feature_detected!("popcnt")
 }
