@@ -59,8 +59,9 @@ mod tests {
 
     #[test]
     fn step_log_is_the_log() {
-        let mut seed = 0x1234_5678_9abc_def1_u64;
-        let mut rnd = move || crate::testing::unit(&mut seed) - 0.5;
+        let mut seed =
+            <rand::rngs::StdRng as rand::SeedableRng>::seed_from_u64(0x1234_5678_9abc_def1);
+        let mut rnd = move || rand::Rng::random::<f64>(&mut seed) - 0.5;
         for k in 0..20000 {
             let scale = [1e-9, 1e-5, 1e-3, 0.019, 0.021, 0.3, 3.0][k % 7];
             let q0 = UnitQuaternion::from_scaled_axis(Vector3::new(rnd(), rnd(), rnd()) * 6.0);

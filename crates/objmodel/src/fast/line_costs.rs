@@ -208,8 +208,8 @@ mod tests {
 
     #[test]
     fn line_costs_equal_the_sum_of_block_chi2() {
-        let mut seed = 0x5eed_1234_u64;
-        let mut rnd = move || crate::testing::unit(&mut seed) - 0.5;
+        let mut seed = <rand::rngs::StdRng as rand::SeedableRng>::seed_from_u64(0x5eed_1234);
+        let mut rnd = move || rand::Rng::random::<f64>(&mut seed) - 0.5;
         let th = |n: f64| crate::stats::chi2_threshold((5.0 * n).round().max(1.0), 0.01);
         for round in 0..20 {
             // Blocks of lines scattered about a true line, some empty, at scales from

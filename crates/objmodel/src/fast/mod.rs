@@ -180,8 +180,8 @@ mod tests {
     /// processor without AVX2 both ways are the baseline code.)
     #[test]
     fn baseline_and_avx2_code_classify_alike() {
-        let dir = std::env::temp_dir().join(format!("objmodel-isa-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path();
         let noise = SynthNoise::REAL;
         let mut rng = StdRng::seed_from_u64(77);
         let b = SynthBox::random(&mut rng);
@@ -220,6 +220,5 @@ mod tests {
             assert_eq!(fast.kind, d.truth.kind, "{name}");
             assert_eq!(format!("{fast:?}"), format!("{base:?}"), "{name}");
         }
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -325,7 +325,6 @@ fn upper(y: &V4, x: &V4) -> [F4; 6] {
 mod tests {
     use super::*;
     use crate::noise::NoiseModel;
-    use crate::testing::unit;
 
     /// The frame-by-frame sums, as one running sum each (the original of [`FrameTerms`] and
     /// [`LaneSums::add`]).
@@ -406,14 +405,15 @@ mod tests {
             },
             &crate::classify::RobustConfig::default(),
         );
-        let mut state = 0x0123_4567_89ab_cdef_u64;
+        let mut state =
+            <rand::rngs::StdRng as rand::SeedableRng>::seed_from_u64(0x0123_4567_89ab_cdef);
         // Runs of 1 to 40 frames (all remainders of 16 and 4): still, barely moving, small and
         // large rotations about random lines, both quaternion signs. Sums agree to rounding
         // (they are added in another order), the rest bit for bit.
         for run in 1..=40 {
             let (mut open, mut reference) = (MovingFrameSums::default(), Reference::default());
             for _ in 0..run {
-                let mut r = || unit(&mut state);
+                let mut r = || rand::Rng::random::<f64>(&mut state);
                 let scale = [0.0, 1e-3, 0.05, 0.5, 2.5][(r() * 5.0) as usize];
                 let axis = Vector3::new(r() - 0.5, r() - 0.5, r() - 0.5);
                 let mut q = UnitQuaternion::from_scaled_axis(axis * scale);
