@@ -26,6 +26,7 @@
 //! * [`observation`]: what one demonstration shows (classification and dynamics).
 //! * [`tree`]: the object description tree, its JSON schema and incremental fusion.
 //! * [`learn`]: **the learning pipeline**, the one entry point every front end calls.
+//! * [`args`]: values given on the command line as text (a pose, gravity, a vector).
 //! * [`synth`]: a small kinematic generator of demonstrations with exact ground truth.
 //!
 //! Units are SI throughout (m, rad, s, kg). Transforms are named by frames: `world_from_object`
@@ -33,6 +34,7 @@
 
 #![warn(missing_docs)]
 
+pub mod args;
 pub mod classify;
 pub mod clean;
 pub mod dynamics;
