@@ -334,9 +334,23 @@ pub fn read_simd(data: &[u8]) {
     assert_eq!(got, bulk_of(&want), "bulk");
 }
 
+/// A demonstration's observation to learn into loaded trees: a topple of a synthetic box.
+fn observation() -> &'static objmodel::observation::Observation {
+    use objmodel::learn::{Config, Learner, Source};
+    use objmodel::synth::{topple, SynthBox, SynthNoise, ToppleParams};
+    static OBS: OnceLock<objmodel::observation::Observation> = OnceLock::new();
+    OBS.get_or_init(|| {
+        let b = SynthBox::new(nalgebra::Vector3::new(0.05, 0.05, 0.1), (0.0, 0.0), 0.0);
+        let d = topple(&b, &ToppleParams::default(), &SynthNoise::REAL, 30.0, 1);
+        Learner::new(Config::default())
+            .observe(&Source::Memory(&d.demo))
+            .expect("the synthetic topple is observed")
+    })
+}
+
 /// `tree_load`: any bytes in a model file give a tree or an error, never a panic; a tree
 /// that loads is written ([`Tree::to_json`]) and loads again equal, and written again the
-/// same.
+/// same. Learning a demonstration into it (what `learn --into` does next) does not panic.
 pub fn tree_load(data: &[u8]) {
     let path = scratch_file(".json");
     std::fs::write(&path, data).unwrap();
@@ -347,6 +361,9 @@ pub fn tree_load(data: &[u8]) {
         let again = Tree::load(&path).unwrap_or_else(|e| panic!("{e}\n{json}"));
         assert!(again == tree, "loads again different:\n{json}");
         assert_eq!(again.to_json(), json);
+        let mut more = tree;
+        more.add(observation());
+        let _ = more.to_json();
     }
     std::fs::remove_file(&path).unwrap();
 }
