@@ -61,6 +61,9 @@ fn read(path: &str) {
             }
             Err(e) => {
                 poses += chunk.len() as u64;
+                if let Some(p) = chunk.last() {
+                    last_t = p.t;
+                }
                 break Some(e.to_string());
             }
         }
