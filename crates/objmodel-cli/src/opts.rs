@@ -1,20 +1,12 @@
 //! Options shared by the commands that classify: every threshold of Algorithm 1, in SI units.
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use nalgebra::Vector3;
 use objmodel::classify::{Config, Method};
 
-/// Parse "x,y,z" into a vector.
+/// Parse "x,y,z" into a vector ([`objmodel::args::vec3`]).
 pub fn parse_vec3(s: &str) -> Result<Vector3<f64>> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|x| x.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .with_context(|| format!("'{s}' is not three comma-separated numbers"))?;
-    if v.len() != 3 || v.iter().any(|x| !x.is_finite()) {
-        bail!("'{s}' is not three comma-separated finite numbers");
-    }
-    Ok(Vector3::new(v[0], v[1], v[2]))
+    Ok(objmodel::args::vec3(s)?)
 }
 
 /// How to classify.
@@ -83,16 +75,7 @@ impl ClassifyOpts {
             method,
             ..Config::default()
         };
-        c.gravity = match self.gravity.trim() {
-            "none" => None,
-            g => {
-                let v = parse_vec3(g).context("--gravity")?;
-                if v.norm() == 0.0 {
-                    bail!("--gravity must not be zero (use \"none\" if unknown)");
-                }
-                Some(v)
-            }
-        };
+        c.gravity = objmodel::args::gravity(&self.gravity)?;
         for (name, v) in [
             ("--alpha", self.alpha),
             ("--outlier-alpha", self.outlier_alpha),

@@ -2,7 +2,7 @@
 
 use crate::opts::parse_vec3;
 use anyhow::{bail, Context, Result};
-use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Vector3};
 use objmodel::skill::{plan, PlanRequest};
 use objmodel::tree::Tree;
 use std::path::{Path, PathBuf};
@@ -59,31 +59,9 @@ pub struct PlanArgs {
     pub json: bool,
 }
 
+/// The `--object-in-palm` pose ([`objmodel::args::pose_xyz_xyzw`]).
 fn parse_pose(s: &str) -> Result<Isometry3<f64>> {
-    let v: Vec<f64> = s
-        .split(|c: char| c.is_whitespace() || c == ',')
-        .filter(|x| !x.is_empty())
-        .map(str::parse::<f64>)
-        .collect::<Result<_, _>>()
-        .with_context(|| format!("--object-in-palm '{s}' is not 7 numbers"))?;
-    if v.len() != 7 || v.iter().any(|x| !x.is_finite()) {
-        bail!(
-            "--object-in-palm needs 7 finite numbers \"tx ty tz qx qy qz qw\", got {}",
-            v.len()
-        );
-    }
-    let q = Quaternion::new(v[6], v[3], v[4], v[5]);
-    let norm = q.norm();
-    if (norm - 1.0).abs() > objmodel::format::QUAT_NORM_TOLERANCE {
-        bail!(
-            "--object-in-palm quaternion has norm {norm}, more than {} from 1",
-            objmodel::format::QUAT_NORM_TOLERANCE
-        );
-    }
-    Ok(Isometry3::from_parts(
-        Translation3::new(v[0], v[1], v[2]),
-        UnitQuaternion::from_quaternion(q),
-    ))
+    Ok(objmodel::args::pose_xyz_xyzw(s)?)
 }
 
 /// `palm_from_object` and gravity in the palm frame at the first poses of an instrumented

@@ -30,6 +30,7 @@
 //!   [`mass`]: its volume, centroid and inertia at uniform density; [`export`]: the body a
 //!   simulator needs, as MJCF and URDF; [`prediction`]: the pendulums of every (face, edge)
 //!   pair the shape and the CoM predict, demonstrated or not.
+//! * [`args`]: values given on the command line as text (a pose, gravity, a vector).
 //! * [`synth`]: a small kinematic generator of demonstrations with exact ground truth.
 //!
 //! The code that exists only for speed (four-lane kernels, their AVX2 copies, the parsing
@@ -41,6 +42,7 @@
 
 #![warn(missing_docs)]
 
+pub mod args;
 pub mod classify;
 pub mod clean;
 pub mod dynamics;

@@ -5,16 +5,16 @@ use objmodel::format::{self, Format, PoseReader, QUAT_NORM_TOLERANCE};
 use objmodel::{Error, StampedPose};
 use std::io::BufReader;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// A fresh, empty directory under the system temp dir.
+/// A fresh, empty directory (`tempfile`), kept on disk for the test's life: its files are
+/// removed when the test process ends its use of them (the caller removes it, or the system's
+/// temporary folder does).
 fn tmpdir(tag: &str) -> PathBuf {
-    static N: AtomicUsize = AtomicUsize::new(0);
-    let n = N.fetch_add(1, Ordering::Relaxed);
-    let d = std::env::temp_dir().join(format!("objmodel-fmt-{}-{tag}-{n}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    tempfile::Builder::new()
+        .prefix(&format!("objmodel-fmt-{tag}-"))
+        .tempdir()
+        .unwrap()
+        .keep()
 }
 
 fn write(dir: &Path, name: &str, content: &str) -> PathBuf {
@@ -522,6 +522,49 @@ fn float_parsing_matches_std_exactly() {
         assert_eq!(poses.len(), expected.len());
         for (p, e) in poses.iter().zip(&expected) {
             assert_eq!(xyz(p).map(f64::to_bits), e.map(f64::to_bits));
+        }
+    }
+}
+
+/// A line longer than the limit (1 MiB) is the same error however it is read: through the
+/// 1 MiB read buffer (where it straddles two fills), memory-mapped (where it lies whole in a
+/// 2 MiB window), from memory, and as a comment or as columns, TUM or CSV. Before, a long
+/// line that lay whole in the buffer was read like any other (a pose with a 1.5 MB comment,
+/// or "found 700001 columns" after many allocations), so the result depended on the buffer.
+#[test]
+fn an_over_long_line_is_an_error_however_it_is_read() {
+    let lines = [
+        format!("# c\n{LINE}\n1 0 0 0 0 0 0 1 # {}\n", "x".repeat(1_500_000)),
+        format!("# c\n{LINE}\n1 {}\n", "0 ".repeat(700_000)),
+        format!("{LINE}\n{}\n2 0 0 0 0 0 0 1\n", " ".repeat(1_048_577)),
+    ];
+    let csv = format!("t,x,y,z,qx,qy,qz,qw\n{}\n", ",".repeat(1_500_000));
+    let cases = [
+        ("l.tum", &lines[0], 3),
+        ("l.tum", &lines[1], 3),
+        ("l.tum", &lines[2], 2),
+        ("l.csv", &csv, 2),
+    ];
+    for (name, text, line) in cases {
+        let want = format!("line is longer than {} bytes", 1 << 20);
+        let e = parse_error(name, text, line);
+        assert!(e.ends_with(&format!(":{line}: {want}")), "{e}");
+        let mapped = with_file(name, text, |p| {
+            let r: Result<Vec<StampedPose>, Error> = format::open_mapped(p).unwrap().collect();
+            r.unwrap_err().to_string()
+        });
+        assert!(mapped.ends_with(&format!(":{line}: {want}")), "{mapped}");
+        let format = if name.ends_with(".csv") {
+            Format::Csv
+        } else {
+            Format::Tum
+        };
+        for cap in [text.len(), 4096, 1] {
+            let src = BufReader::with_capacity(cap, text.as_bytes());
+            let r: Result<Vec<StampedPose>, Error> =
+                PoseReader::new(src, "m".into(), format).collect();
+            let e = r.unwrap_err().to_string();
+            assert_eq!(e, format!("m:{line}: {want}"), "buffer of {cap} bytes");
         }
     }
 }

@@ -28,7 +28,6 @@ pub(crate) struct FastLines {
 
 impl FastLines {
     /// Use only the scalar scanner from now on.
-    #[cfg(test)]
     pub(crate) fn scalar_only(&mut self) {
         self.scalar_only = true;
     }

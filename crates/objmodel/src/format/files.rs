@@ -19,6 +19,20 @@ const BUF_CAPACITY: usize = 1 << 20;
 /// page cache; truncating such a file while it is read stops the process with SIGBUS, as with
 /// any memory-mapped reader), others through a buffer.
 pub fn open(path: &Path) -> Result<PoseReader<Box<dyn BufRead + Send>>> {
+    open_as(path, false)
+}
+
+/// [`open`], but a regular file of any size is read through memory-mapped windows: the way
+/// [`open`] reads files of 16 MB and more, for small files. An entry point for tests and
+/// fuzzing (`fuzz/`), which compare the mapped reading with the others; not part of the
+/// supported interface.
+#[doc(hidden)]
+pub fn open_mapped(path: &Path) -> Result<PoseReader<Box<dyn BufRead + Send>>> {
+    open_as(path, true)
+}
+
+/// [`open`]; `always_map`: map every regular file, whatever its size.
+fn open_as(path: &Path, always_map: bool) -> Result<PoseReader<Box<dyn BufRead + Send>>> {
     if path.as_os_str() == "-" {
         let stdin = BufReader::with_capacity(BUF_CAPACITY, std::io::stdin());
         return Ok(reader_for(Box::new(stdin), path, "<stdin>".into()));
@@ -27,7 +41,7 @@ pub fn open(path: &Path) -> Result<PoseReader<Box<dyn BufRead + Send>>> {
     let mapped = f
         .get_ref()
         .metadata()
-        .is_ok_and(|m| m.is_file() && m.len() >= mapped::MIN_MAPPED_BYTES);
+        .is_ok_and(|m| m.is_file() && (always_map || m.len() >= mapped::MIN_MAPPED_BYTES));
     let source: Box<dyn BufRead + Send> = if mapped {
         Box::new(mapped::MappedFile::new(f.into_inner()))
     } else {

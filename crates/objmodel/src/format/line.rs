@@ -78,6 +78,14 @@ impl State {
         }
     }
 
+    /// The next line is longer than `MAX_LINE`: its error, which ends the reading.
+    #[cold]
+    pub(crate) fn too_long(&mut self) -> Option<Result<StampedPose>> {
+        self.track.line_no += 1;
+        self.done = true;
+        Some(Err(self.error(Problem::LineTooLong, &[])))
+    }
+
     /// Handle the next line (without its `\n`): `None` to skip it, else a pose or an error.
     pub(crate) fn handle(&mut self, mut line: &[u8]) -> Option<Result<StampedPose>> {
         self.track.line_no += 1;

@@ -194,8 +194,8 @@ mod tests {
 
     #[test]
     fn reads_a_file_across_windows_byte_for_byte() {
-        let dir = std::env::temp_dir().join(format!("objmodel-mapped-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path();
         let path = dir.join("f.bin");
         // Two and a half windows of a pattern that differs at every offset modulo 251.
         let data: Vec<u8> = (0..WINDOW * 5 / 2).map(|i| (i % 251) as u8).collect();
@@ -227,6 +227,5 @@ mod tests {
         let mut tail = String::new();
         r.read_to_string(&mut tail).unwrap();
         assert_eq!(tail, "tail");
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -55,6 +55,8 @@ mod tum;
 mod write;
 
 pub use detect::detect_format;
+#[doc(hidden)]
+pub use files::open_mapped;
 pub use files::{is_palm_file, open, palm_path_for, read_demonstration, read_trajectory};
 pub use layout::{Format, QUAT_NORM_TOLERANCE};
 pub use number::parse_f64;

@@ -101,13 +101,21 @@ impl Problem {
             Problem::MissingColumns { missing, found } => {
                 let missing: Vec<&str> = missing.iter().map(|&r| COLUMNS[r]).collect();
                 let accepted: Vec<String> = CSV_NAMES.iter().map(|n| n.join("/")).collect();
-                let found: Vec<String> = found.iter().map(|n| format!("\"{n}\"")).collect();
+                // At most MAX_NAMES names, each shortened: a header line may be 1 MiB.
+                let mut names: Vec<String> = found
+                    .iter()
+                    .take(MAX_NAMES)
+                    .map(|n| quote(n.as_bytes()))
+                    .collect();
+                if found.len() > MAX_NAMES {
+                    names.push(format!("... ({} columns)", found.len()));
+                }
                 format!(
                     "CSV header has no column for {} (accepted names: {}, in any order, \
                      case-insensitive); found {}",
                     missing.join(", "),
                     accepted.join(", "),
-                    found.join(", ")
+                    names.join(", ")
                 )
             }
             Problem::DoubledColumn {
@@ -165,6 +173,9 @@ impl Problem {
         }
     }
 }
+
+/// Column names a message about a CSV header lists at most.
+const MAX_NAMES: usize = 16;
 
 /// `(qx, qy, qz, qw)` for messages.
 fn quaternion(q: &[f64; 4]) -> String {
@@ -257,6 +268,21 @@ mod tests {
                 "column 70 (timestamp): \"{}...\" is not a number",
                 "x".repeat(40)
             )
+        );
+        // A header of many (long) names: the first 16, shortened, and the count.
+        let many = Problem::MissingColumns {
+            missing: vec![0],
+            found: (0..100_000).map(|k| format!("{k:0>50}")).collect(),
+        };
+        let m = say(many);
+        assert!(m.len() < 1500, "{} bytes", m.len());
+        assert!(
+            m.ends_with(&format!(
+                "found \"{}...\", {}... (100000 columns)",
+                "0".repeat(40),
+                format!("\"{}...\", ", "0".repeat(40)).repeat(15)
+            )),
+            "{m}"
         );
         assert_eq!(num(1e-7), "1e-7");
         assert_eq!(num(1.7e9), "1700000000");

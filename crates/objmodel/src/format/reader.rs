@@ -46,8 +46,10 @@ impl<R: BufRead> PoseReader<R> {
     }
 
     /// A reader that decides the format with [`super::detect_format`] at the first non-comment
-    /// line.
-    pub(crate) fn detecting(reader: R, file: PathBuf) -> Self {
+    /// line, as [`super::open`] does for a file not named `.csv`. An entry point for tests and
+    /// fuzzing (`fuzz/`), not part of the supported interface.
+    #[doc(hidden)]
+    pub fn detecting(reader: R, file: PathBuf) -> Self {
         Self::with_mode(reader, file, Mode::Auto)
     }
 
@@ -93,9 +95,11 @@ impl<R: BufRead> PoseReader<R> {
         &self.st.file
     }
 
-    /// Only the scalar line scanners from now on, whatever the processor runs.
-    #[cfg(test)]
-    pub(crate) fn scalar_only(mut self) -> Self {
+    /// Only the scalar line scanners from now on, whatever the processor runs: to compare the
+    /// vectorised scanner with them. An entry point for tests and fuzzing (`fuzz/`), not part of
+    /// the supported interface.
+    #[doc(hidden)]
+    pub fn scalar_only(mut self) -> Self {
         self.stream.fast.scalar_only();
         self
     }

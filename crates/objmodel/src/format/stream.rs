@@ -1,11 +1,12 @@
 //! Lines out of a `BufRead`: complete lines are read straight out of its buffer (the common
 //! TUM lines by the fast path, [`FastLines`]), a line that straddles two buffer fills is
-//! carried over, and a line longer than [`MAX_LINE`] is dropped with an error.
+//! carried over, and a line longer than [`MAX_LINE`] is an error, however it lies in the
+//! buffer (carried or whole: so the error does not depend on the size of the buffer, or on
+//! whether the file is read, mapped or in memory).
 
 use super::fast_run::FastLines;
 use super::layout::MAX_LINE;
 use super::line::{Mode, State};
-use super::problem::Problem;
 use super::tum::scan_tum;
 use crate::trajectory::StampedPose;
 use crate::{Error, Result};
@@ -85,11 +86,19 @@ impl Stream {
                         if scan.end == rest.len() {
                             break; // incomplete line
                         }
-                        st.track.line_no += 1;
-                        (st.finish_tum(&scan, &rest[..scan.end]), scan.end)
+                        if scan.end > MAX_LINE {
+                            (st.too_long(), scan.end)
+                        } else {
+                            st.track.line_no += 1;
+                            (st.finish_tum(&scan, &rest[..scan.end]), scan.end)
+                        }
                     } else {
                         let Some(e) = memchr(b'\n', rest) else { break };
-                        (st.handle(&rest[..e]), e)
+                        if e > MAX_LINE {
+                            (st.too_long(), e)
+                        } else {
+                            (st.handle(&rest[..e]), e)
+                        }
                     };
                     off += len + 1;
                     match r {
@@ -124,7 +133,11 @@ impl Stream {
             // Slow path: the first line, or a line that straddles two buffer fills.
             let newline = memchr(b'\n', buf);
             if let (Some(i), true) = (newline, whole_lines) {
-                let r = st.handle(&buf[..i]);
+                let r = if i > MAX_LINE {
+                    st.too_long()
+                } else {
+                    st.handle(&buf[..i])
+                };
                 reader.consume(i + 1);
                 if r.is_some() {
                     return r;
@@ -156,9 +169,7 @@ impl Stream {
     /// Handle the carried (or over-long) line and reset the carry buffer.
     fn take_carry(&mut self, st: &mut State) -> Option<Result<StampedPose>> {
         if std::mem::take(&mut self.overlong) {
-            st.track.line_no += 1;
-            st.done = true;
-            return Some(Err(st.error(Problem::LineTooLong, &[])));
+            return st.too_long();
         }
         let line = std::mem::take(&mut self.carry);
         let r = st.handle(&line);

@@ -192,8 +192,8 @@ fn read_chunk_gives_the_iterators_poses_and_error() {
 
 #[test]
 fn open_maps_a_large_file_and_reads_every_pose() {
-    let dir = std::env::temp_dir().join(format!("objmodel-mapped-open-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
     let path = dir.join("big.tum");
     // Enough lines to pass MIN_MAPPED_BYTES, so lines straddle several window boundaries.
     let mut text = String::from("# t x y z qx qy qz qw\n");
@@ -218,7 +218,6 @@ fn open_maps_a_large_file_and_reads_every_pose() {
             "pose {i}"
         );
     }
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// The files of the module import one way: no file imports from `mod.rs`, and the imports

@@ -1,0 +1,4 @@
+//! Fuzz target `read_memory`: see `objmodel_fuzz::read_memory` (crates/objmodel/tests/fuzz_checks/mod.rs).
+#![no_main]
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| objmodel_fuzz::read_memory(data));
