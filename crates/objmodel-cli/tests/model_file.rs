@@ -129,28 +129,19 @@ fn files_that_are_not_trees_are_refused_clearly() {
 #[test]
 fn export_writes_simulation_models_or_says_what_is_missing() {
     use objmodel::learn::{Config, Learner, Source};
-    use objmodel::synth::{self, SynthBox, SynthNoise, ToppleParams};
+    use objmodel::synth::{self, SynthBox, SynthNoise};
     use rand::SeedableRng;
     let d = TempDir::new("export");
     let b = SynthBox::random(&mut rand::rngs::StdRng::seed_from_u64(4));
-    let flipped = SynthBox {
-        half: b.half,
-        box_from_tag: nalgebra::Isometry3::rotation(nalgebra::Vector3::x() * std::f64::consts::PI)
-            * b.box_from_tag,
-    };
     let learner = Learner::new(Config::default());
     let mut tree = objmodel::tree::Tree::default();
-    for (k, (bx, side)) in [(b, 0), (b, 1), (b, 2), (b, 3), (flipped, 0), (flipped, 1)]
-        .into_iter()
+    for (k, demo) in synth::topples_over_every_face(&b, &SynthNoise::REAL, 4)
+        .iter()
         .enumerate()
     {
-        let p = ToppleParams {
-            side,
-            ..Default::default()
-        };
-        let mut demo = synth::topple(&bx, &p, &SynthNoise::REAL, 30.0, 40 + k as u64).demo;
-        demo.name = format!("t{k}");
-        learner.learn(&mut tree, &[Source::Memory(&demo)]).unwrap();
+        learner
+            .learn(&mut tree, &[Source::Memory(&demo.demo)])
+            .unwrap();
         if k == 3 {
             // Four topples of the upright box: the top face is not known yet.
             let open = d.join("open.json");

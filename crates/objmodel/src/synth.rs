@@ -241,6 +241,29 @@ fn world_start(rng: &mut StdRng, half: &Vector3<f64>) -> Isometry3<f64> {
     )
 }
 
+/// Direct topples of `b` that rest it on every one of its faces: about its four bottom
+/// edges, then, turned upside down, about two more, so that every face's offset follows from an
+/// edge in it (what a closed shape needs). Named `topple0` .. `topple5`; seeds from `seed`.
+pub fn topples_over_every_face(b: &SynthBox, noise: &SynthNoise, seed: u64) -> Vec<SynthDemo> {
+    let flipped = SynthBox {
+        half: b.half,
+        box_from_tag: Isometry3::rotation(Vector3::x() * std::f64::consts::PI) * b.box_from_tag,
+    };
+    [(b, 0), (b, 1), (b, 2), (b, 3), (&flipped, 0), (&flipped, 1)]
+        .into_iter()
+        .enumerate()
+        .map(|(k, (bx, side))| {
+            let p = ToppleParams {
+                side,
+                ..Default::default()
+            };
+            let mut d = topple(bx, &p, noise, 30.0, seed * 10 + k as u64);
+            d.demo.name = format!("topple{k}");
+            d
+        })
+        .collect()
+}
+
 /// A direct topple (no palm) of `b` about the bottom edge `p.side`.
 pub fn topple(
     b: &SynthBox,

@@ -2,34 +2,22 @@
 //! upside down, learnt together, close its shape; the exported body is that box, where the
 //! generator put it, and its MJCF and URDF say so.
 
-use nalgebra::{Isometry3, Point3, Vector3};
+use nalgebra::{Point3, Vector3};
 use objmodel::export::{mjcf::mjcf, urdf::urdf, Body};
 use objmodel::learn::{Config, Learner, Source};
 use objmodel::synth::{self, SynthBox, SynthNoise, ToppleParams};
 use objmodel::tree::Tree;
 use rand::{rngs::StdRng, SeedableRng};
 
-/// A box's topples over its four bottom edges, and, turned upside down, over two more: every
-/// face is rested on, and every face's offset follows from the edges in it.
+/// A box toppled onto every face ([`synth::topples_over_every_face`]), learnt.
 fn learnt_box(seed: u64, noise: &SynthNoise) -> (SynthBox, Tree) {
     let b = SynthBox::random(&mut StdRng::seed_from_u64(seed));
-    let flipped = SynthBox {
-        half: b.half,
-        box_from_tag: Isometry3::rotation(Vector3::x() * std::f64::consts::PI) * b.box_from_tag,
-    };
     let learner = Learner::new(Config::default());
     let mut tree = Tree::default();
-    for (k, (bx, side)) in [(b, 0), (b, 1), (b, 2), (b, 3), (flipped, 0), (flipped, 1)]
-        .into_iter()
-        .enumerate()
-    {
-        let p = ToppleParams {
-            side,
-            ..Default::default()
-        };
-        let mut d = synth::topple(&bx, &p, noise, 30.0, seed * 10 + k as u64).demo;
-        d.name = format!("topple{k}");
-        learner.learn(&mut tree, &[Source::Memory(&d)]).unwrap();
+    for d in synth::topples_over_every_face(&b, noise, seed) {
+        learner
+            .learn(&mut tree, &[Source::Memory(&d.demo)])
+            .unwrap();
     }
     (b, tree)
 }
