@@ -24,6 +24,13 @@ const MIN_KEPT_FRACTION: f64 = 0.2;
 /// or more has many more.
 pub const MIN_EDGE_FRAMES: f64 = 3.0;
 
+/// Fewest slide frames whose plane of motion a slide's face must explain to be taught, for the
+/// same reason as [`MIN_EDGE_FRAMES`]: one frame's motion always has some plane (eq. 5), so a
+/// fixed plane is testable only from the second frame on, and two frames can agree with
+/// themselves (in a noisy instrumented topple of the rapier dataset, a 2-frame "slide" of no
+/// rotation taught a face 35° from any face of the box, at ±4.4°).
+pub const MIN_FACE_FRAMES: f64 = 3.0;
+
 /// Change-point trimming of a fitted edge: at the end of a topple the object may leave or slip
 /// along its edge, and such frames, each within the noise, still bias the line as a group, all
 /// the more because the last frames of a topple (largest rotation) weigh the most.
@@ -300,6 +307,9 @@ pub(super) fn analyse_segment(
         let mut s = PlaneStats::default();
         slide_blocks.iter().for_each(|&i| s.merge(&blocks[i].plane));
         let s = slide_normal(&s, level_down.as_ref());
+        if s.n < MIN_FACE_FRAMES {
+            return None;
+        }
         let mut n = s.normal().map(|n| n.into_inner()).or(plane)?;
         if let Some(d) = seg.down_ref {
             if n.dot(&d) < 0.0 {
