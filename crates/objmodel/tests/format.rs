@@ -145,7 +145,7 @@ fn random_pose(rng: &mut Rng, t: f64) -> StampedPose {
 
 #[test]
 fn round_trip_write_read() {
-    let mut rng = Rng(42);
+    let mut rng = Rng::new(42);
     let poses: Vec<_> = (0..500)
         .map(|i| random_pose(&mut rng, 1.7e9 + i as f64 / 30.0))
         .collect();
@@ -410,21 +410,20 @@ fn write_atomic_keeps_old_file_on_failure() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// xorshift64*: deterministic test randomness.
-struct Rng(u64);
+/// Deterministic test randomness (`rand`'s `StdRng`, seeded).
+struct Rng(rand::rngs::StdRng);
 
 impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+    fn new(seed: u64) -> Self {
+        Rng(<rand::rngs::StdRng as rand::SeedableRng>::seed_from_u64(
+            seed,
+        ))
     }
     fn below(&mut self, n: u64) -> u64 {
-        self.next() % n
+        rand::Rng::random_range(&mut self.0, 0..n)
     }
     fn f64(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+        rand::Rng::random::<f64>(&mut self.0)
     }
     fn digits(&mut self, n: u64) -> String {
         (0..n)
@@ -468,7 +467,7 @@ fn random_decimal(rng: &mut Rng) -> String {
 
 #[test]
 fn float_parsing_matches_std_exactly() {
-    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let mut rng = Rng::new(0x9e37_79b9_7f4a_7c15);
     let mut checked = 0;
     for _ in 0..20_000 {
         let s = random_decimal(&mut rng);

@@ -11,8 +11,8 @@ use crate::testing::next;
 fn random_input_never_panics() {
     let alphabet: &[u8] = b"0123456789012345678901234567890123456789 . . - + e E \t , , # \n\n\n\r\"qxtimez\xff\xef\xbb";
     let valid = b"t,x,y,z,qx,qy,qz,qw\n1,0,0,0,0,0,0,1\n2 0 0 0 0 0 0 1\n3,1,2,3,0.5,0.5,0.5,0.5\n";
-    let mut s = 7u64;
-    let pick = |s: &mut u64| alphabet[(next(s) % alphabet.len() as u64) as usize];
+    let mut s = crate::testing::rng(7);
+    let pick = |s: &mut rand::rngs::StdRng| alphabet[(next(s) % alphabet.len() as u64) as usize];
     for round in 0..3000 {
         let mut bytes: Vec<u8> = if round % 2 == 0 {
             (0..next(&mut s) % 300).map(|_| pick(&mut s)).collect()
@@ -50,8 +50,8 @@ fn random_input_never_panics() {
 /// fills and takes the general path; larger buffers take the fast one, except near their ends.
 #[test]
 fn fast_and_general_paths_agree() {
-    let mut s = 11u64;
-    let unit = |s: &mut u64| {
+    let mut s = crate::testing::rng(11);
+    let unit = |s: &mut rand::rngs::StdRng| {
         let q: Vec<f64> = (0..4)
             .map(|_| (next(s) % 2_000_001) as f64 / 1e6 - 1.0)
             .collect();
@@ -155,7 +155,7 @@ fn read_chunk_gives_the_iterators_poses_and_error() {
     assert_eq!(want.len(), 201, "200 poses, then the error");
     let want_err = want[200].as_ref().unwrap_err().to_string();
     assert!(want_err.contains("line 202"), "{want_err}");
-    let mut s = 3u64;
+    let mut s = crate::testing::rng(3);
     for _ in 0..50 {
         let cap = 1 + (next(&mut s) % 200) as usize;
         let mut r = PoseReader::new(
