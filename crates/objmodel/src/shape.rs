@@ -53,6 +53,17 @@ pub struct Shape {
     pub left_out: Vec<(String, String)>,
 }
 
+impl Shape {
+    /// How far \[m\] `point` lies outside the shape, and beyond which face: the largest
+    /// `normal · point - offset` over the faces (negative inside). `None` without faces.
+    pub fn outside(&self, point: &Vector3<f64>) -> Option<(f64, &ShapeFace)> {
+        self.faces
+            .iter()
+            .map(|f| (f.normal.dot(point) - f.offset, f))
+            .max_by(|a, b| a.0.total_cmp(&b.0))
+    }
+}
+
 /// Why no closed shape could be built.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Incomplete {

@@ -81,13 +81,7 @@ impl Body {
             notes.push(format!("face {id} left out of the shape: {why}"));
         }
         // A centre of mass outside the shape contradicts it: it is not used.
-        let outside = |c: &Vector3<f64>| {
-            shape
-                .faces
-                .iter()
-                .map(|f| f.normal.dot(c) - f.offset)
-                .fold(f64::NEG_INFINITY, f64::max)
-        };
+        let outside = |c: &Vector3<f64>| shape.outside(c).map_or(0.0, |(d, _)| d);
         let com = match &tree.com {
             Some(c) if outside(&c.point) <= 0.0 => {
                 notes.push(format!(

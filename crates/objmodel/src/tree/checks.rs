@@ -56,24 +56,13 @@ impl Tree {
             }
         }
         if let (Some(com), Some(shape)) = (&self.com, &self.shape) {
-            let (outside, face) = shape
-                .faces
-                .iter()
-                .map(|f| (f.normal.dot(&com.point) - f.offset, &f.id))
-                .fold((f64::NEG_INFINITY, None), |a, (d, id)| {
-                    if d > a.0 {
-                        (d, Some(id))
-                    } else {
-                        a
-                    }
-                });
-            if outside > 0.0 {
+            if let Some((outside, face)) = shape.outside(&com.point).filter(|(d, _)| *d > 0.0) {
                 out.push(Contradiction {
-                    features: vec!["com".into(), face.cloned().unwrap_or_default()],
+                    features: vec!["com".into(), face.id.clone()],
                     what: format!(
                         "the centre of mass lies {:.1} mm outside the shape, beyond face {}",
                         outside * 1e3,
-                        face.map_or("?", |s| s.as_str())
+                        face.id
                     ),
                 });
             }
