@@ -3,7 +3,10 @@
 //! labels and votes the fits give, and the edge observation (topple) or face (slide).
 
 use super::block::{Block, Phase};
-use super::msac::{fit_line, fit_plane, line_inlier, plane_inlier, slide_normal, Thresholds};
+use super::msac::{
+    fit_line, fit_plane, line_inlier, plane_inlier, rotation_explains_translation, slide_normal,
+    Thresholds,
+};
 use super::segments::MotionSegment;
 use super::{Config, Kind, Label, Segment, Votes};
 use crate::edge::EdgeObservation;
@@ -226,6 +229,10 @@ pub(super) fn analyse_segment(
         }
     }
 
+    let model = config
+        .robust
+        .noise
+        .map(|n| super::frame_model::FrameModel::new(&n, &config.robust));
     let mut votes = Votes::default();
     let line_chi2 = line.map(|l| (l, LineChi2::new(&l)));
     for &i in &idx {
@@ -239,8 +246,12 @@ pub(super) fn analyse_segment(
                 line_inlier(&b.line, &lc, &mut th)
             } else {
                 // Too little rotation to have an axis: consistent with the edge if its motion
-                // lies in the plane normal to the edge.
+                // lies in the plane normal to the edge and its translation is what a rotation
+                // about the edge gives (a slide's pure translation across the edge is not).
                 plane_inlier(&b.plane, &l.direction, &mut th)
+                    && model.is_none_or(|m| {
+                        rotation_explains_translation(&b.plane, &l, m.w_p, m.w_r, &mut th)
+                    })
             }
         }) {
             Label::Topple
@@ -287,12 +298,37 @@ pub(super) fn analyse_segment(
             .filter(|&i| blocks[i].label == l)
             .collect()
     };
-    let topple_blocks = with_label(Label::Topple);
-    let slide_blocks = with_label(Label::Slide);
+    // Each part teaches from its own frames only: the blocks of its label up to where
+    // another motion takes over (see `part_end`).
+    let on_plane =
+        |b: &Block| plane.is_some_and(|n| plane_inlier(&b.plane, &n, &mut Thresholds::new(alpha)));
+    let topple_end = part_end(blocks, &idx, |b| b.label == Label::Topple, MIN_EDGE_FRAMES);
+    let slide_end = part_end(
+        blocks,
+        &idx,
+        |b| b.label == Label::Slide || on_plane(b),
+        MIN_FACE_FRAMES,
+    );
+    let topple_blocks: Vec<usize> = with_label(Label::Topple)
+        .into_iter()
+        .filter(|&i| blocks[i].t0 < topple_end)
+        .collect();
+    let slide_blocks: Vec<usize> = with_label(Label::Slide)
+        .into_iter()
+        .filter(|&i| blocks[i].t0 < slide_end)
+        .collect();
+    // A part is measured from the segment's reference pose, which is where the segment's
+    // motion starts: a part that follows another mode of motion is not (see
+    // `after_other_motion`).
+    let topple_late = after_other_motion(blocks, &idx, Label::Topple, MIN_EDGE_FRAMES, |_| false);
+    let slide_late = after_other_motion(blocks, &idx, Label::Slide, MIN_FACE_FRAMES, on_plane);
+    let mut withheld = None;
 
     let mut topple_stats = LineStats::default();
     let mut topple_best: Option<super::LargestRotation> = None;
-    if kind == Kind::Topple {
+    if kind == Kind::Topple && topple_late.is_some() {
+        withheld = topple_late.map(|w| format!("edge not taught: the topple {w}"));
+    } else if kind == Kind::Topple {
         topple_blocks
             .iter()
             .for_each(|&i| topple_stats.merge(&blocks[i].line));
@@ -303,7 +339,17 @@ pub(super) fn analyse_segment(
     }
     let edge = topple_best.and_then(|best| edge_observation(&topple_stats, best, demo));
 
-    let face = (kind == Kind::Slide).then(|| {
+    if kind == Kind::Slide && slide_late.is_some() {
+        withheld = slide_late
+            .as_ref()
+            .map(|w| format!("face not taught: the slide {w}"));
+    }
+    // A slide that starts the segment teaches its face even when the segment as a whole
+    // votes otherwise (a push that slides a box and then tips it): its frames are measured
+    // from their own start and pass the slide's test, and its normal is held near the
+    // support's by the level prior.
+    let slide_leads = slide_late.is_none() && !slide_blocks.is_empty();
+    let face = ((kind == Kind::Slide || slide_leads) && slide_late.is_none()).then(|| {
         let mut s = PlaneStats::default();
         slide_blocks.iter().for_each(|&i| s.merge(&blocks[i].plane));
         let s = slide_normal(&s, level_down.as_ref());
@@ -340,8 +386,95 @@ pub(super) fn analyse_segment(
         face: face.flatten(),
         resting_normal_before: seg.rest_before,
         resting_normal_after: seg.rest_after,
+        withheld,
     };
     (segment, warning)
+}
+
+/// Where a part of a segment ends: the start time \[s\] of the first run of at least
+/// `min_frames` measurably moving frames that the part's model does not explain (`member`
+/// false) after the part has started (infinity if none). Shorter runs are within the per-frame
+/// tests' false alarms (and tag flips), and the part goes on through them; a run as long as a
+/// part needs to be a part is another motion, after which the part's model (measured from the
+/// segment's reference) no longer holds even if frames fit it again by chance.
+fn part_end(
+    blocks: &[Block],
+    idx: &[usize],
+    mut member: impl FnMut(&Block) -> bool,
+    min_frames: f64,
+) -> f64 {
+    let (mut started, mut run, mut run_start) = (false, 0u64, f64::INFINITY);
+    for &i in idx {
+        let b = &blocks[i];
+        if b.significant == 0 || matches!(b.label, Label::Landing) {
+            continue;
+        }
+        if member(b) {
+            started = true;
+            run = 0;
+        } else if started {
+            if run == 0 {
+                run_start = b.t0;
+            }
+            run += b.significant;
+            if run as f64 >= min_frames {
+                return run_start;
+            }
+        }
+    }
+    f64::INFINITY
+}
+
+/// Whether the frames labelled `label` in a segment follow another mode of motion: at least
+/// `min_frames` measurably moving frames labelled otherwise (topple, slide or general) before
+/// the first of them. Every frame's motion is measured from the segment's reference, the rest
+/// before the segment; a topple that starts after a slide (a push that slides a box and then
+/// tips it, no rest between) turns about its edge *after* the slide's displacement, so its
+/// frames' screws relative to the reference are the slide composed with the rotation, whose
+/// axes are not the edge (they sweep by about the slide's length over the rotation), and a
+/// line fitted to a subset of them is a wrong edge. Likewise for a slide after a topple or a
+/// flight. `min_frames` is the evidence a part needs to be a part ([`MIN_EDGE_FRAMES`],
+/// [`MIN_FACE_FRAMES`]): fewer frames labelled otherwise are within the per-frame tests'
+/// false alarms. Frames that the part's own model explains as well (`explained`: a slide's
+/// first frames that a rotation about the edge explains too, and are labelled topple by the
+/// labels' priority) are ambiguous and do not count. Returns what the part follows, for the
+/// report.
+fn after_other_motion(
+    blocks: &[Block],
+    idx: &[usize],
+    label: Label,
+    min_frames: f64,
+    mut explained: impl FnMut(&Block) -> bool,
+) -> Option<String> {
+    let first = idx.iter().position(|&i| blocks[i].label == label)?;
+    let (mut frames, mut t) = (0u64, None);
+    let mut kinds: Vec<&str> = Vec::new();
+    for &i in &idx[..first] {
+        let b = &blocks[i];
+        if explained(b) {
+            continue;
+        }
+        let name = match b.label {
+            Label::Topple => "topple",
+            Label::Slide => "slide",
+            Label::General => "general motion",
+            _ => continue,
+        };
+        frames += b.significant;
+        t.get_or_insert(b.t0);
+        if b.significant > 0 && !kinds.contains(&name) {
+            kinds.push(name);
+        }
+    }
+    (frames as f64 >= min_frames).then(|| {
+        format!(
+            "starts at {:.2} s after {frames} frames of {} from {:.2} s without a rest \
+             between, so it is not measured from its own start",
+            blocks[idx[first]].t0,
+            kinds.join(" and "),
+            t.unwrap_or(0.0)
+        )
+    })
 }
 
 /// Fraction of a general segment's measurably moving frames that a line or plane fitted

@@ -333,6 +333,11 @@ pub struct Segment {
     pub resting_normal_before: Option<Vector3<f64>>,
     /// Outward normal (object frame) of the face it rested on after, if known.
     pub resting_normal_after: Option<Vector3<f64>>,
+    /// Why the segment taught no edge (or face) although its frames vote topple (slide):
+    /// the part follows another mode of motion in the same segment and is not measured from
+    /// its own start.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub withheld: Option<String>,
 }
 
 /// One topple of a demonstration: one or more topple segments about one edge.

@@ -63,6 +63,34 @@ pub(super) fn plane_inlier(s: &PlaneStats, n: &Vector3<f64>, th: &mut Thresholds
     s.n > 0.0 && s.chi2(n) < th.get(3.0 * s.n)
 }
 
+/// Whether a block's translations could come from rotations about `line` (`true` for a block
+/// without moving frames). A frame that turns by `ω` about a line through `p` (the point closest
+/// to the origin) moves by `t = (I - R) p ≈ p × ω`; the test matters for frames whose rotation is
+/// too small for a screw axis of their own, which [`plane_inlier`] with the line's direction
+/// accepts whenever they move across the line, a slide's pure translation included. The block
+/// keeps only `Σ t tᵀ` and `Σ ω ωᵀ` (weighted by `w_t`, `w_ω`), so the residual
+/// `Σ |t - p × ω|²` is bounded below by `(√Σ|t|² - √Σ|p × ω|²)²` (Minkowski) and that bound is
+/// compared with the χ² level of `3 n` degrees of freedom, each frame's residual having
+/// variance `σ_t² + |p|² σ_ω²` (`σ² = 1/w`): a conservative test, which rejects only a block
+/// whose translation no rotation about the line explains.
+pub(super) fn rotation_explains_translation(
+    s: &PlaneStats,
+    line: &Line,
+    w_t: f64,
+    w_omega: f64,
+    th: &mut Thresholds,
+) -> bool {
+    if s.n <= 0.0 {
+        return true;
+    }
+    let sum_t2 = s.stt.trace() / w_t;
+    let px = line.point.cross_matrix();
+    let sum_pw2 = (px * s.sww * px.transpose()).trace() / w_omega;
+    let lower = (sum_t2.max(0.0).sqrt() - sum_pw2.max(0.0).sqrt()).powi(2);
+    let var = 1.0 / w_t + line.point.norm_squared() / w_omega;
+    lower / var < th.get(3.0 * s.n)
+}
+
 /// The indices of the `k` blocks with the largest `key`.
 fn top_k(idx: &[usize], k: usize, key: impl Fn(usize) -> f64) -> Vec<usize> {
     let mut v: Vec<(f64, usize)> = idx

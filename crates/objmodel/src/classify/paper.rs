@@ -252,6 +252,7 @@ impl PaperMethod {
                 face,
                 resting_normal_before: down,
                 resting_normal_after: None,
+                withheld: None,
             }],
             labels: self.runs,
             paper_edge,

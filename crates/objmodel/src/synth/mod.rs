@@ -12,11 +12,17 @@
 //!   when the tilt reaches the tipping angle the box topples about its downhill edge, relative
 //!   to the palm; both box tag and palm are tracked;
 //! * **slide**: the box translates and turns on its bottom face;
-//! * **general**: the box is lifted, turned about changing axes, and put down.
+//! * **general**: the box is lifted, turned about changing axes, and put down;
+//! * **compounds** ([`compound`]): a push that slides the box and then tips it over its leading
+//!   edge, and a topple whose landing slides on, with no rest between the parts.
 //!
 //! Tracking noise ([`SynthNoise`]): Gaussian position and orientation noise, dropped frames,
 //! quaternion sign flips, and single-frame tag flips (the orientation jumps by 30-60° about an
 //! axis in the tag plane for one frame, like a planar tag's mirror solution).
+
+mod compound;
+
+pub use compound::{slide_then_topple, topple_then_slide};
 
 use crate::classify::Kind;
 use crate::geometry::Line;
