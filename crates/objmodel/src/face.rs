@@ -77,6 +77,25 @@ impl FaceObservation {
         }
     }
 
+    /// The face an object rested on, from the unit "down" direction in the object frame
+    /// averaged over `frames` frames at rest, with no edge to give its offset. The normal is
+    /// as uncertain as the support is level ([`SUPPORT_LEVEL_SIGMA_RAD`]; the rest's own
+    /// noise, averaged over its frames, is far smaller).
+    pub fn from_gravity(down: &Vector3<f64>, demo: &str, frames: u64) -> Self {
+        let n = down.normalize();
+        let p = Matrix3::identity() - n * n.transpose();
+        Self {
+            demo: demo.to_string(),
+            normal: n,
+            normal_cov: p * SUPPORT_LEVEL_SIGMA_RAD * SUPPORT_LEVEL_SIGMA_RAD,
+            offset: None,
+            offset_var: None,
+            sign_known: true,
+            source: FaceSource::Rest,
+            frames,
+        }
+    }
+
     /// RMS standard deviation \[rad\] of the normal, per axis.
     pub fn sigma_normal(&self) -> f64 {
         (self.normal_cov.trace() / 2.0).max(0.0).sqrt()

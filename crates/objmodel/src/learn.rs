@@ -4,12 +4,14 @@
 //!
 //! ```text
 //! source ─▶ classify (Algorithm 1, 2: segments, edges, faces) ─┐
-//!        └▶ recorder (the frames, bounded) ────────────────────┴▶ dynamics ─▶ Observation ─▶ Tree::add
+//!        └▶ recorder (the frames, bounded) ────────────────────┴▶ arrivals ─▶ dynamics ─▶ Observation ─▶ Tree::add
 //! ```
 //!
 //! One pass over each file: while the stream is classified, a [`Recorder`] keeps its frames
 //! (all of them up to its capacity, evenly thinned beyond: see [`crate::recording`]); once the
-//! classification is known, the dynamics of each topple are fitted to the kept frames
+//! classification is known, the rests that a motion reached are tested against that motion
+//! measured back from them (were they on the support? [`crate::arrival`]), the dynamics of
+//! each topple are fitted to the kept frames
 //! ([`crate::dynamics::analyse`]), and the demonstration's geometry and pendulums enter the
 //! tree together ([`Tree::add`]), under the identity of its poses (the kept frames'
 //! fingerprint, not its name). Gravity comes from the [`Config`]: without it the topples'
@@ -106,20 +108,15 @@ impl Learner {
         &self.config
     }
 
-    /// Classify a demonstration (Algorithms 1 and 2), without its dynamics.
+    /// Classify a demonstration (Algorithms 1 and 2, and which rests were on the support),
+    /// without its dynamics.
     pub fn classify(&self, source: &Source) -> Result<Classification> {
-        match *source {
-            Source::Files { object, palm } => {
-                crate::classify::classify_files(object, palm, &self.config)
-            }
-            Source::Memory(demo) => classify(demo, &self.config),
-        }
+        Ok(self.classify_recorded(source)?.0)
     }
 
-    /// Analyse a demonstration: its classification and the dynamics of its topples, in one
-    /// pass over its files.
-    pub fn observe(&self, source: &Source) -> Result<Observation> {
-        let gravity = self.config.gravity;
+    /// The classification, with the rests the motion reached tested against it
+    /// ([`crate::arrival`]), and the frames kept.
+    fn classify_recorded(&self, source: &Source) -> Result<(Classification, Recording)> {
         let (mut classification, recording) = match *source {
             Source::Files { object, palm } => {
                 let mut recorder = Recorder::new(self.capacity);
@@ -136,6 +133,15 @@ impl Learner {
                 Recording::of(demo, self.capacity),
             ),
         };
+        crate::arrival::confirm_arrivals(&mut classification, &recording, &self.config);
+        Ok((classification, recording))
+    }
+
+    /// Analyse a demonstration: its classification and the dynamics of its topples, in one
+    /// pass over its files.
+    pub fn observe(&self, source: &Source) -> Result<Observation> {
+        let gravity = self.config.gravity;
+        let (mut classification, recording) = self.classify_recorded(source)?;
         let fingerprint = Some(recording.fingerprint(classification.frames));
         let mut dynamics = Vec::new();
         if !classification.topples.is_empty() {

@@ -43,6 +43,7 @@
 #![warn(missing_docs)]
 
 pub mod args;
+pub mod arrival;
 pub mod classify;
 pub mod clean;
 pub mod dynamics;

@@ -12,7 +12,7 @@
 //! classification's labels refer to.
 
 use crate::trajectory::StampedPose;
-use nalgebra::UnitQuaternion;
+use nalgebra::{UnitQuaternion, Vector3};
 
 /// Frames kept per stream (object, palm) by default: 16 384, 0.8 MiB of object frames. A
 /// demonstration of up to 65 s at 250 Hz, 2.3 minutes at 120 Hz or 9 at 30 Hz keeps every
@@ -21,8 +21,8 @@ use nalgebra::UnitQuaternion;
 /// thread.
 pub const DEFAULT_CAPACITY: usize = 1 << 14;
 
-/// An object frame kept for the dynamics: its index in the stream, its time and its
-/// orientation (the dynamics are angles: the position is not kept).
+/// An object frame kept: its index in the stream, its time and its pose (the dynamics use the
+/// orientation; the test of whether a rest was on the support, the whole pose).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RecordedFrame {
     /// Index of the frame in the object stream (the classification's labels count these).
@@ -31,6 +31,8 @@ pub struct RecordedFrame {
     pub t: f64,
     /// The orientation of `world_from_object`.
     pub rotation: UnitQuaternion<f64>,
+    /// The position of `world_from_object` \[m\].
+    pub position: Vector3<f64>,
 }
 
 /// What a [`Recorder`] kept of a demonstration.
@@ -52,7 +54,7 @@ impl Recording {
     pub fn of(demo: &crate::Demonstration, capacity: usize) -> Self {
         let mut r = Recorder::new(capacity);
         for (i, p) in (0u64..).zip(&demo.object) {
-            r.object(i, p.t, &p.pose.rotation);
+            r.object(i, p.t, &p.pose.rotation, &p.pose.translation.vector);
         }
         for p in demo.palm.iter().flatten() {
             r.palm(p);
@@ -166,15 +168,22 @@ impl Recorder {
         (index + mask) & !mask
     }
 
-    /// Hand it the object frame `index` of the stream: its time and orientation. Frames it
-    /// would not keep may be skipped ([`Recorder::next_object_index`]).
+    /// Hand it the object frame `index` of the stream: its time and pose. Frames it would not
+    /// keep may be skipped ([`Recorder::next_object_index`]).
     #[inline(always)]
-    pub fn object(&mut self, index: u64, t: f64, rotation: &UnitQuaternion<f64>) {
+    pub fn object(
+        &mut self,
+        index: u64,
+        t: f64,
+        rotation: &UnitQuaternion<f64>,
+        position: &Vector3<f64>,
+    ) {
         if self.object.wants(index, |f| f.index) {
             self.object.kept.push(RecordedFrame {
                 index,
                 t,
                 rotation: *rotation,
+                position: *position,
             });
         }
     }
@@ -210,7 +219,7 @@ mod tests {
         let mut r = Recorder::new(capacity);
         for i in 0..n {
             let t = i as f64 * 0.01;
-            r.object(i, t, &UnitQuaternion::identity());
+            r.object(i, t, &UnitQuaternion::identity(), &Vector3::zeros());
             r.palm(&StampedPose::new(t, Isometry3::identity()));
         }
         r.finish()
@@ -255,7 +264,7 @@ mod tests {
                 let mut i = r.next_object_index(first);
                 while i < end {
                     let t = i as f64 * 0.01;
-                    r.object(i, t, &UnitQuaternion::identity());
+                    r.object(i, t, &UnitQuaternion::identity(), &Vector3::zeros());
                     i = r.next_object_index(i + 1);
                 }
                 first = end;
@@ -270,9 +279,10 @@ mod tests {
     fn keeps_the_pose_it_is_handed() {
         let q = UnitQuaternion::from_euler_angles(0.1, -0.2, 0.3);
         let mut r = Recorder::new(8);
-        r.object(0, 4.5, &q);
+        r.object(0, 4.5, &q, &Vector3::new(0.1, 0.2, 0.3));
         let rec = r.finish();
         assert_eq!(rec.object[0].t, 4.5);
         assert_eq!(rec.object[0].rotation, q);
+        assert_eq!(rec.object[0].position, Vector3::new(0.1, 0.2, 0.3));
     }
 }

@@ -245,8 +245,10 @@ fn slide_gives_the_face_normal_and_topples_give_its_offset() {
         f.evidence
     );
     assert_eq!(
-        f.evidence.rest, 4,
-        "the four topples rested on the slide's face first"
+        f.evidence.rest,
+        4 + 2 * 5,
+        "the four topples rested on the slide's face first, and the five slides started and \
+         ended on it"
     );
     // The generator's pivot slips by up to 8 mm at the end of each topple; the frames of that
     // slip that pass the change-point test bias the edge by 1-3 mm along the face normal.

@@ -100,3 +100,69 @@ fn topple_then_slide_teaches_no_wrong_feature() {
         assert!(edges > 0, "the topples' edges are taught");
     }
 }
+
+/// A rest teaches the face the object rests on (gravity known) when a contact mode measured
+/// from it leaves or reaches it: slid boxes (rests before and after), and a box that drops
+/// turning onto the table and slides into its rest (the motion that reaches the rest, measured
+/// back from it, is a slide). A box put down at a random tilt in mid-air (the generator's
+/// general motion ends held still, on nothing) teaches no face from that rest. At real
+/// tracking noise, through the learning pipeline (which tests the arrivals); each face within 5°
+/// of a face of the box, with its sign.
+#[test]
+fn rests_on_the_support_teach_their_faces() {
+    use objmodel::learn::{Learner, Source};
+    let learner = Learner::new(Config::default());
+    let (mut slid, mut dropped, mut held) = (0, 0, 0);
+    for seed in 0..20u64 {
+        let mut rng = StdRng::seed_from_u64(9000 + seed);
+        let b = SynthBox::random(&mut rng);
+        let side = rng.random_range(0..4);
+        for (kind, d) in [
+            (0, synth::slide(&b, &SynthNoise::REAL, 30.0, seed)),
+            (
+                1,
+                synth::drop_then_slide(&b, side, 0.06, &SynthNoise::REAL, 30.0, seed),
+            ),
+            (2, synth::general(&b, &SynthNoise::REAL, 30.0, seed)),
+        ] {
+            let c = learner.classify(&Source::Memory(&d.demo)).unwrap();
+            let rests = c.rest_faces();
+            *[&mut slid, &mut dropped, &mut held][kind] += rests.len();
+            let normals = face_normals(&b);
+            for f in &rests {
+                assert!(f.sign_known);
+                let best = normals
+                    .iter()
+                    .map(|n| {
+                        n.cross(&f.normal)
+                            .norm()
+                            .atan2(n.dot(&f.normal))
+                            .to_degrees()
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                assert!(best < 5.0, "{}: rest face {best:.1}° off", d.demo.name);
+            }
+        }
+    }
+    eprintln!("rest faces: slides {slid}, drops {dropped}, held {held}");
+    assert!(slid >= 36, "rests before and after 20 slides: {slid}");
+    assert!(dropped >= 16, "the final rests of 20 drops: {dropped}");
+}
+
+/// When a demonstration's motion says the given gravity is wrong (a slide whose plane is 90°
+/// from the given vertical), no face is taught from gravity.
+#[test]
+fn no_rest_faces_under_doubted_gravity() {
+    let mut rng = StdRng::seed_from_u64(11);
+    let b = SynthBox::random(&mut rng);
+    let d = synth::straight_slide(&b, &SynthNoise::REAL, 30.0, 3);
+    let right = classify(&d.demo, &Config::default()).unwrap();
+    assert!(!right.rest_faces().is_empty());
+    let wrong = Config {
+        gravity: Some(Vector3::new(0.0, -1.0, 0.0)),
+        ..Config::default()
+    };
+    let c = classify(&d.demo, &wrong).unwrap();
+    assert!(c.gravity_doubted, "{:?}", c.warnings);
+    assert!(c.rest_faces().is_empty());
+}

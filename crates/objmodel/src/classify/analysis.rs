@@ -374,6 +374,14 @@ pub(super) fn analyse_segment(
         })
     });
 
+    let face = face.flatten();
+    // The rests around the segment were on the support when a contact mode measured from them
+    // leaves the rest before (it leads the segment: its features are taught) or reaches the
+    // rest after (it lasts to the segment's end, landing aside).
+    let departs_from_support = seg.rest_before.is_some() && (face.is_some() || edge.is_some());
+    let arrives_on_support = seg.rest_after.is_some()
+        && ((face.is_some() && slide_end.is_infinite())
+            || (edge.is_some() && topple_end.is_infinite()));
     let segment = Segment {
         topple_stats,
         topple_best,
@@ -383,9 +391,13 @@ pub(super) fn analyse_segment(
         votes,
         max_angle,
         edge,
-        face: face.flatten(),
+        face,
         resting_normal_before: seg.rest_before,
         resting_normal_after: seg.rest_after,
+        resting_frames_before: seg.rest_before_frames as u64,
+        resting_frames_after: seg.rest_after_frames as u64,
+        departs_from_support,
+        arrives_on_support,
         withheld,
     };
     (segment, warning)

@@ -61,6 +61,7 @@ pub(super) fn conclude(
         topples,
         labels: runs(&segmented.blocks),
         paper_edge,
+        gravity_doubted: !warnings.is_empty(),
         warnings,
     }
 }
@@ -106,7 +107,11 @@ pub(super) fn group_topples(segments: &[Segment], alpha: f64, demo: &str) -> Vec
             let edge = edge_observation(&stats, best, demo)?;
             Some(super::Topple {
                 resting_normal_before: segments[idx[0]].resting_normal_before,
-                resting_normal_after: segments[*idx.last().unwrap()].resting_normal_after,
+                // The face after only when the topple lasts to the rest (landing aside): after
+                // another motion, the rest is not where the topple ended.
+                resting_normal_after: Some(&segments[*idx.last().unwrap()])
+                    .filter(|s| s.arrives_on_support)
+                    .and_then(|s| s.resting_normal_after),
                 segments: idx,
                 edge,
             })

@@ -49,7 +49,7 @@ pub(crate) fn classify_files_recording(
                         let mut i = r.next_object_index(first);
                         while i < end {
                             let h = &chunk[(i - first) as usize];
-                            r.object(i, h.t, &h.q);
+                            r.object(i, h.t, &h.q, &h.p);
                             i = r.next_object_index(i + 1);
                         }
                     }
@@ -59,7 +59,7 @@ pub(crate) fn classify_files_recording(
                 for (i, p) in (0u64..).zip(ThreadedPoses::spawn(format::open(object)?)) {
                     let p = p?;
                     if let Some(r) = recorder.as_deref_mut() {
-                        r.object(i, p.t, &p.pose.rotation);
+                        r.object(i, p.t, &p.pose.rotation, &p.pose.translation.vector);
                     }
                     a.push_object(&p);
                 }
@@ -87,7 +87,7 @@ pub(crate) fn classify_files_recording(
                 } else {
                     let x = o.as_ref().expect("an object pose");
                     if let Some(r) = recorder.as_deref_mut() {
-                        r.object(index, x.t, &x.pose.rotation);
+                        r.object(index, x.t, &x.pose.rotation, &x.pose.translation.vector);
                     }
                     index += 1;
                     a.push_object(x);

@@ -62,6 +62,7 @@ pub(crate) mod rotation_sum;
 pub(crate) mod sample;
 mod segments;
 
+pub use analysis::{MIN_EDGE_FRAMES, MIN_FACE_FRAMES};
 pub use analyzer::Analyzer;
 pub use files::classify_files;
 pub(crate) use files::classify_files_recording;
@@ -338,6 +339,21 @@ pub struct Segment {
     /// its own start.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub withheld: Option<String>,
+    /// Frames of the rest before the segment (0 if none, or not counted).
+    #[serde(default)]
+    pub resting_frames_before: u64,
+    /// Frames of the rest after it.
+    #[serde(default)]
+    pub resting_frames_after: u64,
+    /// Whether the rest before was on the support: a contact mode (slide, edge rotation)
+    /// measured from it leaves it and passes its test.
+    #[serde(default)]
+    pub departs_from_support: bool,
+    /// Whether the rest after is on the support: a contact mode that passed its test lasts
+    /// until it (a completed topple's landing aside), or the motion that reaches it, measured
+    /// back from it, is one (set by [`crate::learn`], which keeps the frames to test that).
+    #[serde(default)]
+    pub arrives_on_support: bool,
 }
 
 /// One topple of a demonstration: one or more topple segments about one edge.
@@ -384,6 +400,10 @@ pub struct Classification {
     /// not look like seconds), for the user to check.
     #[serde(default)]
     pub warnings: Vec<String>,
+    /// Whether a motion looked like a topple or slide under another direction of gravity than
+    /// the one given (see the warnings): then the faces rested on are not taught from gravity.
+    #[serde(default)]
+    pub gravity_doubted: bool,
 }
 
 impl Classification {
@@ -392,12 +412,12 @@ impl Classification {
         self.topples.iter().map(|t| &t.edge)
     }
 
-    /// Face observations: slides' planes and, for topples, the faces rested on before and after.
+    /// Face observations: slides' planes; for topples, the faces rested on before and after
+    /// (with the offsets their edges give); and [`Classification::rest_faces`].
     pub fn faces(&self) -> Vec<FaceObservation> {
         let mut out: Vec<FaceObservation> = self
             .segments
             .iter()
-            .filter(|s| s.kind == Kind::Slide)
             .filter_map(|s| s.face.clone())
             .collect();
         for t in &self.topples {
@@ -408,7 +428,56 @@ impl Classification {
                 out.push(FaceObservation::from_rest(&n, &t.edge));
             }
         }
+        out.extend(self.rest_faces());
         out
+    }
+
+    /// The faces the object rested on, from gravity, other than those before and after a
+    /// topple (which [`FaceObservation::from_rest`] gives with their offsets): every rest of at
+    /// least `MIN_FACE_FRAMES` frames (a tossed object may rest for a tenth of a second at the
+    /// end of a file), when gravity is known and not in doubt ([`Self::gravity_doubted`]).
+    pub fn rest_faces(&self) -> Vec<FaceObservation> {
+        if self.gravity_doubted {
+            return Vec::new();
+        }
+        // Rest k is the one before segment k; the rest after segment i is rest i + 1 (the one
+        // before segment i + 1 when a rest split them).
+        let mut rests: Vec<(Option<Vector3<f64>>, u64)> = Vec::new();
+        if let Some(s) = self.segments.first() {
+            rests.push((s.resting_normal_before, s.resting_frames_before));
+        }
+        rests.extend(
+            self.segments
+                .iter()
+                .map(|s| (s.resting_normal_after, s.resting_frames_after)),
+        );
+        // Rest k is on the support when segment k departs from it in a contact mode, or
+        // segment k - 1 arrives at it in one: a rest alone could be an object held still.
+        let n = self.segments.len();
+        let supported: Vec<bool> = (0..rests.len())
+            .map(|k| {
+                (k < n && self.segments[k].departs_from_support)
+                    || (k >= 1 && self.segments[k - 1].arrives_on_support)
+            })
+            .collect();
+        let mut with_edge = vec![false; rests.len()];
+        for t in &self.topples {
+            if let (Some(&a), Some(&b)) = (t.segments.first(), t.segments.last()) {
+                with_edge[a] |= t.resting_normal_before.is_some();
+                with_edge[b + 1] |= t.resting_normal_after.is_some();
+            }
+        }
+        rests
+            .into_iter()
+            .zip(with_edge)
+            .zip(supported)
+            .filter(|(((_, frames), with_edge), supported)| {
+                *supported && !with_edge && *frames as f64 >= analysis::MIN_FACE_FRAMES
+            })
+            .filter_map(|(((n, frames), _), _)| {
+                n.map(|n| FaceObservation::from_gravity(&n, &self.name, frames))
+            })
+            .collect()
     }
 }
 

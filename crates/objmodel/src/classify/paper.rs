@@ -252,11 +252,16 @@ impl PaperMethod {
                 face,
                 resting_normal_before: down,
                 resting_normal_after: None,
+                resting_frames_before: 0,
+                resting_frames_after: 0,
+                departs_from_support: false,
+                arrives_on_support: false,
                 withheld: None,
             }],
             labels: self.runs,
             paper_edge,
             warnings: Vec::new(),
+            gravity_doubted: false,
         })
     }
 }

@@ -38,6 +38,9 @@ pub(super) struct MotionSegment {
     pub n_ref: f64,
     pub rest_before: Option<Vector3<f64>>,
     pub rest_after: Option<Vector3<f64>>,
+    /// Frames of those rests.
+    pub rest_before_frames: f64,
+    pub rest_after_frames: f64,
 }
 
 /// Segments and blocks: consumes the rest front end's output ([`Verdict`]).
@@ -265,8 +268,14 @@ impl Segmenter {
         let rest_down = start
             .zip(self.down)
             .map(|((q, _, _), d)| (q.inverse() * d).normalize());
+        let rest_frames = if rest_down.is_some() {
+            self.rest.n()
+        } else {
+            0.0
+        };
         if let Some(prev) = self.segments.last_mut() {
             prev.rest_after = rest_down;
+            prev.rest_after_frames = rest_frames;
         }
         let (ref_q, ref_p, n_ref) = start.unwrap_or((f.q, f.p, 1.0));
         let down_ref = rest_down.or_else(|| self.down.map(|d| (f.q.inverse() * d).normalize()));
@@ -281,6 +290,8 @@ impl Segmenter {
             n_ref: n_ref.max(1.0),
             rest_before: rest_down,
             rest_after: None,
+            rest_before_frames: rest_frames,
+            rest_after_frames: 0.0,
         });
     }
 
@@ -356,6 +367,11 @@ impl Segmenter {
             let rest_down = self.rest.down(self.down);
             if let Some(prev) = self.segments.last_mut() {
                 prev.rest_after = rest_down;
+                prev.rest_after_frames = if rest_down.is_some() {
+                    self.rest.n()
+                } else {
+                    0.0
+                };
             }
         }
         Segmented {

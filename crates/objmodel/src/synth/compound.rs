@@ -10,7 +10,7 @@ use super::{
 use crate::classify::Kind;
 use crate::trajectory::{Demonstration, StampedPose};
 use nalgebra::{Isometry3, Translation3, Vector3};
-use rand::{rngs::StdRng, SeedableRng};
+use rand::{rngs::StdRng, Rng, SeedableRng};
 use std::f64::consts::FRAC_PI_2;
 
 /// Duration \[s\] of the slide part.
@@ -118,6 +118,58 @@ pub fn topple_then_slide(
         dir,
         phi,
         format!("topple_then_slide_{seed}"),
+        poses,
+        noise,
+        &mut rng,
+    )
+}
+
+/// A box that falls onto the table turning (a toss's last bounce), lands flat on its bottom
+/// face and, without stopping, slides `slide_m` \[m\] towards the side `side` into a rest of
+/// 1 s. The file starts in the air: there is no rest before the motion, and the only face the
+/// demonstration shows is the one it slides on and rests on.
+pub fn drop_then_slide(
+    b: &SynthBox,
+    side: usize,
+    slide_m: f64,
+    noise: &SynthNoise,
+    rate: f64,
+    seed: u64,
+) -> SynthDemo {
+    let mut rng = StdRng::seed_from_u64(seed);
+    let (edge, dir, out) = side_edge(&b.half, side);
+    let world0 = world_start(&mut rng, &b.half);
+    let spin = Vector3::new(
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+    );
+    let (fall_s, height) = (0.4, 0.15);
+    let ts = times(rate, 0.0, fall_s + SLIDE_S + 1.0);
+    let t0 = ts[0];
+    let poses: Vec<StampedPose> = ts
+        .iter()
+        .map(|&t| {
+            let s = t - t0;
+            // Falling: height and spin go to zero at touchdown, at constant deceleration
+            // towards it (a kinematic stand-in for the last bounce).
+            let left = ((fall_s - s) / fall_s).clamp(0.0, 1.0);
+            let up = Vector3::z() * height * left * left;
+            let turn = crate::se3::so3_exp(&(spin * left * left));
+            let slid = out * slide_m * smoothstep((s - fall_s) / SLIDE_S);
+            let world_from_box = Translation3::from(up + slid)
+                * world0
+                * Isometry3::from_parts(Default::default(), turn);
+            StampedPose::new(t, world_from_box * b.box_from_tag)
+        })
+        .collect();
+    let phi = 0.0;
+    truth_of(
+        b,
+        edge,
+        dir,
+        phi,
+        format!("drop_then_slide_{seed}"),
         poses,
         noise,
         &mut rng,

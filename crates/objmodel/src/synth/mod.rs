@@ -22,7 +22,7 @@
 
 mod compound;
 
-pub use compound::{slide_then_topple, topple_then_slide};
+pub use compound::{drop_then_slide, slide_then_topple, topple_then_slide};
 
 use crate::classify::Kind;
 use crate::geometry::Line;

@@ -438,13 +438,12 @@ impl Tree {
             noise: c.noise,
             fingerprint: observation.fingerprint.clone(),
         });
-        for s in c.segments.iter().filter(|s| s.kind == Kind::Slide) {
-            if let Some(f) = &s.face {
-                self.add_face(FaceObservation {
-                    demo: name.clone(),
-                    ..f.clone()
-                });
-            }
+        let slides = c.segments.iter().filter_map(|s| s.face.as_ref());
+        for f in slides.chain(c.rest_faces().iter()) {
+            self.add_face(FaceObservation {
+                demo: name.clone(),
+                ..f.clone()
+            });
         }
         for (ti, t) in c.topples.iter().enumerate() {
             let edge = EdgeObservation {
