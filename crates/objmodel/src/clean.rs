@@ -15,6 +15,13 @@
 //!
 //! The first and last frames have one neighbour; they are tested against a constant-velocity
 //! extrapolation from the two frames beside them with the same two conditions.
+//!
+//! * **Two flips in a row.** Frames k and k+1 both flipped agree with each other, so each is
+//!   only half-way off the geodesic of its neighbours and condition 2 fails. A frame whose
+//!   residual is significant (condition 1) but not larger than the neighbour distance is
+//!   therefore held back with the next frame, and the pair is tested against the geodesic of
+//!   k-1 and k+2 with the same two conditions: both are rejected when both pass. A real change
+//!   of orientation (an impact: the orientation jumps and stays) fails it at k+2.
 
 use crate::se3::{rotation_angle_between, so3_exp, so3_log};
 use nalgebra::{UnitQuaternion, Vector3};
@@ -78,6 +85,16 @@ fn residual(a: &RawFrame, b: &RawFrame, f: &RawFrame) -> (f64, f64) {
     (r, 1.0 + s * s + (1.0 - s) * (1.0 - s))
 }
 
+/// What the tag-flip test says of a frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Verdict {
+    Keep,
+    Flip,
+    /// Significantly off its neighbours' geodesic but not farther than they are apart: one of
+    /// two flips in a row, or a real change; decided with the frame after the next.
+    Suspect,
+}
+
 /// A placeholder for an empty slot (never read).
 const EMPTY: RawFrame = RawFrame {
     index: 0,
@@ -116,6 +133,12 @@ impl Cleaner {
     /// `s = Δt_af / Δt_ab` is cleared of its denominator.
     #[inline(always)]
     fn is_flip(&self, a: &RawFrame, b: &RawFrame, f: &RawFrame) -> bool {
+        self.verdict(a, b, f) == Verdict::Flip
+    }
+
+    /// [`Cleaner::is_flip`], telling a suspect frame apart (see [`Verdict::Suspect`]).
+    #[inline(always)]
+    fn verdict(&self, a: &RawFrame, b: &RawFrame, f: &RawFrame) -> Verdict {
         let chord2 = |x: &UnitQuaternion<f64>, y: &UnitQuaternion<f64>| {
             4.0 * (x.quaternion().conjugate() * y.quaternion())
                 .imag()
@@ -129,26 +152,30 @@ impl Cleaner {
             let (t_ab, t_af) = (b.t - a.t, f.t - a.t);
             let d2 = t_ab * t_ab;
             if 2.0 * (t_af * t_af * u(c_ab) + d2 * u(c_af)) <= self.floor * d2 {
-                return false;
+                return Verdict::Keep;
             }
         }
-        self.is_flip_exact(a, b, f)
+        self.verdict_exact(a, b, f)
     }
 
     /// [`Cleaner::is_flip`] past its pretest: the triangle bound with the angles themselves,
     /// then the residual test.
     #[cold]
     #[inline(never)]
-    fn is_flip_exact(&self, a: &RawFrame, b: &RawFrame, f: &RawFrame) -> bool {
+    fn verdict_exact(&self, a: &RawFrame, b: &RawFrame, f: &RawFrame) -> Verdict {
         let s = ((f.t - a.t) / (b.t - a.t)).abs();
         let dab = rotation_angle_between(&a.q, &b.q);
         let daf = rotation_angle_between(&a.q, &f.q);
         let bound = s * dab + daf;
-        if bound <= dab || bound * bound <= self.floor {
-            return false;
+        if bound * bound <= self.floor {
+            return Verdict::Keep;
         }
         let (r, k) = residual(a, b, f);
-        r * r > self.threshold_sq * self.var_rot * k && r > dab
+        match (r * r > self.threshold_sq * self.var_rot * k, r > dab) {
+            (true, true) => Verdict::Flip,
+            (true, false) => Verdict::Suspect,
+            _ => Verdict::Keep,
+        }
     }
 
     /// The latest kept frame, if any.
@@ -177,7 +204,11 @@ impl Cleaner {
         // The common case: the pending frame is judged against the latest kept frame and `f`.
         let k = &self.kept[self.latest];
         f.q = align(f.q, &self.pending[0].q);
-        let bad = self.is_flip(k, &f, &self.pending[0]);
+        let bad = match self.verdict(k, &f, &self.pending[0]) {
+            Verdict::Keep => false,
+            Verdict::Flip => true,
+            Verdict::Suspect => return self.hold(f),
+        };
         let mut next = std::mem::replace(&mut self.pending[0], f);
         if !bad {
             next.q = align(next.q, &k.q);
@@ -185,8 +216,18 @@ impl Cleaner {
         self.emit(next, bad, out);
     }
 
+    /// Hold a second pending frame after a suspect one (judged in [`Cleaner::push_start`]
+    /// with the frame after it).
+    #[cold]
+    #[inline(never)]
+    fn hold(&mut self, f: RawFrame) {
+        self.pending[1] = f;
+        self.pending_len = 2;
+    }
+
     /// [`Cleaner::push`] until the first frame is kept: each frame is judged against the two
-    /// after it.
+    /// after it; and after a suspect frame, the pair of it and the next one against the frames
+    /// around them.
     #[cold]
     #[inline(never)]
     fn push_start(&mut self, mut f: RawFrame, out: &mut impl FnMut(RawFrame, bool)) {
@@ -206,7 +247,24 @@ impl Cleaner {
                     self.pending[0],
                 ),
                 Some(k) if self.pending_len >= 2 => {
-                    let bad = self.is_flip(k, &self.pending[1], &self.pending[0]);
+                    let bad = match self.verdict(k, &self.pending[1], &self.pending[0]) {
+                        Verdict::Keep => false,
+                        Verdict::Flip => true,
+                        Verdict::Suspect if self.pending_len < 3 => break,
+                        Verdict::Suspect => {
+                            let (p, f, g) = (self.pending[0], self.pending[1], self.pending[2]);
+                            if self.verdict_exact(k, &g, &p) == Verdict::Flip
+                                && self.verdict_exact(k, &g, &f) == Verdict::Flip
+                            {
+                                self.pending[0] = g;
+                                self.pending_len = 1;
+                                self.emit(p, true, out);
+                                self.emit(f, true, out);
+                                continue;
+                            }
+                            false
+                        }
+                    };
                     let mut next = self.pending[0];
                     if !bad {
                         next.q = align(next.q, &k.q);
@@ -307,7 +365,23 @@ mod tests {
                         emit(first, bad, &mut kept_prev, &mut kept);
                     }
                     Some(k) if buffer.len() >= 2 => {
-                        let bad = c.is_flip(&k, &buffer[1], &buffer[0]);
+                        let bad = match c.verdict(&k, &buffer[1], &buffer[0]) {
+                            Verdict::Keep => false,
+                            Verdict::Flip => true,
+                            Verdict::Suspect if buffer.len() < 3 => break,
+                            Verdict::Suspect => {
+                                let pair =
+                                    [0, 1].map(|i| c.verdict_exact(&k, &buffer[2], &buffer[i]));
+                                if pair == [Verdict::Flip; 2] {
+                                    for _ in 0..2 {
+                                        let f = buffer.pop_front().unwrap();
+                                        emit(f, true, &mut kept_prev, &mut kept);
+                                    }
+                                    continue;
+                                }
+                                false
+                            }
+                        };
                         let mut next = buffer.pop_front().unwrap();
                         if !bad {
                             next.q = align(next.q, &k.q);
@@ -358,6 +432,42 @@ mod tests {
             }
         }
         assert!(flagged > 500, "{flagged}");
+    }
+
+    #[test]
+    fn rejects_two_flips_in_a_row_and_keeps_a_real_jump() {
+        // A slow turn with frames 20 and 21 both flipped (the same mirror solution, 40° about
+        // x), and frames 50-51 flipped by different amounts.
+        let mut frames: Vec<RawFrame> = (0..80).map(|i| frame(i, 0.01 * i as f64)).collect();
+        for (i, a) in [(20, 0.7), (21, 0.7), (50, 0.6), (51, 0.75)] {
+            frames[i].q *= UnitQuaternion::from_scaled_axis(Vector3::new(a, 0.0, 0.0));
+        }
+        let out = run(frames.clone());
+        let flagged: Vec<usize> = out
+            .iter()
+            .filter(|(_, o)| *o)
+            .map(|(f, _)| f.index)
+            .collect();
+        assert_eq!(flagged, vec![20, 21, 50, 51]);
+        assert_eq!(out, reference(&frames));
+        // An impact: the orientation jumps by 40° at frame 30 and stays: nothing is rejected
+        // (the first frame after the jump costs nothing either).
+        let jump: Vec<RawFrame> = (0..60)
+            .map(|i| {
+                let mut f = frame(i, 0.01 * i as f64);
+                if i >= 30 {
+                    f.q *= UnitQuaternion::from_scaled_axis(Vector3::new(0.7, 0.0, 0.0));
+                }
+                f
+            })
+            .collect();
+        let out = run(jump.clone());
+        assert!(
+            out.iter().all(|(_, o)| !o),
+            "{:?}",
+            out.iter().filter(|x| x.1).count()
+        );
+        assert_eq!(out, reference(&jump));
     }
 
     #[test]
