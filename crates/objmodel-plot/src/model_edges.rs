@@ -96,16 +96,13 @@ fn along(e: &Edge, a: &Vector3<f64>, b: &Vector3<f64>, sigma_v: f64) -> Option<f
     (z <= 3.0).then_some(z)
 }
 
-/// The part of `e`'s line inside the sphere of `radius` about `centre`; a line that misses it
-/// gets the segment of that length about its point closest to `centre`.
+/// The part of `e`'s line inside the sphere of `radius` about `centre`, at least as long as the
+/// radius (a line that misses the sphere or grazes it gets that length about its point closest
+/// to `centre`).
 fn across(e: &Edge, centre: &Vector3<f64>, radius: f64) -> [Vector3<f64>; 2] {
     let closest = foot(e, centre);
     let d = (closest - centre).norm();
-    let half = if d < radius {
-        (radius * radius - d * d).sqrt()
-    } else {
-        radius
-    };
+    let half = (radius * radius - d * d).max(0.0).sqrt().max(radius / 2.0);
     [closest - e.direction * half, closest + e.direction * half]
 }
 
