@@ -64,6 +64,20 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     let tree_path = a.output.join("tree.json");
     tree.save(&tree_path)?;
 
+    // The learnt object: the paper's Fig. 9a, and in 3D with the demonstrations to play back.
+    let (model_svg, _) =
+        objmodel_plot::plot_model(&tree, "the learnt box (Fig. 9a)", &a.output.join("model"))?;
+    let played = files
+        .iter()
+        .map(|f| objmodel::format::read_demonstration(f, None))
+        .collect::<objmodel::Result<Vec<_>>>()?;
+    let view = objmodel_plot::write_view(
+        &tree,
+        "objmodel demo: the learnt box",
+        &played,
+        &a.output.join("view.html"),
+    )?;
+
     // Fig. 8 for every topple.
     let plots = a.output.join("plots");
     let mut images = Vec::new();
@@ -109,6 +123,9 @@ pub fn run(a: &DemoArgs) -> Result<()> {
         );
     }
     let _ = write!(html, "</table><h2>Object description tree</h2><pre>{}</pre><p><a href=\"tree.json\">tree.json</a> (schema: docs/tree-schema.md)</p>", summary);
+    let rel = |p: &PathBuf| p.strip_prefix(&a.output).unwrap_or(p).display().to_string();
+    let _ = write!(html, "<h2>The learnt object in 3D</h2><p>Drag to turn it, hover over a feature for its support and uncertainty, play a demonstration back (<a href=\"{v}\">{v}</a> on its own; offline, three.js inside).</p><iframe src=\"{v}\" title=\"the learnt object in 3D\" style=\"width:100%;height:820px;border:1px solid #ccc\"></iframe>", v = rel(&view));
+    let _ = write!(html, "<h2>The learnt object (Fig. 9a)</h2><p>Each feature coloured by how it is known: seen in the demonstrations, inferred from seen ones, unknown, or contradicted; hover for details.</p><object data=\"{m}\" type=\"image/svg+xml\" style=\"max-width:100%\"><img src=\"{m}\" alt=\"the learnt object\"></object>", m = rel(&model_svg));
     match &planned {
         Ok(p) => {
             let _ = write!(html, "<h2>Plan</h2><p>For the box as it rests on the palm in {}: tilt the palm by {:.1}° about the line through [{:.3}, {:.3}, {:.3}] m along [{:.3}, {:.3}, {:.3}] (palm frame); edge {}, φ = {:.1}°.</p>", first.name, p.tilt.to_degrees(), p.axis_point.x, p.axis_point.y, p.axis_point.z, p.axis_direction.x, p.axis_direction.y, p.axis_direction.z, p.edge, p.phi.to_degrees());

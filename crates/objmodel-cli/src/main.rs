@@ -17,6 +17,7 @@ mod simulate;
 mod synth;
 mod task;
 mod text;
+mod view;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -59,6 +60,9 @@ enum Command {
     /// Write the learnt object as a simulation model: MJCF (MuJoCo) and URDF, with its shape,
     /// centre of mass, inertia and the mass you give.
     Export(export::ExportArgs),
+    /// Show a learnt tree in 3D: one offline HTML page (turn it with the mouse, hover for each
+    /// feature's support and uncertainty, play demonstrations back), and the paper's Fig. 9a.
+    View(view::ViewArgs),
     /// Plan a topple on the palm from a learnt tree: the tilt axis and angle.
     Plan(plan::PlanArgs),
     /// Run the toppling task on the simulated arm: default policy, one demonstration, planned topple.
@@ -84,6 +88,7 @@ fn main() -> ExitCode {
         Command::Plot(a) => plot::run(a),
         Command::Plan(a) => plan::run(a),
         Command::Export(a) => export::run(a),
+        Command::View(a) => view::run(a),
         Command::Task(a) => task::run(a),
         Command::Completions { shell } => {
             use clap::CommandFactory;

@@ -72,18 +72,31 @@ fn paint<F: Figure, DB: DrawingBackend>(
 /// Renders `fig` to SVG and PNG and writes both atomically next to `base`.
 pub(crate) fn render<F: Figure>(base: &Path, fig: &F) -> Result<(PathBuf, PathBuf), PlotError> {
     let svg_path = with_suffix(base, "svg");
-    let png_path = with_suffix(base, "png");
     if !ensure_font() {
         return Err(PlotError::Font { path: svg_path });
     }
     let (w, h) = fig.size();
-
     let mut svg = String::new();
     paint(
         fig,
         SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area(),
         &svg_path,
     )?;
+    render_with_svg(base, fig, &svg)
+}
+
+/// Writes `svg` (made otherwise) and `fig` rendered to PNG, atomically next to `base`.
+pub(crate) fn render_with_svg<F: Figure>(
+    base: &Path,
+    fig: &F,
+    svg: &str,
+) -> Result<(PathBuf, PathBuf), PlotError> {
+    let svg_path = with_suffix(base, "svg");
+    let png_path = with_suffix(base, "png");
+    if !ensure_font() {
+        return Err(PlotError::Font { path: png_path });
+    }
+    let (w, h) = fig.size();
     let mut rgb = vec![255u8; w as usize * h as usize * 3];
     paint(
         fig,
@@ -94,16 +107,21 @@ pub(crate) fn render<F: Figure>(base: &Path, fig: &F) -> Result<(PathBuf, PathBu
         path: png_path.clone(),
         reason: e.to_string(),
     })?;
+    ensure_dir(base)?;
+    write_atomic(&svg_path, svg.as_bytes())?;
+    write_atomic(&png_path, &png_bytes)?;
+    Ok((svg_path, png_path))
+}
 
-    if let Some(dir) = base.parent().filter(|d| !d.as_os_str().is_empty()) {
+/// Creates the folder `path` is in, if it has one.
+pub(crate) fn ensure_dir(path: &Path) -> Result<(), PlotError> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         fs::create_dir_all(dir).map_err(|source| PlotError::Io {
             path: dir.to_owned(),
             source,
         })?;
     }
-    write_atomic(&svg_path, svg.as_bytes())?;
-    write_atomic(&png_path, &png_bytes)?;
-    Ok((svg_path, png_path))
+    Ok(())
 }
 
 /// Encodes an 8-bit RGB buffer as PNG.
@@ -123,7 +141,7 @@ fn encode_png(rgb: &[u8], w: u32, h: u32) -> Result<Vec<u8>, png::EncodingError>
 
 /// Writes `bytes` to a temporary file in `path`'s folder, flushes it, then renames it over
 /// `path`, so readers see either the old file or the whole new one.
-fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), PlotError> {
+pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), PlotError> {
     static COUNTER: AtomicU64 = AtomicU64::new(0);
     let dir = path
         .parent()

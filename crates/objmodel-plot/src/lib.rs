@@ -11,6 +11,14 @@
 //!   normal to the toppling edge at several instants, as small multiples sharing one scale,
 //!   with equal aspect ratio (a metre is as long across as it is up).
 //! * [`plot_xy`]: generic x-y line plot with a legend.
+//! * [`plot_model`]: the paper's Fig. 9a — the learnt object (shape, edges, faces, vertices,
+//!   centre of mass, the object frame's origin) in an oblique view, each part coloured by how it
+//!   is known ([`Known`]: seen, inferred, unknown, contradicted). Its SVG is written by hand:
+//!   every part is one element with `data-kind`, `data-id`, `data-known` and a `<title>` that a
+//!   browser shows on hover.
+//! * [`view_page`] / [`write_view`]: the learnt object in 3D, one offline HTML page with
+//!   three.js inlined (see `assets/three/README.md`): turn it with the mouse, hover for each
+//!   feature's support and uncertainty, play the demonstrations back.
 //!
 //! Text is drawn with the DejaVu Sans font embedded in the library (`include_bytes!`) through
 //! plotters' `ab_glyph` support, so neither fontconfig nor freetype is needed, at build or at
@@ -38,9 +46,18 @@
 #![warn(missing_docs)]
 
 mod angles;
+mod canvas;
 mod common;
+mod fig9a;
+mod fig9a_legend;
+mod model;
+mod model_edges;
 mod side_view;
+mod view;
 mod xy;
+
+pub use model::{Feature, FeatureKind, Known, ModelDrawing};
+pub use view::{MAX_PLAYBACK_FRAMES, THREE_VERSION};
 
 use std::path::{Path, PathBuf};
 
@@ -181,4 +198,46 @@ pub fn plot_xy(
     path_without_ext: &Path,
 ) -> Result<(PathBuf, PathBuf), PlotError> {
     xy::plot(title, x_label, y_label, series, path_without_ext)
+}
+
+/// Draws the paper's Fig. 9a: the learnt object of `tree` ([`ModelDrawing::from_tree`]) in an
+/// oblique orthographic view of its object frame (z up), each part coloured by how it is known,
+/// with a legend and notes on what is unknown.
+///
+/// Writes `<path_without_ext>.svg` and `<path_without_ext>.png` (creating the folder if needed)
+/// and returns their paths in that order.
+///
+/// # Errors
+/// Drawing, encoding and I/O errors.
+pub fn plot_model(
+    tree: &objmodel::tree::Tree,
+    title: &str,
+    path_without_ext: &Path,
+) -> Result<(PathBuf, PathBuf), PlotError> {
+    fig9a::plot(&ModelDrawing::from_tree(tree), title, path_without_ext)
+}
+
+/// The learnt object of `tree` in 3D as one self-contained, offline HTML page titled `title`
+/// (three.js inlined): edges, faces, vertices, the centre of mass, each feature's support and
+/// uncertainty on hover, and `demos` to play back (their poses, at most
+/// [`MAX_PLAYBACK_FRAMES`] each).
+pub fn view_page(
+    tree: &objmodel::tree::Tree,
+    title: &str,
+    demos: &[objmodel::Demonstration],
+) -> String {
+    view::page(tree, title, demos)
+}
+
+/// Writes [`view_page`] to `path` atomically (creating the folder if needed) and returns it.
+///
+/// # Errors
+/// I/O errors, naming the file.
+pub fn write_view(
+    tree: &objmodel::tree::Tree,
+    title: &str,
+    demos: &[objmodel::Demonstration],
+    path: &Path,
+) -> Result<PathBuf, PlotError> {
+    view::write(tree, title, demos, path)
 }
