@@ -133,8 +133,41 @@ impl Learner {
                 Recording::of(demo, self.capacity),
             ),
         };
+        if self.noise_unmeasurable(&recording) {
+            classification.withhold_all(
+                "the tracking noise cannot be estimated from this demonstration: the motion \
+                 between its frames exceeds the noise (a fast motion at this frame rate); give \
+                 the tracker's noise (--noise) to learn from it",
+            );
+        }
         crate::arrival::confirm_arrivals(&mut classification, &recording, &self.config);
         Ok((classification, recording))
+    }
+
+    /// Whether the robust method estimated the noise (none given) from frames whose motion
+    /// dominates their second differences ([`crate::noise::motion_dominated`]): then the
+    /// estimate is the motion's, every test passes everything, and features would be taught
+    /// with confidence from anything. Tested on the frames the estimate used (the first
+    /// `warmup_frames`; all of them when the record kept every frame of those).
+    fn noise_unmeasurable(&self, recording: &Recording) -> bool {
+        let robust = &self.config.robust;
+        if self.config.method != crate::classify::Method::Robust
+            || robust.noise.is_some()
+            || recording.object_stride > 1
+        {
+            return false;
+        }
+        let samples: Vec<crate::noise::PoseSample> = recording
+            .object
+            .iter()
+            .take(robust.warmup_frames.max(3))
+            .map(|f| (f.t, f.rotation, f.position))
+            .collect();
+        crate::noise::motion_dominated(
+            &samples,
+            robust.alpha,
+            (robust.edge_tolerance_m, robust.edge_tolerance_rad),
+        )
     }
 
     /// Analyse a demonstration: its classification and the dynamics of its topples, in one

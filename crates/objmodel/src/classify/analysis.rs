@@ -10,7 +10,7 @@ use super::msac::{
 use super::segments::MotionSegment;
 use super::{Config, Kind, Label, Segment, Votes};
 use crate::edge::EdgeObservation;
-use crate::face::{FaceObservation, FaceSource};
+use crate::face::{FaceObservation, FaceSource, SUPPORT_LEVEL_SIGMA_RAD};
 use crate::geometry::{Line, LineChi2, LineStats, PlaneStats};
 use nalgebra::Vector3;
 
@@ -337,19 +337,23 @@ pub(super) fn analyse_segment(
             .filter_map(|&i| blocks[i].max_line.map(|(l, w)| (blocks[i].max_angle, l, w)))
             .max_by(|a, b| a.0.total_cmp(&b.0));
     }
-    let edge = topple_best.and_then(|best| edge_observation(&topple_stats, best, demo));
+    let mut edge = topple_best.and_then(|best| edge_observation(&topple_stats, best, demo));
+    if let (Some(e), Some(d)) = (&edge, seg.down_ref) {
+        if let Some(w) = edge_off_level(e, &d, alpha) {
+            withheld = Some(format!("edge not taught: {w}"));
+            edge = None;
+        }
+    }
 
     if kind == Kind::Slide && slide_late.is_some() {
         withheld = slide_late
             .as_ref()
             .map(|w| format!("face not taught: the slide {w}"));
     }
-    // A slide that starts the segment teaches its face even when the segment as a whole
-    // votes otherwise (a push that slides a box and then tips it): its frames are measured
-    // from their own start and pass the slide's test, and its normal is held near the
-    // support's by the level prior.
-    let slide_leads = slide_late.is_none() && !slide_blocks.is_empty();
-    let face = ((kind == Kind::Slide || slide_leads) && slide_late.is_none()).then(|| {
+    // Only a segment that votes slide teaches a face: a hand that carries an object level and
+    // without tilting it moves it as a slide would, and the motion's majority is the evidence
+    // that it was not carried (a toss's swing and flight pass for a slide in part).
+    let face = (kind == Kind::Slide && slide_late.is_none()).then(|| {
         let mut s = PlaneStats::default();
         slide_blocks.iter().for_each(|&i| s.merge(&blocks[i].plane));
         let s = slide_normal(&s, level_down.as_ref());
@@ -374,11 +378,19 @@ pub(super) fn analyse_segment(
         })
     });
 
-    let face = face.flatten();
+    let mut face = face.flatten();
+    if let (Some(f), Some(d)) = (&face, seg.down_ref) {
+        if let Some(w) = face_off_level(f, &d, alpha) {
+            withheld = Some(format!("face not taught: {w}"));
+            face = None;
+        }
+    }
     // The rests around the segment were on the support when a contact mode measured from them
     // leaves the rest before (it leads the segment: its features are taught) or reaches the
     // rest after (it lasts to the segment's end, landing aside).
-    let departs_from_support = seg.rest_before.is_some() && (face.is_some() || edge.is_some());
+    let departs_from_support = seg.rest_before.is_some()
+        && seg.rest_before_frames >= MIN_FACE_FRAMES
+        && (face.is_some() || edge.is_some());
     let arrives_on_support = seg.rest_after.is_some()
         && ((face.is_some() && slide_end.is_infinite())
             || (edge.is_some() && topple_end.is_infinite()));
@@ -401,6 +413,42 @@ pub(super) fn analyse_segment(
         withheld,
     };
     (segment, warning)
+}
+
+/// Whether an edge is not level: an edge a box topples about lies in the face it rests on, and
+/// that face lies on a level support (a table, or a palm in the palm's frame) to within
+/// [`SUPPORT_LEVEL_SIGMA_RAD`]. The edge's tilt from level (its direction's component along
+/// "down" `d`) is tested against that and the direction's own variance along `d`, χ²₁ at `alpha`.
+/// (The segment's fits only bound the tilt by [`super::RobustConfig::max_axis_tilt_rad`], a
+/// search bound; a thrown box's flight from a hand passed it with an "edge" 20° from level.)
+fn edge_off_level(e: &EdgeObservation, d: &Vector3<f64>, alpha: f64) -> Option<String> {
+    let sin_tilt = e.line.direction.dot(d).clamp(-1.0, 1.0);
+    let var = d.dot(&(e.direction_cov * d)) + SUPPORT_LEVEL_SIGMA_RAD.powi(2);
+    let tilt = sin_tilt.asin();
+    (tilt * tilt / var > crate::stats::chi2_threshold(1.0, alpha)).then(|| {
+        format!(
+            "its direction is {:.1}° from level (±{:.1}°), and an edge toppled about lies in \
+             the level face the object rests on",
+            tilt.abs().to_degrees(),
+            var.sqrt().to_degrees()
+        )
+    })
+}
+
+/// Whether a slide's face is not level: the plane of a slide on a level support is level,
+/// so its normal is "down" `d` to within [`SUPPORT_LEVEL_SIGMA_RAD`] and its own covariance
+/// (per axis), χ²₂ at `alpha`.
+fn face_off_level(f: &FaceObservation, d: &Vector3<f64>, alpha: f64) -> Option<String> {
+    let angle = f.normal.cross(d).norm().atan2(f.normal.dot(d));
+    let var = f.sigma_normal().powi(2) + SUPPORT_LEVEL_SIGMA_RAD.powi(2);
+    (angle * angle / var > crate::stats::chi2_threshold(2.0, alpha)).then(|| {
+        format!(
+            "its normal is {:.1}° from vertical (±{:.1}°), and a slide on a level support moves \
+             in a level plane",
+            angle.to_degrees(),
+            var.sqrt().to_degrees()
+        )
+    })
 }
 
 /// Where a part of a segment ends: the start time \[s\] of the first run of at least

@@ -432,6 +432,24 @@ impl Classification {
         out
     }
 
+    /// Teach nothing: every edge, face and rest of the classification is withheld, for the
+    /// reason given (which becomes a warning); the labels and votes stay.
+    pub fn withhold_all(&mut self, why: &str) {
+        self.topples.clear();
+        for s in &mut self.segments {
+            if s.edge.is_some() || s.face.is_some() {
+                s.withheld = Some(why.to_string());
+            }
+            s.edge = None;
+            s.face = None;
+            s.departs_from_support = false;
+            s.arrives_on_support = false;
+        }
+        self.paper_edge = None;
+        self.warnings
+            .push(format!("{why}; nothing is learnt from it"));
+    }
+
     /// The faces the object rested on, from gravity, other than those before and after a
     /// topple (which [`FaceObservation::from_rest`] gives with their offsets): every rest of at
     /// least `MIN_FACE_FRAMES` frames (a tossed object may rest for a tenth of a second at the
