@@ -245,6 +245,10 @@ fn apriltag_bag_with_the_palm_on_its_own_clock_learns_what_the_poses_teach() {
     ] {
         let path = dir.path().join(name);
         apriltag_bag(&path, &d, 0.25, compression);
+        // To try the command line on it: OBJMODEL_KEEP_BAGS=DIR keeps a copy.
+        if let Some(keep) = std::env::var_os("OBJMODEL_KEEP_BAGS") {
+            std::fs::copy(&path, Path::new(&keep).join(name)).unwrap();
+        }
         let sel = selection("tag36h11:0", Some("palm_link"));
         let source = Source::Bag {
             path: &path,

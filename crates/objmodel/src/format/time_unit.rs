@@ -106,3 +106,43 @@ pub fn to_seconds(poses: &mut [StampedPose], unit: TimeUnit) {
         poses.iter_mut().for_each(|p| p.t *= k);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn stamps(t0: f64, hz: f64, unit: TimeUnit) -> Vec<f64> {
+        (0..64)
+            .map(|k| (t0 + k as f64 / hz) / unit.seconds())
+            .collect()
+    }
+
+    #[test]
+    fn units_are_told_by_magnitude_and_by_spacing() {
+        for unit in TimeUnit::ALL {
+            for hz in [10.0, 30.0, 120.0, 1000.0] {
+                // Unix times: by magnitude, whatever the rate.
+                assert_eq!(
+                    detect_time_unit(&stamps(1.7e9, hz, unit)),
+                    unit,
+                    "{unit:?} {hz}"
+                );
+                // From zero: by spacing (below 1 kHz, where ms and s spacings overlap).
+                if hz < 1000.0 {
+                    assert_eq!(
+                        detect_time_unit(&stamps(0.0, hz, unit)),
+                        unit,
+                        "{unit:?} {hz}"
+                    );
+                }
+            }
+        }
+        // A slow stream in seconds from zero stays seconds; too few stamps are seconds.
+        assert_eq!(
+            detect_time_unit(&stamps(0.0, 1.5, TimeUnit::Seconds)),
+            TimeUnit::Seconds
+        );
+        assert_eq!(detect_time_unit(&[]), TimeUnit::Seconds);
+        assert_eq!(detect_time_unit(&[5.0]), TimeUnit::Seconds);
+    }
+}

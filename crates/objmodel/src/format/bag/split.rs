@@ -75,3 +75,53 @@ pub fn palm_for_part(palm: &[StampedPose], t0: f64, t1: f64) -> Vec<StampedPose>
     let b = (palm.partition_point(|p| p.t <= t1) + 1).min(palm.len());
     palm[a..b.max(a)].to_vec()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Isometry3, Translation3};
+
+    /// At 30 Hz: rest 3 s at 0, move 0.3 m in 1 s, rest 3 s, move back, rest 1 s; one tag
+    /// flip (a single pose 0.1 m off) inside the first rest.
+    fn session() -> Vec<StampedPose> {
+        let x = |t: f64| {
+            if t < 3.0 {
+                0.0
+            } else if t < 4.0 {
+                0.3 * (t - 3.0)
+            } else if t < 7.0 {
+                0.3
+            } else if t < 8.0 {
+                0.3 * (8.0 - t)
+            } else {
+                0.0
+            }
+        };
+        (0..270)
+            .map(|k| {
+                let t = k as f64 / 30.0;
+                let flip = if k == 40 { 0.1 } else { 0.0 };
+                StampedPose::new(t, Isometry3::from(Translation3::new(x(t) + flip, 0.0, 0.0)))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_session_is_cut_in_the_middle_of_its_long_rests() {
+        let s = session();
+        let r = rests(&s, 2.0);
+        assert_eq!(r.len(), 2, "{r:?}");
+        // The second starts within 1 cm of where the move ends (at frame 120).
+        assert_eq!(r[0].start, 0);
+        assert!((118..=120).contains(&r[1].start), "{r:?}");
+        let parts = split_at_rests(&s, 2.0);
+        // [0, mid of the first rest) is only rest: dropped. Then the first move, then the move
+        // back with the short last rest.
+        assert_eq!(parts.len(), 2, "{parts:?}");
+        assert!((s[parts[0].start].t - 1.5).abs() < 0.05);
+        assert!((s[parts[1].start].t - 5.5).abs() < 0.05);
+        assert_eq!(parts[1].end, s.len());
+        // Rests shorter than asked cut nothing.
+        assert_eq!(split_at_rests(&s, 10.0), vec![0..s.len()]);
+    }
+}

@@ -235,3 +235,64 @@ pub fn interpolate(a: &Isometry3<f64>, b: &Isometry3<f64>, s: f64) -> Isometry3<
         a.rotation.slerp(&b.rotation, s),
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Translation3, UnitQuaternion};
+
+    fn pose(x: f64, yaw: f64) -> Isometry3<f64> {
+        Isometry3::from_parts(
+            Translation3::new(x, 0.5 * x, 1.0),
+            UnitQuaternion::from_euler_angles(0.1, 0.2, yaw),
+        )
+    }
+
+    /// world -> cam (static), cam -> tag (dynamic), world -> base (static), base -> palm
+    /// (dynamic): palm_from_tag composed along the tree is the product of the four, the
+    /// dynamic ones interpolated, and unknown outside their stamps.
+    #[test]
+    fn transforms_compose_along_the_tree() {
+        let mut tf = TfTree::default();
+        let (wc, wb) = (pose(0.3, 1.0), pose(-0.2, -0.4));
+        tf.insert(b"world", b"cam", 0.0, wc, true, "/tf_static")
+            .unwrap();
+        tf.insert(b"world", b"base", 0.0, wb, true, "/tf_static")
+            .unwrap();
+        for k in [2, 0, 1] {
+            let t = k as f64;
+            tf.insert(b"cam", b"tag", t, pose(0.1 * t, 0.3 * t), false, "/tf")
+                .unwrap();
+            tf.insert(
+                b"base",
+                b"palm",
+                t + 0.5,
+                pose(0.2 * t, -0.1 * t),
+                false,
+                "/tf",
+            )
+            .unwrap();
+        }
+        assert_eq!(tf.finish(), 0);
+        assert_eq!(tf.root("tag"), "world");
+        let chain = tf.chain("palm", "tag").unwrap();
+        assert_eq!(chain.steps.len(), 4);
+        let t = 1.25;
+        let cam_tag = interpolate(&pose(0.1, 0.3), &pose(0.2, 0.6), 0.25);
+        let base_palm = interpolate(&pose(0.0, 0.0), &pose(0.2, -0.1), 0.75);
+        let want = base_palm.inverse() * wb.inverse() * wc * cam_tag;
+        let got = tf.at(&chain, t).unwrap();
+        assert!((got.translation.vector - want.translation.vector).norm() < 1e-12);
+        assert!(got.rotation.angle_to(&want.rotation) < 1e-12);
+        assert!(
+            tf.at(&chain, 0.2).is_none(),
+            "before the palm's first stamp"
+        );
+        assert!(tf.at(&chain, 2.1).is_none(), "after the tag's last stamp");
+        assert!(tf.chain("tag", "elsewhere").is_none());
+        // A second parent is refused.
+        assert!(tf
+            .insert(b"base", b"tag", 3.0, pose(0.0, 0.0), false, "/tf")
+            .is_err());
+    }
+}
