@@ -178,18 +178,17 @@ impl Learner {
         demos
             .into_iter()
             .map(|b| {
-                // The palm's offset is applied: only the units are left to check.
-                let (demo, mut warnings) = self.in_seconds(&b.demo);
-                let mut c = classify(&demo, &self.config).map_err(|e| match e {
+                // The palm's offset is applied, and bag stamps are seconds (sec, nanosec).
+                let demo = &b.demo;
+                let mut c = classify(demo, &self.config).map_err(|e| match e {
                     crate::Error::Data(msg) => crate::Error::File {
                         file: path.to_path_buf(),
                         msg: format!("{}: {msg}", b.demo.name),
                     },
                     e => e,
                 })?;
-                warnings.extend(b.warnings);
-                c.warnings.splice(0..0, warnings);
-                Ok(self.with_dynamics(c, Recording::of(&demo, self.capacity)))
+                c.warnings.splice(0..0, b.warnings.iter().cloned());
+                Ok(self.with_dynamics(c, Recording::of(demo, self.capacity)))
             })
             .collect()
     }

@@ -31,6 +31,16 @@ pub struct Clocks {
 /// tracked at 10 Hz or faster has one within it at every object frame.
 pub const DEFAULT_MAX_DT_S: f64 = 0.05;
 
+impl Default for Clocks {
+    fn default() -> Self {
+        Self {
+            palm_time_offset_s: 0.0,
+            max_dt_s: DEFAULT_MAX_DT_S,
+            detect_time_unit: true,
+        }
+    }
+}
+
 /// Where a [`PalmMerger`] passes what it forms: the items, and the noise of the motion
 /// relative to a palm slower than the object.
 pub(super) trait MergeSink {
@@ -42,16 +52,6 @@ pub(super) trait MergeSink {
 
 /// Frames of each stream from which the [`PalmMerger`] measures its rate and noise.
 const RATE_FRAMES: usize = 32;
-
-impl Default for Clocks {
-    fn default() -> Self {
-        Self {
-            palm_time_offset_s: 0.0,
-            max_dt_s: DEFAULT_MAX_DT_S,
-            detect_time_unit: true,
-        }
-    }
-}
 
 /// Pairs object frames with the palm pose at the same time (interpolated between the palm
 /// frames around it) and forms `palm_from_object`.
@@ -72,9 +72,10 @@ impl Default for Clocks {
 /// independent poses as the object. A palm as fast as the object or faster gives no hint.
 ///
 /// The support's "down" in the palm frame is taken once, from gravity over the palm's first
-/// [`SUPPORT_FRAMES`] frames (the palm is level when a demonstration starts), and held fixed: the object rests on
-/// the palm's surface however the palm is tilted later, so that is the direction whose face
-/// the object rests on, not the current gravity. It is passed on with every item.
+/// [`SUPPORT_FRAMES`] frames (the palm is level when a demonstration starts), and held fixed:
+/// the object rests on the palm's surface however the palm is tilted later, so that is the
+/// direction whose face the object rests on, not the current gravity. It is passed on with
+/// every item.
 #[derive(Default)]
 pub(super) struct PalmMerger {
     palm: VecDeque<RawFrame>,
