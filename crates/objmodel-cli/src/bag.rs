@@ -2,7 +2,7 @@
 //! `plot`, and the sources (files or bags) of the demonstrations given on the command line.
 
 use anyhow::{bail, Result};
-use objmodel::format::bag::{is_bag, BagSelection, DEFAULT_SPLIT_REST_S};
+use objmodel::format::bag::{is_bag, BagSelection};
 use objmodel::learn::Source;
 use std::path::{Path, PathBuf};
 
@@ -18,9 +18,15 @@ pub struct BagArgs {
     #[arg(long)]
     pub reference: Option<String>,
     /// For a bag: cut it into demonstrations NAME#1, NAME#2, ... at the middle of each rest of
-    /// the object lasting at least S seconds (default 2; a rest: the object stays within 1 cm
-    /// and 3° of where it stopped); parts that are only rest are dropped.
-    #[arg(long, value_name = "S", num_args = 0..=1, default_missing_value = "2")]
+    /// the object lasting at least S seconds (`--split`: 2 s, `--split=S`; a rest: the object
+    /// stays within 1 cm and 3° of where it stopped); parts that are only rest are dropped.
+    #[arg(
+        long,
+        value_name = "S",
+        num_args = 0..=1,
+        require_equals = true,
+        default_missing_value = "2"
+    )]
     pub split: Option<f64>,
 }
 
@@ -44,9 +50,7 @@ impl BagArgs {
             object,
             palm: palm.map(|p| p.to_string_lossy().into_owned()),
             reference: self.reference.clone(),
-            split_rest_s: self
-                .split
-                .map(|s| if s > 0.0 { s } else { DEFAULT_SPLIT_REST_S }),
+            split_rest_s: self.split,
         })
     }
 
@@ -97,6 +101,28 @@ impl DemoSource {
             DemoSource::Bag { path, .. } => path,
         }
     }
+}
+
+/// The source of one demonstration given on the command line (`classify`, `plot`): a bag with
+/// the selection of `bag` and `--palm` (a topic or frame), or a pose file with its palm file
+/// (`--palm`, else NAME.palm.* beside it unless `no_palm`).
+pub fn single_source(
+    demo: &Path,
+    palm: Option<&Path>,
+    no_palm: bool,
+    bag: &BagArgs,
+) -> Result<DemoSource> {
+    if is_bag(demo) {
+        return Ok(DemoSource::Bag {
+            path: demo.to_path_buf(),
+            selection: bag.selection(demo, palm)?,
+        });
+    }
+    bag.check_files()?;
+    Ok(DemoSource::Files {
+        object: demo.to_path_buf(),
+        palm: crate::learn::palm_for(demo, palm, no_palm),
+    })
 }
 
 /// Whether `path` is a bag.

@@ -1,7 +1,6 @@
 //! `objmodel classify`: is a demonstration a topple, a slide or a general motion, and why.
 
-use crate::bag::BagArgs;
-use crate::learn::{demo_sources, palm_for};
+use crate::bag::{single_source, BagArgs, DemoSource};
 use crate::opts::ClassifyOpts;
 use anyhow::Result;
 use objmodel::learn::Learner;
@@ -37,14 +36,13 @@ pub struct ClassifyArgs {
 /// Run `objmodel classify`.
 pub fn run(a: &ClassifyArgs) -> Result<()> {
     let config = a.opts.config()?;
-    let palm = if crate::bag::is_bag_path(&a.demo) {
-        a.palm.clone()
-    } else {
-        palm_for(&a.demo, a.palm.as_deref(), a.no_palm)
+    let source = single_source(&a.demo, a.palm.as_deref(), a.no_palm, &a.bag)?;
+    let palm = match &source {
+        DemoSource::Files { palm, .. } => palm.clone(),
+        DemoSource::Bag { .. } => None,
     };
-    let source = demo_sources(std::slice::from_ref(&a.demo), palm.as_deref(), &a.bag)?.remove(0);
     let learner = Learner::new(config);
-    let is_bag = matches!(source, crate::bag::DemoSource::Bag { .. });
+    let is_bag = matches!(source, DemoSource::Bag { .. });
     let all: Vec<_> = if is_bag {
         learner
             .observe_all(&source.source())?
@@ -67,12 +65,8 @@ pub fn run(a: &ClassifyArgs) -> Result<()> {
             crate::text::print_warnings(&a.demo, c);
             let mut v = serde_json::to_value(c)?;
             v["file"] = serde_json::json!(a.demo.display().to_string());
-            v["palm_file"] = serde_json::json!(if is_bag {
-                None
-            } else {
-                palm.as_ref().map(|p| p.display().to_string())
-            });
-            if let crate::bag::DemoSource::Bag { selection, .. } = &source {
+            v["palm_file"] = serde_json::json!(palm.as_ref().map(|p| p.display().to_string()));
+            if let DemoSource::Bag { selection, .. } = &source {
                 v["bag"] = serde_json::json!({
                     "object": selection.object,
                     "palm": selection.palm,

@@ -1,7 +1,6 @@
 //! `objmodel plot`: a topple's tilt angles over time, its onset and φ (the paper's Fig. 8).
 
-use crate::bag::{is_bag_path, BagArgs};
-use crate::learn::{demo_sources, palm_for};
+use crate::bag::{single_source, BagArgs};
 use crate::opts::ClassifyOpts;
 use crate::text::print_warnings;
 use anyhow::{bail, Result};
@@ -31,12 +30,7 @@ pub struct PlotArgs {
 /// Run `objmodel plot`: the paper's Fig. 8 for a demonstration.
 pub fn run(a: &PlotArgs) -> Result<()> {
     let config = a.opts.config()?;
-    let palm = if is_bag_path(&a.demo) {
-        a.palm.clone()
-    } else {
-        palm_for(&a.demo, a.palm.as_deref(), false)
-    };
-    let source = demo_sources(std::slice::from_ref(&a.demo), palm.as_deref(), &a.bag)?.remove(0);
+    let source = single_source(&a.demo, a.palm.as_deref(), false, &a.bag)?;
     let observations = Learner::new(config).observe_all(&source.source())?;
     let several = observations.len() > 1;
     let mut plotted = 0;
