@@ -112,7 +112,12 @@ pub fn poses_in(
     let mut out = SelectedPoses::default();
     match sel {
         Selected::Topic(topic) => {
-            let s = &bag.streams[topic];
+            let Some(s) = bag.streams.get(topic) else {
+                return Err(bag_error(
+                    bag,
+                    format!("the {role} topic '{topic}' has no poses"),
+                ));
+            };
             out.duplicates = s.duplicates;
             for p in &s.poses {
                 match bag.tf.at(&chain, p.t) {
