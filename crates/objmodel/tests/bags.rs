@@ -1,7 +1,7 @@
-//! ROS 2 bags (MCAP) as demonstrations: the CDR decoder against hand-built bytes in both byte
-//! orders, and bags written here (the `mcap` crate's writer, CDR encoded by hand in
-//! `bag_fixture`) read through the learning pipeline: the poses a bag gives are those it was
-//! written from, whatever the message type, compression, byte order or arrival order.
+//! ROS 2 bags (MCAP) as demonstrations: bags written here (the `mcap` crate's writer, CDR
+//! encoded by hand in `bag_fixture`) read through the learning pipeline: the poses a bag gives
+//! are those it was written from, whatever the message type, compression, byte order or
+//! arrival order. (The CDR decoder against hand-built bytes: `cdr.rs`.)
 
 mod bag_fixture;
 
@@ -9,7 +9,6 @@ use bag_fixture::*;
 use mcap::Compression;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use objmodel::classify::Kind;
-use objmodel::format::bag::messages::{decode, PoseType};
 use objmodel::format::bag::BagSelection;
 use objmodel::learn::{Config, Learner, Source};
 use objmodel::observation::Observation;
@@ -18,107 +17,6 @@ use objmodel::trajectory::StampedPose;
 use objmodel::Demonstration;
 use rand::{rngs::StdRng, SeedableRng};
 use std::path::Path;
-
-fn le_or_be(le: bool, f: f64) -> [u8; 8] {
-    if le {
-        f.to_le_bytes()
-    } else {
-        f.to_be_bytes()
-    }
-}
-
-fn u32_bytes(le: bool, x: u32) -> [u8; 4] {
-    if le {
-        x.to_le_bytes()
-    } else {
-        x.to_be_bytes()
-    }
-}
-
-/// A PoseStamped built byte by byte: encapsulation, stamp, frame, padding to 8, seven doubles.
-fn hand_pose_stamped(le: bool) -> Vec<u8> {
-    let mut b = vec![0, le as u8, 0, 0];
-    b.extend(u32_bytes(le, 1_700_000_000)); // sec
-    b.extend(u32_bytes(le, 250_000_000)); // nanosec
-    b.extend(u32_bytes(le, 6)); // "world" and its NUL
-    b.extend(b"world\0");
-    assert_eq!(b.len() - 4, 18);
-    b.extend([0; 6]); // to 24, a multiple of 8
-    for v in [0.5, -1.25, 2.0, 0.0, 0.0, 0.6, 0.8] {
-        b.extend(le_or_be(le, v));
-    }
-    b
-}
-
-#[test]
-fn cdr_pose_stamped_decodes_in_both_byte_orders() {
-    for le in [true, false] {
-        let bytes = hand_pose_stamped(le);
-        let mut got = vec![];
-        decode(PoseType::PoseStamped, &bytes, &mut |r| {
-            got.push((r.t, r.parent.to_vec(), r.pose))
-        })
-        .unwrap();
-        assert_eq!(got.len(), 1);
-        let (t, frame, pose) = &got[0];
-        assert_eq!(*t, 1_700_000_000.25);
-        assert_eq!(frame, b"world");
-        assert_eq!(pose.translation.vector, Vector3::new(0.5, -1.25, 2.0));
-        let q = pose.rotation.coords;
-        assert_eq!([q.x, q.y, q.z, q.w], [0.0, 0.0, 0.6, 0.8]);
-        // Cut anywhere, it is an error, never a panic.
-        for n in 0..bytes.len() {
-            assert!(decode(PoseType::PoseStamped, &bytes[..n], &mut |_| {}).is_err());
-        }
-    }
-}
-
-/// A TFMessage of two transforms, built byte by byte (offsets after the header in comments).
-fn hand_tf(le: bool) -> Vec<u8> {
-    let mut b = vec![0, le as u8, 0, 0];
-    b.extend(u32_bytes(le, 2)); // 0: two transforms
-    for (k, child) in [b"tag36h11:0\0", b"tag36h11:1\0"].iter().enumerate() {
-        b.extend(u32_bytes(le, 10 + k as u32)); // sec
-        b.extend(u32_bytes(le, 0)); // nanosec
-        b.extend(u32_bytes(le, 4));
-        b.extend(b"cam\0");
-        b.extend(u32_bytes(le, 11));
-        b.extend(*child); // ends at 35, then 127
-        b.extend(vec![0; if k == 0 { 5 } else { 1 }]); // to 40, then 128
-        for v in [k as f64, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0] {
-            b.extend(le_or_be(le, v));
-        }
-    }
-    assert_eq!(b.len() - 4, 184);
-    b
-}
-
-#[test]
-fn cdr_tf_message_decodes_in_both_byte_orders() {
-    for le in [true, false] {
-        let bytes = hand_tf(le);
-        let mut got = vec![];
-        decode(PoseType::TfMessage, &bytes, &mut |r| {
-            got.push((r.t, r.parent.to_vec(), r.child.to_vec(), r.pose))
-        })
-        .unwrap();
-        assert_eq!(got.len(), 2);
-        for (k, (t, parent, child, pose)) in got.iter().enumerate() {
-            assert_eq!(*t, 10.0 + k as f64);
-            assert_eq!(parent, b"cam");
-            assert_eq!(child, format!("tag36h11:{k}").as_bytes());
-            assert_eq!(pose.translation.vector, Vector3::new(k as f64, 0.0, 1.0));
-            // x = 1: a half turn about x.
-            assert!((pose.rotation.angle() - std::f64::consts::PI).abs() < 1e-12);
-        }
-    }
-    // A bad quaternion is an error naming it.
-    let mut bad = hand_pose_stamped(true);
-    let n = bad.len();
-    bad[n - 8..].copy_from_slice(&0.1f64.to_le_bytes());
-    let e = decode(PoseType::PoseStamped, &bad, &mut |_| {}).unwrap_err();
-    assert!(e.0.contains("quaternion"), "{e}");
-}
 
 fn the_box() -> SynthBox {
     SynthBox::random(&mut StdRng::seed_from_u64(21))
@@ -476,65 +374,4 @@ fn split_cuts_a_session_at_its_rests() {
         .unwrap();
     assert_eq!(whole.len(), 1);
     assert_eq!(whole[0].classification.frames, session.len() as u64);
-}
-
-/// Bag read speed against TUM on the same poses (`cargo test --release -p objmodel --test
-/// bags -- --ignored --nocapture`).
-#[test]
-#[ignore]
-fn measure_bag_read_speed() {
-    let dir = tempfile::tempdir().unwrap();
-    let n = 200_000;
-    let poses: Vec<StampedPose> = (0..n)
-        .map(|k| {
-            let t = 1.7e9 + k as f64 / 100.0;
-            StampedPose::new(
-                t,
-                Isometry3::from_parts(
-                    Translation3::new(t.sin(), 0.1, 0.2),
-                    UnitQuaternion::from_euler_angles(0.1, k as f64 * 1e-4, 0.3),
-                ),
-            )
-        })
-        .collect();
-    let tum = dir.path().join("p.tum");
-    objmodel::format::write_tum(&tum, &poses, "speed").unwrap();
-    let msgs: Vec<Msg> = poses
-        .iter()
-        .map(|p| Msg {
-            topic: "/tf".into(),
-            schema: TF,
-            log_time: p.t - 1.7e9,
-            data: tf_message(true, &[(p.t, "camera", "tag36h11:0", p.pose)]),
-        })
-        .collect();
-    for (name, c) in [("zstd", Some(Compression::Zstd)), ("none", None)] {
-        let bag = dir.path().join(format!("p_{name}.mcap"));
-        write_bag(&bag, &msgs, c);
-        let size = std::fs::metadata(&bag).unwrap().len();
-        let best = |f: &dyn Fn() -> usize| {
-            (0..5)
-                .map(|_| {
-                    let t = std::time::Instant::now();
-                    assert_eq!(f(), n);
-                    t.elapsed().as_secs_f64()
-                })
-                .fold(f64::INFINITY, f64::min)
-        };
-        let sel = selection("tag36h11:0", None);
-        let t_bag = best(&|| {
-            objmodel::format::bag::read_bag_demonstrations(&bag, &sel, 0.0).unwrap()[0]
-                .demo
-                .object
-                .len()
-        });
-        let t_tum = best(&|| objmodel::format::read_trajectory(&tum).unwrap().len());
-        eprintln!(
-            "{n} poses: bag ({name}, {:.1} MB) {:.2} Mposes/s, TUM ({:.1} MB) {:.2} Mposes/s",
-            size as f64 / 1e6,
-            n as f64 / t_bag / 1e6,
-            std::fs::metadata(&tum).unwrap().len() as f64 / 1e6,
-            n as f64 / t_tum / 1e6
-        );
-    }
 }
