@@ -61,7 +61,15 @@ fn measure_bag_read_speed() {
                 .object
                 .len()
         });
+        let t_read = best(&|| {
+            let b = objmodel::format::bag::read_bag(&bag, &[]).unwrap();
+            b.tf.edges()[0].poses.len()
+        });
         let t_tum = best(&|| objmodel::format::read_trajectory(&tum).unwrap().len());
+        eprintln!(
+            "  of which reading and decoding the messages {:.0}%",
+            100.0 * t_read / t_bag
+        );
         eprintln!(
             "{n} poses: bag ({name}, {:.1} MB) {:.2} Mposes/s, TUM ({:.1} MB) {:.2} Mposes/s",
             size as f64 / 1e6,
