@@ -10,7 +10,7 @@
 //!
 //! Every pose is stamped with its `header.stamp` (seconds + nanoseconds), not the time the
 //! bag received it. A quaternion must be finite with a norm within
-//! [`QUAT_NORM_TOLERANCE`](crate::format::QUAT_NORM_TOLERANCE) of 1 (it is then normalised).
+//! [`QUAT_NORM_TOLERANCE`] of 1 (it is then normalised).
 
 use super::cdr::{CdrError, CdrReader, CdrResult};
 use crate::format::QUAT_NORM_TOLERANCE;
