@@ -1,12 +1,13 @@
 //! `objmodel learn`: learn (or update) an object description tree from demonstration files,
 //! through the library's pipeline (`objmodel::learn`).
 
+use crate::bag::{is_bag_path, BagArgs, DemoSource};
 use crate::opts::ClassifyOpts;
 use crate::text::print_warnings;
 use anyhow::{bail, Context, Result};
 use objmodel::classify::{Config, Kind};
 use objmodel::format::{is_palm_file, palm_path_for};
-use objmodel::learn::{Learner, Source};
+use objmodel::learn::Learner;
 use objmodel::observation::Observation;
 use objmodel::tree::Tree;
 use std::path::{Path, PathBuf};
@@ -14,7 +15,8 @@ use std::path::{Path, PathBuf};
 /// Arguments of `objmodel learn`.
 #[derive(clap::Args)]
 pub struct LearnArgs {
-    /// Demonstration files (TUM or CSV). NAME.palm.* files are taken as the palms of NAME.*.
+    /// Demonstration files (TUM or CSV), or ROS 2 bags (.mcap, or bag folders; with --object).
+    /// NAME.palm.* files are taken as the palms of NAME.*.
     #[arg(required = true)]
     pub demos: Vec<PathBuf>,
     /// Write the tree to this file (atomically).
@@ -24,12 +26,15 @@ pub struct LearnArgs {
     /// A missing file starts an empty tree.
     #[arg(long)]
     pub into: Option<PathBuf>,
-    /// The palm trajectory, for a single instrumented demonstration.
+    /// The palm trajectory, for a single instrumented demonstration; for bags, the palm's
+    /// topic or tf frame (e.g. palm_link).
     #[arg(long)]
     pub palm: Option<PathBuf>,
     /// Print the tree as JSON on standard output instead of a summary.
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub bag: BagArgs,
     #[command(flatten)]
     pub opts: ClassifyOpts,
 }
@@ -62,6 +67,36 @@ pub fn sources(demos: &[PathBuf], palm: Option<&Path>) -> Result<Vec<(PathBuf, O
         .collect())
 }
 
+/// The sources of the demonstrations given on the command line: bags with the selection of
+/// `bag` and `--palm` (a topic or frame, the same for every bag), pose files as [`sources`]
+/// says (bags and files may not be mixed).
+pub fn demo_sources(
+    demos: &[PathBuf],
+    palm: Option<&Path>,
+    bag: &BagArgs,
+) -> Result<Vec<DemoSource>> {
+    let bags = demos.iter().filter(|d| is_bag_path(d)).count();
+    if bags == 0 {
+        bag.check_files()?;
+        return Ok(sources(demos, palm)?
+            .into_iter()
+            .map(|(object, palm)| DemoSource::Files { object, palm })
+            .collect());
+    }
+    if bags < demos.len() {
+        bail!("give either bags (.mcap) or pose files, not both");
+    }
+    demos
+        .iter()
+        .map(|d| {
+            Ok(DemoSource::Bag {
+                path: d.clone(),
+                selection: bag.selection(d, palm)?,
+            })
+        })
+        .collect()
+}
+
 /// Learn every demonstration file into `tree` through the library's pipeline, printing each
 /// one's warnings; returns their reports.
 pub fn learn_into(
@@ -70,20 +105,27 @@ pub fn learn_into(
     palm: Option<&Path>,
     config: &Config,
 ) -> Result<Vec<Observation>> {
+    let sources = demo_sources(demos, palm, &BagArgs::default())?;
+    learn_sources_into(tree, &sources, config)
+}
+
+/// Learn every demonstration of `sources` into `tree` through the library's pipeline,
+/// printing each one's warnings; returns their reports.
+pub fn learn_sources_into(
+    tree: &mut Tree,
+    sources: &[DemoSource],
+    config: &Config,
+) -> Result<Vec<Observation>> {
     let learner = Learner::new(*config);
     let mut out = Vec::new();
-    let sources = sources(demos, palm)?;
     let bar = crate::progress::bar(sources.len() as u64);
-    for (object, palm) in sources {
-        bar.set_message(object.display().to_string());
-        let source = Source::Files {
-            object: &object,
-            palm: palm.as_deref(),
-        };
-        let o = learner.learn(tree, &[source])?.remove(0);
-        bar.suspend(|| print_warnings(&object, &o.classification));
+    for s in sources {
+        bar.set_message(s.path().display().to_string());
+        for o in learner.learn(tree, &[s.source()])? {
+            bar.suspend(|| print_warnings(s.path(), &o.classification));
+            out.push(o);
+        }
         bar.inc(1);
-        out.push(o);
     }
     bar.finish_and_clear();
     Ok(out)
@@ -93,7 +135,8 @@ pub fn learn_into(
 pub fn run(a: &LearnArgs) -> Result<()> {
     let config = a.opts.config()?;
     let learnt = |tree: &mut Tree| -> objmodel::Result<_> {
-        let reports = learn_into(tree, &a.demos, a.palm.as_deref(), &config)
+        let reports = demo_sources(&a.demos, a.palm.as_deref(), &a.bag)
+            .and_then(|sources| learn_sources_into(tree, &sources, &config))
             .map_err(|e| objmodel::Error::Data(format!("{e:#}")))?;
         let changed = reports.iter().any(|r| !r.teaches_nothing());
         Ok(((reports, tree.clone()), changed))

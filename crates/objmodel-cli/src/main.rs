@@ -3,6 +3,7 @@
 //! A thin front end: argument parsing and printing. The work is done by the `objmodel`
 //! library (learning) and `objmodel-sim` (simulation).
 
+mod bag;
 mod classify;
 mod dataset;
 mod demo;

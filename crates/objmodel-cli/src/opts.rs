@@ -61,6 +61,23 @@ pub struct ClassifyOpts {
     /// n_th [rad]: plane normal angle threshold (paper; default 5°).
     #[arg(long, default_value_t = 5f64.to_radians())]
     pub normal_angle_threshold: f64,
+    /// Seconds added to the palm's stamps to put them on the object's clock (a palm clock
+    /// running 4 ms ahead needs -0.004).
+    #[arg(
+        long,
+        value_name = "S",
+        default_value_t = 0.0,
+        allow_negative_numbers = true
+    )]
+    pub palm_time_offset: f64,
+    /// Drop object frames whose nearest palm pose is farther than S seconds (the palm is
+    /// interpolated at the others' stamps, slerp and linear).
+    #[arg(long, value_name = "S", default_value_t = objmodel::classify::DEFAULT_MAX_DT_S)]
+    pub max_dt: f64,
+    /// The files' stamps are seconds: do not recognise milliseconds or nanoseconds (by their
+    /// magnitude and spacing) and convert them.
+    #[arg(long)]
+    pub stamps_in_seconds: bool,
 }
 
 impl ClassifyOpts {
@@ -114,6 +131,15 @@ impl ClassifyOpts {
         c.paper.pitch = self.pitch_threshold;
         c.paper.axis_angle = self.axis_angle_threshold;
         c.paper.normal_angle = self.normal_angle_threshold;
+        if !self.palm_time_offset.is_finite() {
+            bail!("--palm-time-offset must be finite");
+        }
+        if !(self.max_dt >= 0.0 && self.max_dt.is_finite()) {
+            bail!("--max-dt must be a duration >= 0, got {}", self.max_dt);
+        }
+        c.clocks.palm_time_offset_s = self.palm_time_offset;
+        c.clocks.max_dt_s = self.max_dt;
+        c.clocks.detect_time_unit = !self.stamps_in_seconds;
         Ok(c)
     }
 }

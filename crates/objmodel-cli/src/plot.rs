@@ -1,24 +1,28 @@
 //! `objmodel plot`: a topple's tilt angles over time, its onset and φ (the paper's Fig. 8).
 
-use crate::learn::palm_for;
+use crate::bag::{single_source, BagArgs};
 use crate::opts::ClassifyOpts;
 use crate::text::print_warnings;
 use anyhow::{bail, Result};
-use objmodel::learn::{Learner, Source};
+use objmodel::learn::Learner;
 use objmodel::observation::Observation;
 use std::path::PathBuf;
 
 /// Arguments of `objmodel plot`.
 #[derive(clap::Args)]
 pub struct PlotArgs {
-    /// The demonstration (TUM or CSV; NAME.palm.tum beside it is its palm).
+    /// The demonstration (TUM or CSV; NAME.palm.tum beside it is its palm), or a ROS 2 bag
+    /// (with --object).
     pub demo: PathBuf,
-    /// The palm's trajectory, for an instrumented demonstration.
+    /// The palm's trajectory, for an instrumented demonstration; for a bag, its topic or tf
+    /// frame.
     #[arg(long)]
     pub palm: Option<PathBuf>,
     /// Output folder for NAME.angles.svg and NAME.angles.png.
     #[arg(short, long, default_value = "plots")]
     pub output: PathBuf,
+    #[command(flatten)]
+    pub bag: BagArgs,
     #[command(flatten)]
     pub opts: ClassifyOpts,
 }
@@ -26,26 +30,53 @@ pub struct PlotArgs {
 /// Run `objmodel plot`: the paper's Fig. 8 for a demonstration.
 pub fn run(a: &PlotArgs) -> Result<()> {
     let config = a.opts.config()?;
-    let palm = palm_for(&a.demo, a.palm.as_deref(), false);
-    let source = Source::Files {
-        object: &a.demo,
-        palm: palm.as_deref(),
-    };
-    let Observation {
-        classification: c,
-        dynamics,
-        ..
-    } = Learner::new(config).observe(&source)?;
-    print_warnings(&a.demo, &c);
-    if dynamics.is_empty() {
+    let source = single_source(&a.demo, a.palm.as_deref(), false, &a.bag)?;
+    let observations = Learner::new(config).observe_all(&source.source())?;
+    let several = observations.len() > 1;
+    let mut plotted = 0;
+    for o in observations {
+        let Observation {
+            classification: c,
+            dynamics,
+            ..
+        } = o;
+        print_warnings(&a.demo, &c);
+        if dynamics.is_empty() {
+            if several {
+                eprintln!("{}: no topple to plot (kind: {})", c.name, c.kind.as_str());
+                continue;
+            }
+            bail!(
+                "{}: no topple to plot (kind: {}), or gravity unknown",
+                a.demo.display(),
+                c.kind.as_str()
+            );
+        }
+        plotted += 1;
+        plot_one(a, &c, &dynamics)?;
+    }
+    if plotted == 0 {
         bail!(
-            "{}: no topple to plot (kind: {}), or gravity unknown",
-            a.demo.display(),
-            c.kind.as_str()
+            "{}: no topple to plot, or gravity unknown",
+            a.demo.display()
         );
     }
+    Ok(())
+}
+
+/// Plot the topples of one demonstration.
+fn plot_one(
+    a: &PlotArgs,
+    c: &objmodel::classify::Classification,
+    dynamics: &[objmodel::dynamics::ToppleDynamics],
+) -> Result<()> {
     for (i, d) in dynamics.iter().enumerate() {
-        let stem = c.name.trim_end_matches(".tum").trim_end_matches(".csv");
+        let stem = c
+            .name
+            .trim_end_matches(".tum")
+            .trim_end_matches(".csv")
+            .replace(".mcap#", "_");
+        let stem = stem.trim_end_matches(".mcap");
         let path = a.output.join(if dynamics.len() > 1 {
             format!("{stem}.topple{i}.angles")
         } else {

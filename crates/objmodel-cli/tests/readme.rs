@@ -14,7 +14,11 @@ use std::process::Command;
 
 /// Commands not run here, with the test that covers them instead: those that take minutes,
 /// and the export, which needs a closed shape (the demo's box shows 3 of its 6 faces).
-const SLOW: [(&str, &str); 4] = [
+const SLOW: [(&str, &str); 5] = [
+    (
+        "objmodel learn session.mcap",
+        "objmodel's tests/bags.rs, which writes such a bag (this folder has none)",
+    ),
     ("objmodel dataset", "objmodel-sim's tests/dataset.rs"),
     ("objmodel evaluate", "objmodel-sim's tests/dataset.rs"),
     ("objmodel task", "objmodel-sim's tests/task.rs"),

@@ -4,13 +4,13 @@
 //!
 //! ```text
 //! source ─▶ classify (Algorithm 1, 2: segments, edges, faces) ─┐
-//!        └▶ recorder (the frames, bounded) ────────────────────┴▶ arrivals ─▶ dynamics ─▶ Observation ─▶ Tree::add
+//!        └▶ recorder (the frames, bounded) ────────────────────┴▶ check ─▶ dynamics ─▶ Observation ─▶ Tree::add
 //! ```
 //!
 //! One pass over each file: while the stream is classified, a [`Recorder`] keeps its frames
 //! (all of them up to its capacity, evenly thinned beyond: see [`crate::recording`]); once the
-//! classification is known, the rests that a motion reached are tested against that motion
-//! measured back from them (were they on the support? [`crate::arrival`]), the dynamics of
+//! classification is known, it is checked against the kept frames (was the noise measurable?
+//! were the rests that a motion reached on the support? [`crate::arrival`]), the dynamics of
 //! each topple are fitted to the kept frames
 //! ([`crate::dynamics::analyse`]), and the demonstration's geometry and pendulums enter the
 //! tree together ([`Tree::add`]), under the identity of its poses (the kept frames'
@@ -34,14 +34,26 @@
 //! # Ok(())
 //! # }
 //! ```
+//!
+//! A ROS 2 bag is a source too ([`Source::Bag`]): its object and palm streams are read into
+//! memory ([`crate::format::bag`]), and may hold several demonstrations when it is split at
+//! rests ([`Learner::observe_all`], [`Learner::learn`] take them all).
+//!
+//! The two clocks ([`Config::clocks`]): the palm's stamps are shifted by
+//! [`Clocks::palm_time_offset_s`](crate::classify::Clocks) before anything else, and the stamps
+//! of files and in-memory demonstrations in milliseconds, microseconds or nanoseconds are
+//! converted to seconds ([`crate::format::detect_time_unit`]), with a warning.
 
 pub use crate::classify::Config;
 use crate::classify::{classify, Classification};
+use crate::format::bag::{read_bag_demonstrations, BagSelection};
+use crate::format::{conversion_warning, detect_time_unit_of, to_seconds, TimeUnit};
 use crate::observation::Observation;
 use crate::recording::{Recorder, Recording, DEFAULT_CAPACITY};
 use crate::trajectory::Demonstration;
 use crate::tree::Tree;
 use crate::Result;
+use std::borrow::Cow;
 use std::path::Path;
 
 /// Where a demonstration comes from.
@@ -57,6 +69,14 @@ pub enum Source<'a> {
     },
     /// Poses held in memory.
     Memory(&'a Demonstration),
+    /// A ROS 2 bag (an `.mcap` file or a bag folder) and what to take from it: one
+    /// demonstration, or several when the selection splits it at rests.
+    Bag {
+        /// The bag.
+        path: &'a Path,
+        /// The object's and palm's topics or tf frames, the reference frame, the split.
+        selection: &'a BagSelection,
+    },
 }
 
 impl<'a> Source<'a> {
@@ -109,15 +129,30 @@ impl Learner {
     }
 
     /// Classify a demonstration (Algorithms 1 and 2, and which rests were on the support),
-    /// without its dynamics.
+    /// without its dynamics. A bag must hold one demonstration (see [`Learner::observe_all`]).
     pub fn classify(&self, source: &Source) -> Result<Classification> {
-        Ok(self.classify_recorded(source)?.0)
+        match *source {
+            Source::Bag { .. } => Ok(self.single(source)?.classification),
+            _ => Ok(self.classify_recorded(source)?.0),
+        }
     }
 
-    /// The classification, with the rests the motion reached tested against it
-    /// ([`crate::arrival`]), and the frames kept.
+    /// Analyse a demonstration: its classification and the dynamics of its topples, in one
+    /// pass over its files. A bag must hold one demonstration (see [`Learner::observe_all`]).
+    pub fn observe(&self, source: &Source) -> Result<Observation> {
+        match *source {
+            Source::Bag { .. } => self.single(source),
+            _ => {
+                let (c, recording) = self.classify_recorded(source)?;
+                Ok(self.with_dynamics(c, recording))
+            }
+        }
+    }
+
+    /// The classification of files or poses in memory, checked against the frames kept
+    /// ([`Learner::check`]), and those frames.
     fn classify_recorded(&self, source: &Source) -> Result<(Classification, Recording)> {
-        let (mut classification, recording) = match *source {
+        let (mut c, recording) = match *source {
             Source::Files { object, palm } => {
                 let mut recorder = Recorder::new(self.capacity);
                 let c = crate::classify::classify_files_recording(
@@ -128,20 +163,30 @@ impl Learner {
                 )?;
                 (c, recorder.finish())
             }
-            Source::Memory(demo) => (
-                classify(demo, &self.config)?,
-                Recording::of(demo, self.capacity),
-            ),
+            Source::Memory(demo) => {
+                let (demo, warnings) = self.on_one_clock(demo);
+                let mut c = classify(&demo, &self.config)?;
+                c.warnings.splice(0..0, warnings);
+                (c, Recording::of(&demo, self.capacity))
+            }
+            Source::Bag { .. } => unreachable!("bags are split first (observe_all)"),
         };
-        if self.noise_unmeasurable(&recording) {
+        self.check(&mut c, &recording);
+        Ok((c, recording))
+    }
+
+    /// What the kept frames say of a classification: nothing is taught when the noise could
+    /// not be measured ([`Learner::noise_unmeasurable`]), and the rests that a motion reached
+    /// are tested against that motion measured back from them ([`crate::arrival`]).
+    fn check(&self, classification: &mut Classification, recording: &Recording) {
+        if self.noise_unmeasurable(recording) {
             classification.withhold_all(
                 "the tracking noise cannot be estimated from this demonstration: the motion \
                  between its frames exceeds the noise (a fast motion at this frame rate); give \
                  the tracker's noise (--noise) to learn from it",
             );
         }
-        crate::arrival::confirm_arrivals(&mut classification, &recording, &self.config);
-        Ok((classification, recording))
+        crate::arrival::confirm_arrivals(classification, recording, &self.config);
     }
 
     /// Whether the robust method estimated the noise (none given) from frames whose motion
@@ -170,11 +215,97 @@ impl Learner {
         )
     }
 
-    /// Analyse a demonstration: its classification and the dynamics of its topples, in one
-    /// pass over its files.
-    pub fn observe(&self, source: &Source) -> Result<Observation> {
+    /// Analyse every demonstration of a source: one for files and memory, one per part of a
+    /// bag split at rests.
+    pub fn observe_all(&self, source: &Source) -> Result<Vec<Observation>> {
+        let Source::Bag { path, selection } = *source else {
+            return Ok(vec![self.observe(source)?]);
+        };
+        let offset = self.config.clocks.palm_time_offset_s;
+        let demos = read_bag_demonstrations(path, selection, offset)?;
+        demos
+            .into_iter()
+            .map(|b| {
+                // The palm's offset is applied, and bag stamps are seconds (sec, nanosec).
+                let demo = &b.demo;
+                let mut c = classify(demo, &self.config).map_err(|e| match e {
+                    crate::Error::Data(msg) => crate::Error::File {
+                        file: path.to_path_buf(),
+                        msg: format!("{}: {msg}", b.demo.name),
+                    },
+                    e => e,
+                })?;
+                c.warnings.splice(0..0, b.warnings.iter().cloned());
+                let recording = Recording::of(demo, self.capacity);
+                self.check(&mut c, &recording);
+                Ok(self.with_dynamics(c, recording))
+            })
+            .collect()
+    }
+
+    /// The one demonstration of a bag source.
+    fn single(&self, source: &Source) -> Result<Observation> {
+        let mut all = self.observe_all(source)?;
+        if all.len() != 1 {
+            let path = match source {
+                Source::Bag { path, .. } => path.to_path_buf(),
+                _ => Default::default(),
+            };
+            return Err(crate::Error::File {
+                file: path,
+                msg: format!(
+                    "holds {} demonstrations once split: analyse them with observe_all or learn",
+                    all.len()
+                ),
+            });
+        }
+        Ok(all.remove(0))
+    }
+
+    /// `demo` with its palm on the object's clock and its stamps in seconds, and the warnings
+    /// of what was converted.
+    fn on_one_clock<'d>(&self, demo: &'d Demonstration) -> (Cow<'d, Demonstration>, Vec<String>) {
+        let (mut demo, warnings) = self.in_seconds(demo);
+        let offset = self.config.clocks.palm_time_offset_s;
+        if offset != 0.0 {
+            if let Some(palm) = demo.to_mut().palm.as_mut() {
+                palm.iter_mut().for_each(|p| p.t += offset);
+            }
+        }
+        (demo, warnings)
+    }
+
+    /// `demo` with its stamps in seconds (each stream's unit recognised, if the configuration
+    /// asks), and the warnings of what was converted.
+    fn in_seconds<'d>(&self, demo: &'d Demonstration) -> (Cow<'d, Demonstration>, Vec<String>) {
+        let mut demo = Cow::Borrowed(demo);
+        let mut warnings = Vec::new();
+        if !self.config.clocks.detect_time_unit {
+            return (demo, warnings);
+        }
+        let object_unit = detect_time_unit_of(&demo.object);
+        if object_unit != TimeUnit::Seconds {
+            to_seconds(&mut demo.to_mut().object, object_unit);
+            warnings.push(conversion_warning("object", object_unit));
+        }
+        let palm_unit = demo.palm.as_deref().map(detect_time_unit_of);
+        if let Some(u) = palm_unit.filter(|&u| u != TimeUnit::Seconds) {
+            if let Some(palm) = demo.to_mut().palm.as_mut() {
+                to_seconds(palm, u);
+            }
+            warnings.push(conversion_warning("palm", u));
+        }
+        (demo, warnings)
+    }
+
+    /// The observation of a classified demonstration: the dynamics of its topples fitted to
+    /// its recorded frames.
+    fn with_dynamics(
+        &self,
+        mut classification: Classification,
+        recording: Recording,
+    ) -> Observation {
         let gravity = self.config.gravity;
-        let (mut classification, recording) = self.classify_recorded(source)?;
         let fingerprint = Some(recording.fingerprint(classification.frames));
         let mut dynamics = Vec::new();
         if !classification.topples.is_empty() {
@@ -202,11 +333,11 @@ impl Learner {
                 ),
             }
         }
-        Ok(Observation {
+        Observation {
             classification,
             dynamics,
             fingerprint,
-        })
+        }
     }
 
     /// Learn from demonstrations: analyse each and fuse it into `tree`, in order. Returns each
@@ -214,10 +345,9 @@ impl Learner {
     /// ([`Observation::teaches_nothing`]): it is not added, and its report says so. On an
     /// error, the demonstrations before the one that failed are in the tree.
     pub fn learn(&self, tree: &mut Tree, sources: &[Source]) -> Result<Vec<Observation>> {
-        sources
-            .iter()
-            .map(|s| {
-                let mut o = self.observe(s)?;
+        let mut out = Vec::new();
+        for s in sources {
+            for mut o in self.observe_all(s)? {
                 if o.teaches_nothing() {
                     let why = nothing_to_learn(&o.classification);
                     o.classification
@@ -229,9 +359,10 @@ impl Learner {
                         .warnings
                         .extend(added.note(&o.classification.name));
                 }
-                Ok(o)
-            })
-            .collect()
+                out.push(o);
+            }
+        }
+        Ok(out)
     }
 }
 

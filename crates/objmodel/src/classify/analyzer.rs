@@ -3,7 +3,7 @@
 //! ([`super::robust`]) or the paper's ([`super::paper`]) method.
 
 use super::cleaning::{sample, ObjectCleaner, ObjectRestTest, StreamCleaner};
-use super::palm::PalmMerger;
+use super::palm::{MergeSink, PalmMerger};
 use super::paper::PaperMethod;
 use super::rest_test::Verdict;
 use super::robust::RobustMethod;
@@ -19,6 +19,20 @@ use nalgebra::{UnitQuaternion, Vector3};
 enum Classifier {
     Robust(RobustMethod),
     Paper(PaperMethod),
+}
+
+impl MergeSink for Classifier {
+    fn sample(&mut self, item: Sample, down: Option<Vector3<f64>>) {
+        self.push(item, down)
+    }
+
+    fn noise(&mut self, noise: crate::noise::NoiseModel) {
+        if let Classifier::Robust(core) = self {
+            if let Some(t) = core.rest_test.as_mut() {
+                t.hint_noise(noise);
+            }
+        }
+    }
 }
 
 impl Classifier {
@@ -59,7 +73,7 @@ impl Analyzer {
             robust: config.method == Method::Robust,
             object: Some(StreamCleaner::new(config)),
             palm: instrumented.then(|| StreamCleaner::new(config)),
-            merger: PalmMerger::new(down_world),
+            merger: PalmMerger::new(down_world, &config.clocks),
             back: match config.method {
                 Method::Robust => Classifier::Robust(RobustMethod::new(config)),
                 Method::Paper => Classifier::Paper(PaperMethod::new(config)),
@@ -96,7 +110,7 @@ impl Analyzer {
         let down_world = *down_world;
         let mut to_back = |f: RawFrame, outlier: bool| {
             if *instrumented {
-                merger.push_object(f, outlier, &mut |i, d| back.push(i, d));
+                merger.push_object(f, outlier, &mut *back);
             } else {
                 back.push(sample(f, outlier), down_world);
             }
@@ -201,9 +215,7 @@ impl Analyzer {
         self.frames += 1;
         self.times.note(f.t);
         if self.instrumented {
-            let back = &mut self.back;
-            self.merger
-                .push_object(f, outlier, &mut |i, d| back.push(i, d));
+            self.merger.push_object(f, outlier, &mut self.back);
         } else {
             self.back.push(sample(f, outlier), self.down_world);
         }
@@ -222,7 +234,7 @@ impl Analyzer {
         } = self;
         let mut to_merger = |f: RawFrame, outlier: bool| {
             if !outlier {
-                merger.push_palm(f, &mut |i, d| back.push(i, d));
+                merger.push_palm(f, &mut *back);
             }
         };
         match palm {
@@ -255,27 +267,30 @@ impl Analyzer {
             if let Some(p) = palm {
                 p.finish(&mut |f, outlier| {
                     if !outlier {
-                        merger.push_palm(f, &mut |i, d| back.push(i, d));
+                        merger.push_palm(f, &mut back);
                     }
                 });
             }
             object.into_iter().for_each(|o| {
                 o.finish(&mut |f, outlier| {
                     if instrumented {
-                        merger.push_object(f, outlier, &mut |i, d| back.push(i, d));
+                        merger.push_object(f, outlier, &mut back);
                     } else {
                         back.push(sample(f, outlier), down_world);
                     }
                 })
             });
         }
+        let mut clock_warnings = Vec::new();
         if instrumented {
-            merger.finish(&mut |i, d| back.push(i, d));
+            merger.finish(&mut back);
+            clock_warnings = merger.report().map_err(crate::Error::Data)?;
         }
         let mut c = match back {
             Classifier::Robust(c) => c.finish(&name, instrumented, frames),
             Classifier::Paper(p) => p.finish(&name, instrumented, frames),
         }?;
+        c.warnings.extend(clock_warnings);
         c.warnings.extend(times.warning());
         Ok(c)
     }

@@ -3,10 +3,25 @@
 use super::cleaning::RotatingCleaner;
 use super::{Analyzer, Classification, Config};
 use crate::fast::handover::{push_cleaned_frames, CleanedFrames, ThreadedPoses};
-use crate::format;
+use crate::format::{self, TimeUnit};
 use crate::recording::Recorder;
 use crate::Result;
 use std::path::Path;
+
+/// The unit of a pose file's stamps, if `config` asks to recognise it (from its first
+/// [`format::TIME_UNIT_STAMPS`] poses; seconds for standard input, which cannot be read
+/// twice), and the warning when it is not seconds.
+fn stamp_unit(path: &Path, what: &str, config: &Config) -> Result<(f64, Option<String>)> {
+    if !config.clocks.detect_time_unit {
+        return Ok((1.0, None));
+    }
+    // A bad line is reported by the reading proper, with its place in the stream.
+    let first = format::read_first(path, format::TIME_UNIT_STAMPS).unwrap_or_default();
+    Ok(match format::detect_time_unit_of(&first) {
+        TimeUnit::Seconds => (1.0, None),
+        u => (u.seconds(), Some(format::conversion_warning(what, u))),
+    })
+}
 
 /// Classify the demonstration in `object` (TUM or CSV), with `palm` as its palm trajectory
 /// when instrumented. Both files are streamed in time order: memory does not grow with their
@@ -32,7 +47,20 @@ pub(crate) fn classify_files_recording(
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| object.display().to_string());
     let mut a = Analyzer::new(&name, config, palm.is_some());
+    let (object_scale, object_warning) = stamp_unit(object, "object", config)?;
+    let mut warnings: Vec<String> = object_warning.into_iter().collect();
     match palm {
+        None if object_scale != 1.0 => {
+            // Stamps not in seconds: converted on this thread (not the fast path's).
+            for (i, p) in (0u64..).zip(ThreadedPoses::spawn(format::open(object)?)) {
+                let mut p = p?;
+                p.t *= object_scale;
+                if let Some(r) = recorder.as_deref_mut() {
+                    r.object(i, p.t, &p.pose.rotation, &p.pose.translation.vector);
+                }
+                a.push_object(&p);
+            }
+        }
         None => {
             // Robust: parsing, cleaning and the accumulated rotation on the background
             // thread; rest detection, segments and blocks on this one. Measured on 10^6 poses
@@ -66,9 +94,29 @@ pub(crate) fn classify_files_recording(
             }
         }
         Some(palm) => {
+            let (palm_scale, palm_warning) = stamp_unit(palm, "palm", config)?;
+            warnings.extend(palm_warning);
+            let offset = config.clocks.palm_time_offset_s;
             let mut objects = ThreadedPoses::spawn(format::open(object)?);
             let mut palms = ThreadedPoses::spawn(format::open(palm)?);
-            let (mut o, mut p) = (objects.next().transpose()?, palms.next().transpose()?);
+            // Both on the object's clock, in seconds.
+            let mut next_object = || {
+                objects.next().transpose().map(|o| {
+                    o.map(|mut o| {
+                        o.t *= object_scale;
+                        o
+                    })
+                })
+            };
+            let mut next_palm = || {
+                palms.next().transpose().map(|p| {
+                    p.map(|mut p| {
+                        p.t = p.t * palm_scale + offset;
+                        p
+                    })
+                })
+            };
+            let (mut o, mut p) = (next_object()?, next_palm()?);
             let mut index = 0u64;
             loop {
                 let palm_first = match (&o, &p) {
@@ -83,7 +131,7 @@ pub(crate) fn classify_files_recording(
                         r.palm(y);
                     }
                     a.push_palm(y);
-                    p = palms.next().transpose()?;
+                    p = next_palm()?;
                 } else {
                     let x = o.as_ref().expect("an object pose");
                     if let Some(r) = recorder.as_deref_mut() {
@@ -91,16 +139,18 @@ pub(crate) fn classify_files_recording(
                     }
                     index += 1;
                     a.push_object(x);
-                    o = objects.next().transpose()?;
+                    o = next_object()?;
                 }
             }
         }
     }
-    a.finish().map_err(|e| match e {
+    let mut c = a.finish().map_err(|e| match e {
         crate::Error::Data(msg) => crate::Error::File {
             file: object.to_path_buf(),
             msg,
         },
         e => e,
-    })
+    })?;
+    c.warnings.splice(0..0, warnings);
+    Ok(c)
 }

@@ -66,6 +66,7 @@ pub use analysis::{MIN_EDGE_FRAMES, MIN_FACE_FRAMES};
 pub use analyzer::Analyzer;
 pub use files::classify_files;
 pub(crate) use files::classify_files_recording;
+pub use palm::{Clocks, DEFAULT_MAX_DT_S};
 
 use crate::edge::EdgeObservation;
 use crate::face::FaceObservation;
@@ -172,6 +173,9 @@ pub struct Config {
     /// Gravity direction (unit or not) in the tracker's world frame; `None` if unknown.
     /// Default: -z (z up).
     pub gravity: Option<Vector3<f64>>,
+    /// The object's and the palm's clocks (offset, pairing tolerance, time units).
+    #[serde(default)]
+    pub clocks: Clocks,
 }
 
 impl Default for Config {
@@ -181,6 +185,7 @@ impl Default for Config {
             paper: PaperThresholds::default(),
             robust: RobustConfig::default(),
             gravity: Some(Vector3::new(0.0, 0.0, -1.0)),
+            clocks: Clocks::default(),
         }
     }
 }

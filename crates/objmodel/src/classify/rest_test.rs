@@ -112,6 +112,14 @@ impl RestTest {
         self.rest = Some(rest);
     }
 
+    /// Use `noise` instead of estimating it from the first items, unless the noise is given
+    /// or the test has started (the noise relative to a slower palm: see `super::palm`).
+    pub(crate) fn hint_noise(&mut self, noise: NoiseModel) {
+        if self.rest.is_none() && self.noise.is_none() {
+            self.noise = Some(noise);
+        }
+    }
+
     /// Push the next item; what is judged goes to `out`.
     pub fn push(&mut self, item: Sample, out: &mut impl VerdictSink) {
         match item {

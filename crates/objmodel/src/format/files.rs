@@ -75,6 +75,24 @@ fn reader_for<R: BufRead>(reader: R, path: &Path, name: PathBuf) -> PoseReader<R
     }
 }
 
+/// The first `n` poses of a pose file (fewer if it has fewer), read through a small buffer
+/// (to look at a file before streaming it); `-` (standard input) gives none.
+pub fn read_first(path: &Path, n: usize) -> Result<Vec<StampedPose>> {
+    if path.as_os_str() == "-" {
+        return Ok(vec![]);
+    }
+    let f = std::fs::File::open(path).map_err(|source| Error::Io {
+        file: path.to_path_buf(),
+        source,
+    })?;
+    let reader = reader_for(
+        BufReader::with_capacity(1 << 14, f),
+        path,
+        path.to_path_buf(),
+    );
+    reader.take(n).collect()
+}
+
 /// Read a whole trajectory (see [`open`]). A file without a single pose is an error.
 pub fn read_trajectory(path: &Path) -> Result<Vec<StampedPose>> {
     if path.as_os_str() == "-" {

@@ -29,8 +29,11 @@
 //! * `stream.rs`: lines out of a `BufRead`;
 //! * `reader.rs`: [`PoseReader`];
 //! * `files.rs`: [`open`], [`read_trajectory`], [`read_demonstration`], palm files;
-//! * `write.rs`: [`write_atomic`], [`write_tum`].
+//! * `write.rs`: [`write_atomic`], [`write_tum`];
+//! * `time_unit.rs`: [`detect_time_unit`], stamps in ms, µs or ns recognised;
+//! * `bag/`: ROS 2 bags (MCAP), [`bag::read_bag_demonstrations`].
 
+pub mod bag;
 mod check;
 mod csv;
 mod detect;
@@ -51,14 +54,21 @@ mod simd;
 mod stream;
 #[cfg(test)]
 mod tests;
+mod time_unit;
 mod tum;
 mod write;
 
 pub use detect::detect_format;
 #[doc(hidden)]
 pub use files::open_mapped;
-pub use files::{is_palm_file, open, palm_path_for, read_demonstration, read_trajectory};
+pub use files::{
+    is_palm_file, open, palm_path_for, read_demonstration, read_first, read_trajectory,
+};
 pub use layout::{Format, QUAT_NORM_TOLERANCE};
 pub use number::parse_f64;
 pub use reader::PoseReader;
+pub use time_unit::{
+    conversion_warning, detect_time_unit, detect_time_unit_of, to_seconds, TimeUnit,
+    TIME_UNIT_STAMPS,
+};
 pub use write::{write_atomic, write_tum};
