@@ -54,6 +54,7 @@ mod tests;
 mod tum;
 mod write;
 
+pub use check::pose_from_values;
 pub use detect::detect_format;
 #[doc(hidden)]
 pub use files::open_mapped;
