@@ -97,7 +97,7 @@ pub fn config(
             let k: String = k.extract()?;
             if !OPTIONS.contains(&k.as_str()) {
                 return Err(pyo3::exceptions::PyTypeError::new_err(format!(
-                    "unexpected keyword argument {k:?}; the options are gravity, method, {}",
+                    "unexpected keyword argument '{k}'; the threshold options are {}",
                     OPTIONS.join(", ")
                 )));
             }

@@ -11,6 +11,7 @@ use nalgebra::{Isometry3, Vector3};
 use objmodel::format::read_trajectory;
 use objmodel::skill::{plan as skill_plan, PlanRequest};
 use pyo3::prelude::*;
+use pyo3::types::PyList;
 
 /// `palm_from_object` from a 7-vector `x y z qx qy qz qw` (in `order`) or a 4x4 matrix.
 fn pose(obj: &Bound<'_, PyAny>, order: QuatOrder) -> PyResult<Isometry3<f64>> {
@@ -22,9 +23,11 @@ fn pose(obj: &Bound<'_, PyAny>, order: QuatOrder) -> PyResult<Isometry3<f64>> {
     let shape: Vec<usize> = a.getattr("shape")?.extract()?;
     // One pose at time 0: the row or matrix layout of `poses`.
     let one = match shape.as_slice() {
-        [7] => np
-            .call_method1("concatenate", (([0.0f64],), &a))?
-            .call_method1("reshape", ((1, 8),))?,
+        [7] => {
+            let v: Vec<f64> = a.call_method0("tolist")?.extract()?;
+            let row: Vec<f64> = std::iter::once(0.0).chain(v).collect();
+            PyList::new(obj.py(), [row])?.into_any()
+        }
         [4, 4] => a.call_method1("reshape", ((1, 4, 4),))?,
         _ => {
             return Err(err(format!(
