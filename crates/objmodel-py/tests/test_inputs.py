@@ -99,7 +99,8 @@ def test_arguments(rows):
 
 def cli():
     """The command-line tool, if built (OBJMODEL_CLI, or target/*/objmodel of the workspace)."""
-    if os.environ.get("OBJMODEL_CLI"):
+    if os.environ.get("OBJMODEL_CLI"):  # given: it must be there
+        assert os.path.exists(os.environ["OBJMODEL_CLI"]), os.environ["OBJMODEL_CLI"]
         return os.environ["OBJMODEL_CLI"]
     root = Path(__file__).resolve().parents[3]
     for p in (root / "target/debug/objmodel", root / "target/release/objmodel"):

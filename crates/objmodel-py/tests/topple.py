@@ -121,7 +121,33 @@ def topple(box, side="+x", world_r0=np.eye(3), rate=100.0, push_speed=0.25, t0=1
     point = (tag_from_world @ np.r_[pivot, 1])[:3]
     direction = tag_from_world[:3, :3] @ axis
     com = np.linalg.inv(box.box_from_tag)[:3, 3]
-    return times, np.array(mats), {"point": point, "direction": direction, "phi": phi, "com": com}
+    world_from_box = at_pivot @ world_from_box0
+    return times, np.array(mats), {"point": point, "direction": direction, "phi": phi, "com": com,
+                                   "world_from_box": world_from_box}
+
+
+def rolls(box, sides, yaw=0.3, rate=100.0, t0=1000.0):
+    """One demonstration of several topples in a row, each from where the last one left the
+    box (over ``sides``, e.g. "+x" four times: rolled over once around). Returns (times,
+    matrices, truths), the truths' edges in the tag frame at the start."""
+    ry = rot((0, 0, 1), yaw)
+    r_local, start = np.eye(3), (0.3, -0.2)
+    ts, ms, truths = [], [], []
+    tag_from_world0 = None
+    for side in sides:
+        t, m, truth = topple(box, side, r_local, rate=rate, t0=t0, yaw=yaw, start=start)
+        if tag_from_world0 is None:
+            tag_from_world0 = np.linalg.inv(m[0])
+        else:  # the edge in the tag frame is the same at every instant: the tag is rigid
+            pass
+        ts.append(t)
+        ms.append(m)
+        truths.append(truth)
+        end = truth["world_from_box"]
+        r_local = np.round(ry.T @ end[:3, :3])  # axis-aligned, exactly
+        start = (end[0, 3], end[1, 3])
+        t0 = t[-1] + 1.0 / rate
+    return np.concatenate(ts), np.concatenate(ms), truths
 
 
 def every_face(box, rate=100.0):
