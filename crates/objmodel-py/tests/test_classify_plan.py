@@ -83,3 +83,33 @@ def test_plan_from_a_file_and_its_errors(tmp_path, full_tree, box):
     out = subprocess.run([exe, "plan", "--model", str(path), "--object-in-palm", "0 0 0.16 0 0 0 1",
                           "--json"], capture_output=True, text=True, check=True)
     assert json.loads(out.stdout) == a
+
+
+def test_plan_from_a_demonstration_on_a_palm(full_tree, every_face):
+    # A palm turned by 90 degrees about z and raised: the object's first pose on it, and
+    # gravity in its frame, come from the first poses of both.
+    _, rows = every_face
+    obj = rows[0]
+    c, s = np.cos(np.pi / 4), np.sin(np.pi / 4)
+    palm = np.tile([0.0, 0.2, -0.1, 0.05, 0.0, 0.0, s, c], (len(obj), 1))
+    palm[:, 0] = obj[:, 0]
+    world_from_palm = np.eye(4)
+    world_from_palm[:3, :3] = topple.rot((0, 0, 1), np.pi / 2)
+    world_from_palm[:3, 3] = [0.2, -0.1, 0.05]
+    world_from_obj = np.eye(4)
+    world_from_obj[:3, 3] = obj[0, 1:4]
+    x, y, z, w = obj[0, 4:]
+    world_from_obj[:3, :3] = [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                              [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                              [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
+    palm_from_obj = np.linalg.inv(world_from_palm) @ world_from_obj
+    want = objmodel.plan(full_tree, object_in_palm=palm_from_obj)
+    got = objmodel.plan(full_tree, from_demo=obj, palm=palm)
+    assert got.keys() == want.keys()
+    for k, v in want.items():
+        if isinstance(v, str) or v is None:
+            assert got[k] == v, k
+        else:
+            np.testing.assert_allclose(got[k], v, atol=1e-9, err_msg=k)
+    with pytest.raises(objmodel.ObjmodelError, match="from_demo: no palm given"):
+        objmodel.plan(full_tree, from_demo=obj)
