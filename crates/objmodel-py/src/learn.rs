@@ -117,7 +117,10 @@ fn warn_reports(py: Python<'_>, prepared: &[Prepared], reports: &[Observation]) 
 /// Returns the Tree. Warnings are ObjmodelWarning; errors ObjmodelError, with the command
 /// line's messages. All demonstrations are learnt or, on an error, none.
 #[pyfunction]
-#[pyo3(signature = (demos, *, palms=None, times=None, names=None, gravity=Gravity::default(), into=None, no_palm=false, quat_order="xyzw", method="robust", **options))]
+#[pyo3(
+    signature = (demos, *, palms=None, times=None, names=None, gravity=Gravity::default(), into=None, no_palm=false, quat_order="xyzw", method="robust", **options),
+    text_signature = "(demos, *, palms=None, times=None, names=None, gravity=(0, 0, -1), into=None, no_palm=False, quat_order='xyzw', method='robust', **options)"
+)]
 #[allow(clippy::too_many_arguments)]
 pub fn learn(
     py: Python<'_>,
@@ -176,7 +179,10 @@ pub fn learn(
 /// `learn`. Returns a dict: the JSON of `objmodel classify --json` (`kind`, `segments`,
 /// `edges`, `faces`, `warnings`, ..., `file` and `palm_file`, None for arrays).
 #[pyfunction]
-#[pyo3(signature = (demo, *, palm=None, times=None, name=None, gravity=Gravity::default(), no_palm=false, quat_order="xyzw", method="robust", **options))]
+#[pyo3(
+    signature = (demo, *, palm=None, times=None, name=None, gravity=Gravity::default(), no_palm=false, quat_order="xyzw", method="robust", **options),
+    text_signature = "(demo, *, palm=None, times=None, name=None, gravity=(0, 0, -1), no_palm=False, quat_order='xyzw', method='robust', **options)"
+)]
 #[allow(clippy::too_many_arguments)]
 pub fn classify(
     py: Python<'_>,

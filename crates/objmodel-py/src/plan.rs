@@ -96,7 +96,10 @@ fn at_first_poses(
 /// Returns a dict: the JSON of `objmodel plan --json` (`edge`, `axis_point`,
 /// `axis_direction`, `tilt`, `phi`, ...).
 #[pyfunction]
-#[pyo3(signature = (tree, *, object_in_palm=None, gravity_in_palm=None, from_demo=None, palm=None, times=None, gravity=Gravity::default(), towards=None, margin=None, quat_order="xyzw"))]
+#[pyo3(
+    signature = (tree, *, object_in_palm=None, gravity_in_palm=None, from_demo=None, palm=None, times=None, gravity=Gravity::default(), towards=None, margin=None, quat_order="xyzw"),
+    text_signature = "(tree, *, object_in_palm=None, gravity_in_palm=None, from_demo=None, palm=None, times=None, gravity=(0, 0, -1), towards=None, margin=None, quat_order='xyzw')"
+)]
 #[allow(clippy::too_many_arguments)]
 pub fn plan(
     py: Python<'_>,
