@@ -66,3 +66,7 @@ def plan(tree: Union[Tree, PathLike], *, object_in_palm: Union[str, npt.ArrayLik
          palm: Optional[Poses] = None, times: Optional[npt.ArrayLike] = None,
          gravity: Gravity = (0.0, 0.0, -1.0), towards: Optional[Vec3] = None,
          margin: Optional[float] = None, quat_order: str = "xyzw") -> dict[str, Any]: ...
+
+def synthetic_topples(half: tuple[float, float, float] = (0.05, 0.035, 0.08), *,
+                      tag_offset: tuple[float, float] = (0.01, -0.005), tag_yaw: float = 0.7,
+                      noise: str = "clean", seed: int = 0) -> list[dict[str, Any]]: ...

@@ -14,7 +14,8 @@
 //!
 //! The modules: `error` (ObjmodelError, warnings), `json`, `poses` (arrays to poses),
 //! `config` (gravity and thresholds), `inputs` (files or arrays to the library's sources),
-//! `tree` (the Tree class and export), `learn` (learn, classify), `plan`.
+//! `tree` (the Tree class and export), `learn` (learn, classify), `plan`, `synth` (example
+//! demonstrations).
 
 mod config;
 mod error;
@@ -23,6 +24,7 @@ mod json;
 mod learn;
 mod plan;
 mod poses;
+mod synth;
 mod tree;
 
 use pyo3::prelude::*;
@@ -36,6 +38,7 @@ fn objmodel_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(learn::learn, m)?)?;
     m.add_function(wrap_pyfunction!(learn::classify, m)?)?;
     m.add_function(wrap_pyfunction!(plan::plan, m)?)?;
+    m.add_function(wrap_pyfunction!(synth::synthetic_topples, m)?)?;
     m.add("ObjmodelError", py.get_type::<error::ObjmodelError>())?;
     m.add("ObjmodelWarning", py.get_type::<error::ObjmodelWarning>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -150,3 +150,17 @@ def test_a_demonstration_at_rest_teaches_nothing():
     with pytest.warns(objmodel.ObjmodelWarning, match="nothing to learn"):
         tree = objmodel.learn(rows)
     assert tree.demos == []
+
+
+@pytest.mark.parametrize("noise, metres, radians", [("clean", 1e-3, 1e-6), ("real", 5e-3, np.radians(1))])
+def test_the_librarys_synthetic_topples(noise, metres, radians):
+    demos = objmodel.synthetic_topples(noise=noise, seed=3)
+    assert [d["name"] for d in demos] == [f"topple{k}" for k in range(6)]
+    tree = objmodel.learn([d["poses"] for d in demos], names=[d["name"] for d in demos])
+    assert tree.edges.shape == (6, 6) and tree.vertices is not None
+    for d in demos:
+        truth = {"point": d["edge_point"], "direction": d["edge_direction"]}
+        dist, ang = nearest_edge(tree, truth)
+        assert dist < metres and ang < radians, (d["name"], dist, ang)
+    with pytest.raises(objmodel.ObjmodelError, match='noise must be "clean" or "real"'):
+        objmodel.synthetic_topples(noise="loud")
