@@ -132,8 +132,8 @@ pub fn prepare(
 }
 
 /// `obj` as `n` entries parallel to the demonstrations: `None` gives `n` Nones; for a single
-/// demonstration given alone (`single`), `obj` is its entry; else `obj` must be a list or
-/// tuple of `n` entries (each may be None).
+/// demonstration given alone (`single`), `obj` is its entry (or a list of its one entry);
+/// else `obj` must be a list or tuple of `n` entries (each may be None).
 pub fn parallel<'py>(
     obj: Option<&Bound<'py, PyAny>>,
     n: usize,
@@ -144,7 +144,12 @@ pub fn parallel<'py>(
         return Ok(vec![None; n]);
     };
     if single {
-        return Ok(vec![Some(obj.clone())]);
+        // Its entry, or a list of that one entry (`palms=[palm]` as for many).
+        let one = match obj.cast::<PyList>() {
+            Ok(l) if l.len() == 1 => l.get_item(0)?,
+            _ => obj.clone(),
+        };
+        return Ok(vec![Some(one).filter(|o| !o.is_none())]);
     }
     let items: Vec<Bound<'py, PyAny>> =
         if obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>() {

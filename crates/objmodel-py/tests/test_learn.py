@@ -72,6 +72,7 @@ def test_matrices_with_times_equal_rows(box):
     np.testing.assert_allclose(a.pendulums, b.pendulums, atol=1e-7)
     c = objmodel.learn(m, times=t)  # one demonstration alone
     np.testing.assert_allclose(b.edges, c.edges, atol=0)
+    assert objmodel.learn(m, times=[t]) == c  # its times given as for many
 
 
 def test_wxyz_order_is_honoured(box):
