@@ -178,8 +178,7 @@ pub fn items<'py>(demos: &Bound<'py, PyAny>) -> PyResult<(Vec<Bound<'py, PyAny>>
     if !is_list {
         return Ok((vec![demos.clone()], true));
     }
-    // A list of 8 numbers per row is one array, not many demonstrations: numpy arrays are
-    // the way to give an array, a list is a list of demonstrations.
+    // A list is a list of demonstrations (a demonstration's rows come as a numpy array).
     let v: Vec<Bound<'py, PyAny>> = demos.try_iter()?.collect::<PyResult<_>>()?;
     if v.is_empty() {
         return Err(err("no demonstrations given"));
