@@ -4,7 +4,7 @@
 //! ([`check_values`]). [`Track`] carries what the checks need from the lines before.
 
 use super::layout::{QUAT, QUAT_NORM_TOLERANCE, TIME, VALUES};
-use super::problem::Problem;
+use super::problem::{Context, Problem};
 use crate::trajectory::StampedPose;
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 
@@ -56,6 +56,15 @@ fn failed_check(v: &[f64; VALUES], prev_t: f64) -> Problem {
         return Problem::NormOff { q, norm };
     }
     Problem::TimeNotIncreasing { t: v[TIME], prev_t }
+}
+
+/// The pose of eight values in TUM order (`t tx ty tz qx qy qz qw`) given other than as a line
+/// of a file (rows of an array, for the Python package), checked as a line's values are: every
+/// value finite, the quaternion's norm within [`QUAT_NORM_TOLERANCE`] of 1 (then normalised, its
+/// sign kept). The order of the times is the caller's to check. The error is the message a
+/// line with these values gets, without the `file:line: ` before it.
+pub fn pose_from_values(v: &[f64; 8]) -> Result<StampedPose, String> {
+    check_values(v, f64::NEG_INFINITY).map_err(|p| p.message(&Context::default()))
 }
 
 /// Where a reader is: the line being read, and the previous pose, whose time the next must
@@ -204,5 +213,25 @@ mod tests {
         let ok = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0];
         assert!(track.check(&ok).is_ok());
         assert_eq!((track.prev_t, track.prev_line), (1.0, 4));
+    }
+
+    /// Values outside a file: the pose of good values, and a line's message for bad ones.
+    #[test]
+    fn pose_from_values_speaks_as_a_line() {
+        let good = [2.0, 0.1, 0.2, 0.3, 0.0, 0.0, 0.0, -1.001];
+        let p = pose_from_values(&good).unwrap();
+        assert_eq!((p.t, p.pose.translation.vector.x), (2.0, 0.1));
+        assert_eq!(p.pose.rotation.w, -1.0);
+        let off = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0];
+        let want = check_values(&off, 0.0)
+            .unwrap_err()
+            .message(&Context::default());
+        assert_eq!(pose_from_values(&off).unwrap_err(), want);
+        assert!(want.contains("has norm 2"), "{want}");
+        let nan = [0.0, f64::NAN, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0];
+        assert_eq!(
+            pose_from_values(&nan).unwrap_err(),
+            "tx is NaN; every value must be a finite number"
+        );
     }
 }

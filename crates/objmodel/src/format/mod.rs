@@ -58,6 +58,7 @@ mod time_unit;
 mod tum;
 mod write;
 
+pub use check::pose_from_values;
 pub use detect::detect_format;
 #[doc(hidden)]
 pub use files::open_mapped;

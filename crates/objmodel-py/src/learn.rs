@@ -1,0 +1,226 @@
+//! `objmodel.learn` and `objmodel.classify`: the library's one learning pipeline
+//! ([`objmodel::learn::Learner`]) on demonstrations given as files or arrays.
+
+use crate::config::{config, Gravity};
+use crate::error::{err, lib, warn};
+use crate::inputs::{input, items, parallel, prepare, Prepared};
+use crate::json::to_python;
+use crate::poses::QuatOrder;
+use crate::tree::PyTree;
+use objmodel::format::is_palm_file;
+use objmodel::learn::{nothing_to_learn, Learner, Source};
+use objmodel::observation::Observation;
+use objmodel::tree::Tree;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::path::PathBuf;
+
+/// The demonstrations of `learn`'s arguments, in order.
+#[allow(clippy::too_many_arguments)]
+fn demonstrations(
+    demos: &Bound<'_, PyAny>,
+    palms: Option<&Bound<'_, PyAny>>,
+    times: Option<&Bound<'_, PyAny>>,
+    names: Option<&Bound<'_, PyAny>>,
+    no_palm: bool,
+    order: QuatOrder,
+) -> PyResult<Vec<Prepared>> {
+    let (items, single) = items(demos)?;
+    let n = items.len();
+    let explicit_palms = palms.is_some_and(|p| !p.is_none());
+    let palms = parallel(palms, n, single, "palms")?;
+    let times = parallel(times, n, single, "times")?;
+    let names = parallel(names, n, single, "names")?;
+    let mut out = Vec::new();
+    for (i, (((item, palm), t), name)) in items.iter().zip(palms).zip(times).zip(names).enumerate()
+    {
+        let what = if single {
+            "demos".to_string()
+        } else {
+            format!("demos[{i}]")
+        };
+        let object = input(item, t.as_ref(), order, &what)?;
+        // As on the command line: palm files among the demonstrations are their palms, found
+        // beside them, not demonstrations.
+        if let crate::inputs::Input::File(f) = &object {
+            if !explicit_palms && is_palm_file(f) {
+                continue;
+            }
+        }
+        let palm = palm
+            .map(|p| {
+                let pw = if single {
+                    "palms".to_string()
+                } else {
+                    format!("palms[{i}]")
+                };
+                input(&p, t.as_ref(), order, &pw)
+            })
+            .transpose()?;
+        let name = match name {
+            Some(n) => n.extract::<String>()?,
+            None => format!("demo{i}"),
+        };
+        out.push(prepare(object, palm, no_palm, name)?);
+    }
+    if out.is_empty() {
+        return Err(err("no demonstration files (only palm files were given)"));
+    }
+    Ok(out)
+}
+
+/// Learn `prepared` into `tree` (all of them or, on an error, none); the reports.
+fn learn_all(
+    py: Python<'_>,
+    learner: &Learner,
+    tree: &mut Tree,
+    prepared: &[Prepared],
+) -> PyResult<Vec<Observation>> {
+    let mut work = tree.clone();
+    let reports = py
+        .detach(|| {
+            let sources: Vec<Source> = prepared.iter().map(Prepared::source).collect();
+            learner.learn(&mut work, &sources)
+        })
+        .map_err(lib)?;
+    *tree = work;
+    Ok(reports)
+}
+
+/// Each report's warnings, as the command line prints them.
+fn warn_reports(py: Python<'_>, prepared: &[Prepared], reports: &[Observation]) -> PyResult<()> {
+    for (p, r) in prepared.iter().zip(reports) {
+        for w in &r.classification.warnings {
+            warn(py, &p.label(), w)?;
+        }
+    }
+    Ok(())
+}
+
+/// Learn (or update) an object description tree from demonstrations.
+///
+/// `demos`: a list of demonstrations (or one alone), each a pose file (str or os.PathLike,
+/// TUM or CSV; NAME.palm.* beside it is its palm, as on the command line) or a numpy array of
+/// `world_from_object` poses: (N, 8) rows `t x y z qx qy qz qw` (quaternion x y z w, as TUM
+/// files and scipy's `as_quat()`; `quat_order="wxyz"` for `t x y z qw qx qy qz`) or (N, 4, 4)
+/// homogeneous matrices with `times`.
+/// `palms`: one per demonstration (None: none, or NAME.palm.* for a file), the palm's
+/// `world_from_palm` poses the same way; palm matrices take their demonstration's times.
+/// `times`: one (N,) array per demonstration given as matrices. `names`: names of
+/// demonstrations given as arrays (default `demo0`, `demo1`, ...; a file's is its name).
+/// `gravity`: in the tracking frame, default (0, 0, -1) (z up); None if unknown.
+/// `into`: a Tree to fuse into (changed in place and returned) or a tree file (read, updated
+/// and written back atomically under a lock, as `objmodel learn --into`; left as it was when
+/// nothing is learnt). `method`: "robust" (default) or "paper"; `**options`: the command
+/// line's thresholds (`alpha`, `min_rest`, `noise_position`, ...).
+///
+/// Returns the Tree. Warnings are ObjmodelWarning; errors ObjmodelError, with the command
+/// line's messages. All demonstrations are learnt or, on an error, none.
+#[pyfunction]
+#[pyo3(
+    signature = (demos, *, palms=None, times=None, names=None, gravity=Gravity::default(), into=None, no_palm=false, quat_order="xyzw", method="robust", **options),
+    text_signature = "(demos, *, palms=None, times=None, names=None, gravity=(0, 0, -1), into=None, no_palm=False, quat_order='xyzw', method='robust', **options)"
+)]
+#[allow(clippy::too_many_arguments)]
+pub fn learn(
+    py: Python<'_>,
+    demos: &Bound<'_, PyAny>,
+    palms: Option<&Bound<'_, PyAny>>,
+    times: Option<&Bound<'_, PyAny>>,
+    names: Option<&Bound<'_, PyAny>>,
+    gravity: Gravity,
+    into: Option<&Bound<'_, PyAny>>,
+    no_palm: bool,
+    quat_order: &str,
+    method: &str,
+    options: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Py<PyTree>> {
+    let order = QuatOrder::parse(quat_order)?;
+    let learner = Learner::new(config(gravity, method, options)?);
+    let prepared = demonstrations(demos, palms, times, names, no_palm, order)?;
+    match into {
+        None => {
+            let mut tree = Tree::default();
+            let reports = learn_all(py, &learner, &mut tree, &prepared)?;
+            warn_reports(py, &prepared, &reports)?;
+            Py::new(py, PyTree::from(tree))
+        }
+        Some(t) if t.is_instance_of::<PyTree>() => {
+            let t = t.cast::<PyTree>()?;
+            let reports = learn_all(py, &learner, &mut t.borrow_mut().tree, &prepared)?;
+            warn_reports(py, &prepared, &reports)?;
+            Ok(t.clone().unbind())
+        }
+        Some(path) => {
+            let path: PathBuf = path
+                .extract()
+                .map_err(|_| err("into must be a Tree or a tree file's path"))?;
+            let (reports, tree) = py
+                .detach(|| {
+                    Tree::update(&path, |tree| {
+                        let sources: Vec<Source> = prepared.iter().map(Prepared::source).collect();
+                        let reports = learner.learn(tree, &sources)?;
+                        let changed = reports.iter().any(|r| !r.teaches_nothing());
+                        Ok(((reports, tree.clone()), changed))
+                    })
+                })
+                .map_err(lib)?;
+            warn_reports(py, &prepared, &reports)?;
+            Py::new(py, PyTree::from(tree))
+        }
+    }
+}
+
+/// Classify one demonstration: topple, slide or general, and why (Algorithms 1 and 2).
+///
+/// `demo`, `palm`, `times`: as one demonstration of `learn` (a file, or an (N, 8) or
+/// (N, 4, 4) array); `name` names an array's demonstration (default `demo`); `no_palm`
+/// ignores NAME.palm.* beside a file. `gravity`, `quat_order`, `method`, `**options`: as for
+/// `learn`. Returns a dict: the JSON of `objmodel classify --json` (`kind`, `segments`,
+/// `edges`, `faces`, `warnings`, ..., `file` and `palm_file`, None for arrays).
+#[pyfunction]
+#[pyo3(
+    signature = (demo, *, palm=None, times=None, name=None, gravity=Gravity::default(), no_palm=false, quat_order="xyzw", method="robust", **options),
+    text_signature = "(demo, *, palm=None, times=None, name=None, gravity=(0, 0, -1), no_palm=False, quat_order='xyzw', method='robust', **options)"
+)]
+#[allow(clippy::too_many_arguments)]
+pub fn classify(
+    py: Python<'_>,
+    demo: &Bound<'_, PyAny>,
+    palm: Option<&Bound<'_, PyAny>>,
+    times: Option<&Bound<'_, PyAny>>,
+    name: Option<String>,
+    gravity: Gravity,
+    no_palm: bool,
+    quat_order: &str,
+    method: &str,
+    options: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Py<PyAny>> {
+    let order = QuatOrder::parse(quat_order)?;
+    let learner = Learner::new(config(gravity, method, options)?);
+    let times = times.filter(|t| !t.is_none());
+    let object = input(demo, times, order, "demo")?;
+    let palm = palm
+        .filter(|p| !p.is_none())
+        .map(|p| input(p, times, order, "palm"))
+        .transpose()?;
+    let prepared = prepare(object, palm, no_palm, name.unwrap_or_else(|| "demo".into()))?;
+    let c = py
+        .detach(|| learner.classify(&prepared.source()))
+        .map_err(lib)?;
+    if c.segments.is_empty() {
+        return Err(err(format!(
+            "{}: {}",
+            prepared.label(),
+            nothing_to_learn(&c)
+        )));
+    }
+    for w in &c.warnings {
+        warn(py, &prepared.label(), w)?;
+    }
+    let mut v = serde_json::to_value(&c).map_err(|e| err(e.to_string()))?;
+    let (file, palm_file) = prepared.files();
+    v["file"] = serde_json::json!(file);
+    v["palm_file"] = serde_json::json!(palm_file);
+    to_python(py, &v)
+}

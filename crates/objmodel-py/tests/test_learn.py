@@ -1,0 +1,167 @@
+"""Learning from arrays and files against the analytic truth of exact topples."""
+
+import os
+import warnings
+
+import numpy as np
+import pytest
+
+import objmodel
+import topple
+from conftest import write_tum
+
+
+def nearest_edge(tree, truth):
+    """(distance, angle) of the learnt edge closest to the true one."""
+    return min(topple.line_distance(truth["point"], truth["direction"], e[:3], e[3:])
+               for e in tree.edges)
+
+
+def test_one_topple_gives_its_edge_and_phi(box):
+    t, m, truth = topple.topple(box, "+x")
+    tree = objmodel.learn([topple.rows_of(t, m)], gravity=(0, 0, -1))
+    assert tree.edges.shape == (1, 6)
+    dist, ang = nearest_edge(tree, truth)
+    assert dist < 1e-6 and ang < 1e-6, (dist, ang)
+    p = tree.pendulums
+    assert p.shape == (1, len(objmodel.Tree.PENDULUM_COLUMNS))
+    phi = p[0, objmodel.Tree.PENDULUM_COLUMNS.index("phi")]
+    assert abs(phi - truth["phi"]) < np.radians(0.1), (phi, truth["phi"])
+    assert tree.demos == ["demo0"]
+
+
+def test_every_face_gives_the_box(every_face, full_tree, box):
+    demos, _ = every_face
+    tree = full_tree
+    assert tree.edges.shape == (6, 6) and tree.faces.shape == (6, 4)
+    for _, _, truth in demos:
+        dist, ang = nearest_edge(tree, truth)
+        assert dist < 1e-6 and ang < 1e-6, (dist, ang)
+    # The centre of mass of a uniform box is its centre.
+    com = demos[0][2]["com"]
+    assert tree.com.shape == (3,)
+    assert np.linalg.norm(tree.com - com) < 1e-4, (tree.com, com)
+    # Every face's offset is known; the shape's vertices are the box's corners.
+    assert not np.isnan(tree.faces[:, 3]).any()
+    v = tree.vertices
+    assert v.shape == (8, 3)
+    tag_from_box = np.linalg.inv(box.box_from_tag)
+    corners = np.array([(tag_from_box @ np.r_[np.array([sx, sy, sz]) * box.half, 1])[:3]
+                        for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+    for c in corners:
+        assert np.min(np.linalg.norm(v - c, axis=1)) < 1e-4
+
+
+def test_arrays_and_a_tum_file_give_the_same_tree(tmp_path, box):
+    t, m, _ = topple.topple(box, "-y")
+    rows = topple.rows_of(t, m)
+    path = write_tum(tmp_path / "push.tum", rows)
+    from_file = objmodel.learn([path])
+    from_str = objmodel.learn(str(path))
+    from_array = objmodel.learn([rows], names=["push.tum"])
+    assert from_file.to_dict() == from_array.to_dict()
+    assert from_str == from_file
+    assert from_file.demos == ["push.tum"]
+
+
+def test_matrices_with_times_equal_rows(box):
+    t, m, truth = topple.topple(box, "+y")
+    a = objmodel.learn([topple.rows_of(t, m)])
+    b = objmodel.learn([m], times=[t])
+    np.testing.assert_allclose(a.edges, b.edges, atol=1e-9)
+    np.testing.assert_allclose(a.pendulums, b.pendulums, atol=1e-7)
+    c = objmodel.learn(m, times=t)  # one demonstration alone
+    np.testing.assert_allclose(b.edges, c.edges, atol=0)
+    assert objmodel.learn(m, times=[t]) == c  # its times given as for many
+
+
+def test_wxyz_order_is_honoured(box):
+    t, m, truth = topple.topple(box, "-x")
+    rows = topple.rows_of(t, m)
+    wxyz = rows[:, [0, 1, 2, 3, 7, 4, 5, 6]]
+    a = objmodel.learn([rows])
+    b = objmodel.learn([wxyz], quat_order="wxyz")
+    assert a == b
+    # The same numbers read in the wrong order are another motion: not this edge (if any).
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            wrong = objmodel.learn([wxyz])
+        except objmodel.ObjmodelError:
+            return
+    if len(wrong.edges):
+        dist, ang = nearest_edge(wrong, truth)
+        assert dist > 1e-3 or ang > 1e-3
+
+
+def test_a_palm_at_rest_changes_nothing(box):
+    t, m, truth = topple.topple(box, "+x")
+    rows = topple.rows_of(t, m)
+    palm = np.tile([0.0, 0.1, 0.2, 0.0, 0.0, 0.0, 0.0, 1.0], (len(t), 1))
+    palm[:, 0] = t
+    tree = objmodel.learn([rows], palms=[palm])
+    dist, ang = nearest_edge(tree, truth)
+    assert dist < 1e-6 and ang < 1e-6
+    assert tree.to_dict()["demos"][0]["instrumented"] is True
+
+
+def test_palm_files_beside_their_demonstration(tmp_path, box):
+    t, m, truth = topple.topple(box, "+x")
+    rows = topple.rows_of(t, m)
+    palm = np.tile([0.0, 0.1, 0.2, 0.0, 0.0, 0.0, 0.0, 1.0], (len(t), 1))
+    palm[:, 0] = t
+    write_tum(tmp_path / "d.tum", rows)
+    write_tum(tmp_path / "d.palm.tum", palm)
+    # As on the command line: the palm file is found beside the demonstration, and given
+    # among the demonstrations it is not one.
+    tree = objmodel.learn(sorted(tmp_path.iterdir()))
+    assert tree.demos == ["d.tum"]
+    assert tree.to_dict()["demos"][0]["instrumented"] is True
+    assert objmodel.learn([tmp_path / "d.tum"], no_palm=True).to_dict()["demos"][0][
+        "instrumented"] is False
+
+
+def test_learning_into_a_tree_and_into_a_file(tmp_path, every_face):
+    _, rows = every_face
+    tree = objmodel.Tree()
+    same = objmodel.learn(rows[:2], into=tree)
+    assert same is tree and len(tree.demos) == 2
+    path = tmp_path / "box.json"
+    objmodel.learn(rows[:3], into=path)
+    t = objmodel.learn(rows[3:], into=str(path), names=["demo3", "demo4", "demo5"])
+    assert objmodel.Tree.load(path) == t
+    assert len(t.demos) == 6 and t.edges.shape == (6, 6)
+    # An error learns none of them: the tree is as it was.
+    before = tree.to_json()
+    with pytest.raises(objmodel.ObjmodelError):
+        objmodel.learn([rows[2], rows[3][:, :7]], into=tree)
+    assert tree.to_json() == before
+
+
+def test_unknown_gravity_warns_and_fits_no_pendulum(box):
+    t, m, _ = topple.topple(box, "+x")
+    with pytest.warns(objmodel.ObjmodelWarning, match="gravity is unknown"):
+        tree = objmodel.learn([topple.rows_of(t, m)], gravity=None)
+    assert tree.edges.shape == (1, 6) and tree.pendulums.shape[0] == 0
+
+
+def test_a_demonstration_at_rest_teaches_nothing():
+    rows = np.tile([0.0, 0, 0, 0.1, 0, 0, 0, 1], (200, 1))
+    rows[:, 0] = np.arange(200) / 30
+    with pytest.warns(objmodel.ObjmodelWarning, match="nothing to learn"):
+        tree = objmodel.learn(rows)
+    assert tree.demos == []
+
+
+@pytest.mark.parametrize("noise, metres, radians", [("clean", 1e-3, 1e-6), ("real", 5e-3, np.radians(1))])
+def test_the_librarys_synthetic_topples(noise, metres, radians):
+    demos = objmodel.synthetic_topples(noise=noise, seed=3)
+    assert [d["name"] for d in demos] == [f"topple{k}" for k in range(6)]
+    tree = objmodel.learn([d["poses"] for d in demos], names=[d["name"] for d in demos])
+    assert tree.edges.shape == (6, 6) and tree.vertices is not None
+    for d in demos:
+        truth = {"point": d["edge_point"], "direction": d["edge_direction"]}
+        dist, ang = nearest_edge(tree, truth)
+        assert dist < metres and ang < radians, (d["name"], dist, ang)
+    with pytest.raises(objmodel.ObjmodelError, match='noise must be "clean" or "real"'):
+        objmodel.synthetic_topples(noise="loud")
