@@ -563,8 +563,19 @@ impl Tree {
     /// contradictions between them.
     fn refit_whole(&mut self) {
         self.com = self.centre_of_mass();
-        self.shape = crate::shape::reconstruct(&self.learnt_faces()).ok();
+        self.shape = self.reconstruct_shape().ok();
         self.contradictions = self.contradictions();
+    }
+
+    /// The shape of the learnt faces, with a face never seen inferred opposite a seen one from
+    /// the centre of mass ([`crate::shape::reconstruct_inferring`]); the CoM's standard
+    /// deviation is taken as its planes' RMS residual, at least [`SYSTEMATIC_POINT_M`].
+    pub fn reconstruct_shape(&self) -> Result<Shape, crate::shape::Incomplete> {
+        let com = self
+            .com
+            .as_ref()
+            .map(|c| (c.point, c.rms_residual_m.max(SYSTEMATIC_POINT_M)));
+        crate::shape::reconstruct_inferring(&self.learnt_faces(), com)
     }
 
     /// The faces as the shape takes them.
