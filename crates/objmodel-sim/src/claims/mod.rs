@@ -75,6 +75,8 @@ pub struct BoxClaims {
     pub error: Option<String>,
     /// What the shape assumes beyond the data (inferred faces).
     pub assumptions: Vec<String>,
+    /// The learnt shape: "box", or "N faces" when it is not one.
+    pub shape: String,
     /// Largest distance of a true corner from the nearest learnt one \[m\].
     pub corner_error_m: f64,
     /// Distance of the learnt CoM from the true one \[m\].
@@ -85,8 +87,8 @@ pub struct BoxClaims {
     pub onsets: Vec<FaceOnset>,
 }
 
-/// The true box as an export body, in the tag frame (for its MJCF).
-fn truth_body(spec: &BoxSpec) -> Body {
+/// The true box of `spec` as an export body, in the tag frame (for its MJCF).
+pub fn truth_body(spec: &BoxSpec) -> Body {
     let tag_from_box = spec.tag_from_box();
     let centre = (tag_from_box * Point3::origin()).coords;
     let faces: Vec<LearntFace> = BoxFace::ALL
@@ -169,6 +171,7 @@ pub fn measure_box(
         demos,
         error: None,
         assumptions: vec![],
+        shape: String::new(),
         corner_error_m: f64::NAN,
         com_error_m: f64::NAN,
         com_learnt: false,
@@ -182,6 +185,10 @@ pub fn measure_box(
         }
     };
     claims.assumptions = body.shape.assumptions.clone();
+    claims.shape = match body.box_fit {
+        Some(_) => "box".into(),
+        None => format!("{} faces", body.shape.faces.len()),
+    };
     claims.com_learnt = body.notes.iter().any(|n| n.contains("learnt from"));
     std::fs::create_dir_all(work)?;
     // The learnt body as rapier sees it: its URDF, read back.

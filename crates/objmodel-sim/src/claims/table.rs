@@ -58,8 +58,8 @@ pub fn markdown(intro: &str, boxes: &[BoxClaims]) -> String {
          of the true box's in the same simulator wherever the true box topples. Onset columns: \
          worst |learnt − true| [deg] and experiments meeting the claim / experiments where the \
          true box topples.\n\n\
-         | box | demos | corners [mm] | CoM [mm] | CoM from | rapier onset | MuJoCo onset | all claims |\n\
-         |---|---|---|---|---|---|---|---|\n",
+         | box | demos | shape | corners [mm] | CoM [mm] | CoM from | rapier onset | MuJoCo onset | all claims |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
         POSITION_M * 1e3
     );
     for b in boxes {
@@ -79,9 +79,10 @@ pub fn markdown(intro: &str, boxes: &[BoxClaims]) -> String {
             format!("{wm:.2}°, {okm}/{nm}")
         };
         s += &format!(
-            "| {} | {} | {:.2} | {:.2} | {} | {wr:.2}°, {okr}/{nr} | {mujoco} | {} |\n",
+            "| {} | {} | {} | {:.2} | {:.2} | {} | {wr:.2}°, {okr}/{nr} | {mujoco} | {} |\n",
             b.name,
             b.demos,
+            b.shape,
             b.corner_error_m * 1e3,
             b.com_error_m * 1e3,
             if b.com_learnt {
