@@ -35,7 +35,7 @@ fn learnt_models_of_the_standard_boxes_meet_the_position_claims() {
         eprintln!("no Python with mujoco: MuJoCo not run (set OBJMODEL_PYTHON)");
     }
     let work = dir.path().join("work");
-    for (spec, tree, demos) in learn_boxes(&data, "real").unwrap() {
+    for (spec, tree, demos) in learn_boxes(&data, "real", true).unwrap() {
         let c = measure_box(&spec, &tree, demos, python.as_deref(), &work).unwrap();
         eprintln!(
             "{}: corners {:.2} mm, CoM {:.2} mm",

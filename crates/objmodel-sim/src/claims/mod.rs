@@ -125,8 +125,13 @@ fn face_name(f: BoxFace) -> String {
     format!("{}{}", if s > 0.0 { '+' } else { '-' }, ['x', 'y', 'z'][k])
 }
 
-/// The trees learnt from the data set in `dir`: per box, all its demonstrations at `noise`.
-pub fn learn_boxes(dir: &Path, noise: &str) -> Result<Vec<(BoxSpec, Tree, usize)>> {
+/// The trees learnt from the data set in `dir`: per box, all its demonstrations at `noise`
+/// (without those of the box turned onto another face unless `with_turned`).
+pub fn learn_boxes(
+    dir: &Path,
+    noise: &str,
+    with_turned: bool,
+) -> Result<Vec<(BoxSpec, Tree, usize)>> {
     let manifest: Manifest = serde_json::from_str(
         &std::fs::read_to_string(dir.join("manifest.json"))
             .with_context(|| format!("reading {}", dir.join("manifest.json").display()))?,
@@ -139,6 +144,7 @@ pub fn learn_boxes(dir: &Path, noise: &str) -> Result<Vec<(BoxSpec, Tree, usize)
             .demos
             .iter()
             .filter(|m| m.r#box == spec.name && m.noise == noise)
+            .filter(|m| with_turned || m.turned.is_none())
             .collect();
         for m in &demos {
             let object = dir.join(&m.tum);

@@ -50,22 +50,16 @@ pub fn holds(b: &BoxClaims) -> bool {
             .all(|o| onset_claim(&o.rapier) && o.mujoco.as_ref().is_none_or(onset_claim))
 }
 
-/// The report: `intro` (what was measured, how), then the tables.
-pub fn markdown(intro: &str, boxes: &[BoxClaims]) -> String {
-    let mut s = String::from(intro);
-    s += &format!(
-        "\n## Per box\n\nClaims: corners and CoM within {:.0} mm, onset within {ONSET_DEG:.0}° \
-         of the true box's in the same simulator wherever the true box topples. Onset columns: \
-         worst |learnt − true| [deg] and experiments meeting the claim / experiments where the \
-         true box topples.\n\n\
-         | box | demos | shape | corners [mm] | CoM [mm] | CoM from | rapier onset | MuJoCo onset | all claims |\n\
+/// The per-box summary table.
+pub fn summary_table(boxes: &[BoxClaims]) -> String {
+    let mut s = String::from(
+        "| box | demos | shape | corners [mm] | CoM [mm] | CoM from | rapier onset | MuJoCo onset | all claims |\n\
          |---|---|---|---|---|---|---|---|---|\n",
-        POSITION_M * 1e3
     );
     for b in boxes {
         if let Some(e) = &b.error {
             s += &format!(
-                "| {} | {} | – | – | – | – | – | no model: {e} |\n",
+                "| {} | {} | – | – | – | – | – | – | no model: {e} |\n",
                 b.name, b.demos
             );
             continue;
@@ -100,6 +94,43 @@ pub fn markdown(intro: &str, boxes: &[BoxClaims]) -> String {
             b.assumptions.join("; ")
         );
     }
+    s
+}
+
+/// The report: `intro` (what was measured, how), the summary, `more` (further sections), then
+/// every experiment.
+pub fn markdown(intro: &str, boxes: &[BoxClaims], more: &str) -> String {
+    let mut s = String::from(intro);
+    s += &format!(
+        "\n## Per box\n\nClaims: corners and CoM within {:.0} mm, onset within {ONSET_DEG:.0}° \
+         of the true box's in the same simulator wherever the true box topples. Onset columns: \
+         worst |learnt − true| [deg] and experiments meeting the claim / experiments where the \
+         true box topples.\n\n",
+        POSITION_M * 1e3
+    );
+    s += &summary_table(boxes);
+    let (wr, okr, nr) = summary(
+        boxes
+            .iter()
+            .flat_map(|b| b.onsets.iter().map(|o| &o.rapier)),
+    );
+    let (wm, okm, nm) = summary(
+        boxes
+            .iter()
+            .flat_map(|b| b.onsets.iter().filter_map(|o| o.mujoco.as_ref())),
+    );
+    let within = |b: &&BoxClaims, x: f64| b.error.is_none() && x <= POSITION_M;
+    s += &format!(
+        "\nIn all: corners within {:.0} mm for {} of {} boxes, CoM for {}; onsets within \
+         {ONSET_DEG:.0}° in {okr} of {nr} rapier experiments (worst {wr:.2}°) and {okm} of {nm} \
+         MuJoCo ones (worst {wm:.2}°). A worst of inf° means the learnt body slid where the true \
+         box toppled.\n",
+        POSITION_M * 1e3,
+        boxes.iter().filter(|b| within(b, b.corner_error_m)).count(),
+        boxes.len(),
+        boxes.iter().filter(|b| within(b, b.com_error_m)).count(),
+    );
+    s += more;
     s += "\n## Every experiment\n\nThe face of the true box it rests on and the box axis the \
           tilt carries it towards; φ: quasi-static tipping angles [deg] of the true box and the \
           learnt body; onsets [deg] of the true box, the learnt body and their difference, in \
