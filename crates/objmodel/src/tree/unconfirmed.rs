@@ -14,7 +14,8 @@
 //!   object rested on. (A plane 10° off a true face cuts only millimetres deep, but leaves a
 //!   sliver of a face at a corner that nothing can stand on. The corners' standard deviations
 //!   are not counted: at such a sliver they come from nearly parallel planes, and are large
-//!   exactly where the face is wrong.)
+//!   exactly where the face is wrong.) A CoM outside the shape is itself the contradiction,
+//!   and then no face is tested.
 
 use super::Tree;
 use crate::shape::{reconstruct_inferring, LearntFace, Shape};
@@ -85,6 +86,11 @@ impl Tree {
         let Some((c, sigma_c)) = com else {
             return Vec::new();
         };
+        // A CoM outside the shape is what contradicts it (the tree's checks say so), not its
+        // faces.
+        if shape.outside(&c).is_some_and(|(d, _)| d > 0.0) {
+            return Vec::new();
+        }
         let once = |id: &str| self.faces.iter().any(|f| f.id == id && f.n_support < 2);
         let mut out = Vec::new();
         for f in shape
