@@ -92,6 +92,8 @@ pub fn box_builders(
     world_from_box: &Isometry3<f64>,
 ) -> (RigidBodyBuilder, ColliderBuilder) {
     if let Some(l) = &spec.learnt {
+        // A hull with no volume (which no closed learnt shape has) falls back to the box of the
+        // spec's extents below.
         if let Some(b) = l.body.builders(mu, world_from_box) {
             return b;
         }
