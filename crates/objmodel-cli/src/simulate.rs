@@ -16,7 +16,12 @@ frame, resting faces, CoM, tipping angle phi, topple start, segments).
 Examples:
   objmodel simulate topple --box 0.1x0.1x0.2 --mass 0.6 --com 0.02,0,0 --noise real --seed 3 -o out/
   objmodel simulate topple --instrumented -o out/
-  objmodel simulate slide --noise noisy --json -o out/")]
+  objmodel simulate slide --noise noisy --json -o out/
+  objmodel simulate instrumented --model box.json --mass 0.6 --friction 0.8 -o out/
+
+With --model, the object is the learnt one (its shape, centre of mass and inertia; the mass
+and friction given): its tag frame is the model's object frame, so the truth file is in that
+frame.")]
 pub struct SimulateArgs {
     /// Kind of demonstration: `topple` (a finger pushes the box over on a table),
     /// `instrumented` (the box topples on a tilting, tracked palm), `slide` (a low push slides
@@ -30,7 +35,12 @@ pub struct SimulateArgs {
     /// Box edge lengths in metres, `XxYxZ` (Z is up at the start).
     #[arg(long = "box", value_name = "XxYxZ", default_value = "0.1x0.1x0.2")]
     pub dims: String,
-    /// Box mass [kg].
+    /// Simulate the object of this learnt model (written by `objmodel learn -o`) instead of a
+    /// specified box: `--box` and `--com` are then ignored, `--mass` and `--friction` are its
+    /// own (demonstrations of poses cannot tell them). Its shape must be closed.
+    #[arg(long, value_name = "MODEL.json")]
+    pub model: Option<PathBuf>,
+    /// Box (or learnt object's) mass [kg].
     #[arg(long, default_value_t = 0.6)]
     pub mass: f64,
     /// Centre of mass offset from the box's geometric centre [m], `X,Y,Z` in box axes.
@@ -101,6 +111,17 @@ pub fn box_from_args(a: &SimulateArgs) -> Result<BoxSpec> {
     Ok(spec)
 }
 
+/// The object of the learnt model `path`, with the mass and friction of the arguments.
+pub fn learnt_from_args(path: &std::path::Path, a: &SimulateArgs) -> Result<BoxSpec> {
+    let tree = objmodel::tree::Tree::load(path)?;
+    let body = objmodel::export::Body::from_tree(&tree, a.mass, Some(a.friction))
+        .with_context(|| format!("{}", path.display()))?;
+    let spec = objmodel_sim::learnt::learnt_spec(&body, "learnt");
+    spec.validate()
+        .with_context(|| format!("{}: the learnt object", path.display()))?;
+    Ok(spec)
+}
+
 /// Run `objmodel simulate`.
 pub fn run(a: &SimulateArgs) -> Result<()> {
     let mut kind = SceneKind::from_name(&a.kind).context("unknown kind")?;
@@ -113,16 +134,17 @@ pub fn run(a: &SimulateArgs) -> Result<()> {
         }
         kind = SceneKind::InstrumentedTopple;
     }
-    let spec = box_from_args(a)?;
+    let spec = match &a.model {
+        Some(path) => learnt_from_args(path, a)?,
+        None => box_from_args(a)?,
+    };
+    let what = match &a.model {
+        Some(path) => format!("the object of {}", path.display()),
+        None => format!("a {} m box", a.dims),
+    };
     let noise = TrackerNoise::preset(&a.noise).context("unknown noise preset")?;
-    let demo = simulate(kind, &spec, &noise, a.seed).with_context(|| {
-        format!(
-            "simulating a {} of a {} m box (seed {})",
-            kind.name(),
-            a.dims,
-            a.seed
-        )
-    })?;
+    let demo = simulate(kind, &spec, &noise, a.seed)
+        .with_context(|| format!("simulating a {} of {what} (seed {})", kind.name(), a.seed))?;
     let name = a
         .name
         .clone()

@@ -143,9 +143,12 @@ fn export_writes_simulation_models_or_says_what_is_missing() {
             .learn(&mut tree, &[Source::Memory(&demo.demo)])
             .unwrap();
         if k == 3 {
-            // Four topples of the upright box: the top face is not known yet.
+            // Four topples of the upright box: the top face is not known yet, and without a
+            // centre of mass (with one, the top face would be inferred) nothing bounds it.
             let open = d.join("open.json");
-            tree.save(&open).unwrap();
+            let mut no_com = tree.clone();
+            no_com.com = None;
+            no_com.save(&open).unwrap();
             let r = run(&[
                 "export".to_string(),
                 s(&open),
@@ -197,4 +200,44 @@ fn export_writes_simulation_models_or_says_what_is_missing() {
     .fails();
     r.check(r.stderr.contains("mass"), "a bad mass is named");
     assert!(!d.join("bad.xml").exists());
+
+    // `objmodel simulate --model`: the learnt object (a squat box: it would slide on a tilted
+    // palm before it toppled) slid on a table; the truth is in the model's frame (its CoM is
+    // the model's).
+    let sims = d.join("sims");
+    let r = run(&[
+        "simulate".to_string(),
+        "slide".into(),
+        "--model".into(),
+        s(&model),
+        "--mass".into(),
+        "0.6".into(),
+        "--json".into(),
+        "-o".into(),
+        s(&sims),
+    ])
+    .ok();
+    let v: serde_json::Value = serde_json::from_str(&r.stdout).expect("JSON");
+    let com: Vec<f64> = v["truth"]["com"]
+        .as_array()
+        .expect("truth.com")
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    let want = tree.com.as_ref().expect("a CoM").point;
+    assert!((nalgebra::Vector3::new(com[0], com[1], com[2]) - want).norm() < 1e-9);
+    assert_eq!(v["truth"]["kind"], "slide");
+    let r = run(&[
+        "simulate".to_string(),
+        "topple".into(),
+        "--model".into(),
+        s(&d.join("open.json")),
+        "-o".into(),
+        s(&sims),
+    ])
+    .fails();
+    r.check(
+        r.stderr.contains("open.json") && r.stderr.contains("no closed shape"),
+        "simulating an open model names it and says why",
+    );
 }

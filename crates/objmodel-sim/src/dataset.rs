@@ -7,6 +7,7 @@
 use crate::demo::{simulate_clean, write_demo, SimOptions};
 use crate::noise::TrackerNoise;
 use crate::spec::{BoxFace, BoxSpec, TagMount};
+use crate::turned::Turn;
 use crate::{Result, SceneKind, SimError};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -23,6 +24,12 @@ pub struct DatasetPlan {
     pub noises: Vec<TrackerNoise>,
     /// Seeds per (box, kind) cell.
     pub seeds: Vec<u64>,
+    /// Kinds also demonstrated with each box turned onto another face ([`Turn`]): the scenes
+    /// start every box on its `-z` face, so without them no demonstration shows its top face,
+    /// nor the faces of edges too steep to topple over from there, and the learnt shape stays
+    /// open.
+    #[serde(default)]
+    pub turned: Vec<(Turn, SceneKind)>,
     /// Rates.
     pub options: SimOptions,
     /// Worker threads (scenes run in parallel).
@@ -65,8 +72,10 @@ pub fn standard_boxes() -> Vec<BoxSpec> {
     ]
 }
 
-/// The standard plan: 5 boxes × 5 kinds × (clean, real, noisy) × 3 seeds; `quick` keeps 4
-/// boxes and 1 seed.
+/// The standard plan: 5 boxes × 5 kinds × (clean, real, noisy) × 3 seeds, and the topples
+/// again with each box upside down (direct and instrumented) and standing on either `x` end
+/// (direct; left out for a box too wide to topple so); `quick` keeps 4 boxes, 1 seed and no
+/// turned boxes.
 pub fn standard_dataset(quick: bool) -> DatasetPlan {
     let mut boxes = standard_boxes();
     if quick {
@@ -80,6 +89,16 @@ pub fn standard_dataset(quick: bool) -> DatasetPlan {
             .filter_map(|n| TrackerNoise::preset(n))
             .collect(),
         seeds: if quick { vec![1] } else { vec![1, 2, 3] },
+        turned: if quick {
+            Vec::new()
+        } else {
+            vec![
+                (Turn::UpsideDown, SceneKind::Topple),
+                (Turn::UpsideDown, SceneKind::InstrumentedTopple),
+                (Turn::OnPosX, SceneKind::Topple),
+                (Turn::OnNegX, SceneKind::Topple),
+            ]
+        },
         options: SimOptions::default(),
         threads: std::thread::available_parallelism()
             .map(|n| n.get())
@@ -97,6 +116,9 @@ pub struct ManifestEntry {
     pub scene: String,
     /// Truth kind (topple, slide, general, compound).
     pub kind: String,
+    /// How the box was turned from standing on its bottom (`-z`) face, if it was.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub turned: Option<Turn>,
     /// Whether a palm was tracked.
     pub instrumented: bool,
     /// Box name.
@@ -157,7 +179,16 @@ fn run_cell(
     b: &BoxSpec,
     kind: SceneKind,
     seed: u64,
+    turn: Option<Turn>,
 ) -> CellOutcome {
+    let turned;
+    let (b, stem) = match turn {
+        Some(t) => {
+            turned = t.apply(b);
+            (&turned, format!("{}_{}-{}", b.name, kind.name(), t.name()))
+        }
+        None => (b, format!("{}_{}", b.name, kind.name())),
+    };
     let mut last_err = String::new();
     for attempt in 0..4u64 {
         let s = seed + 1000 * attempt;
@@ -165,7 +196,7 @@ fn run_cell(
             Ok(clean) => {
                 let mut entries = Vec::new();
                 for noise in &plan.noises {
-                    let name = format!("{}_{}_{}_s{}", b.name, kind.name(), noise.name, seed);
+                    let name = format!("{stem}_{}_s{seed}", noise.name);
                     let demo = clean.with_noise(noise);
                     let files = write_demo(dir, &name, &demo).map_err(|e| e.to_string())?;
                     let rel = |p: &PathBuf| {
@@ -177,6 +208,7 @@ fn run_cell(
                         name,
                         scene: kind.name().into(),
                         kind: kind.truth_kind().into(),
+                        turned: turn,
                         instrumented: demo.truth.instrumented,
                         r#box: b.name.clone(),
                         noise: noise.name.clone(),
@@ -190,11 +222,20 @@ fn run_cell(
                 }
                 return Ok((entries, clean.truth.duration));
             }
+            // Not every box can do every kind turned (a box too wide to topple standing on its
+            // end): that cell is left out.
+            Err(SimError::InvalidSpec(_)) if turn.is_some() => return Ok((Vec::new(), 0.0)),
             Err(SimError::InvalidSpec(m)) => return Err(m),
             Err(e) => last_err = format!("seed {s}: {e}"),
         }
     }
     Err(last_err)
+}
+
+/// A cell's name: box, kind (and turn) and seed.
+fn cell_name((b, kind, seed, turn): (&BoxSpec, SceneKind, u64, Option<Turn>)) -> String {
+    let turned = turn.map_or(String::new(), |t| format!("-{}", t.name()));
+    format!("{}_{}{turned}_s{seed}", b.name, kind.name())
 }
 
 /// Generate `plan` into `dir` (created if needed) and write `dir/manifest.json`, calling
@@ -217,7 +258,12 @@ pub fn write_dataset(
     for b in &plan.boxes {
         for &kind in &plan.kinds {
             for &seed in &plan.seeds {
-                cells.push((b, kind, seed));
+                cells.push((b, kind, seed, None));
+                for (turn, k) in &plan.turned {
+                    if *k == kind {
+                        cells.push((b, kind, seed, Some(*turn)));
+                    }
+                }
             }
         }
     }
@@ -234,18 +280,17 @@ pub fn write_dataset(
                 if i >= cells.len() {
                     break;
                 }
-                let (b, kind, seed) = cells[i];
-                let _ = tx.send((i, run_cell(dir, plan, b, kind, seed)));
+                let (b, kind, seed, flipped) = cells[i];
+                let _ = tx.send((i, run_cell(dir, plan, b, kind, seed, flipped)));
             });
         }
         drop(tx);
         for (done, (i, r)) in rx.iter().enumerate() {
-            let (b, kind, seed) = cells[i];
             results[i] = Some(r);
             progress(&Progress {
                 done: done + 1,
                 total,
-                name: format!("{}_{}_s{}", b.name, kind.name(), seed),
+                name: cell_name(cells[i]),
             });
         }
     });
@@ -253,13 +298,12 @@ pub fn write_dataset(
     let mut failures = Vec::new();
     let mut simulated = 0.0;
     for (i, r) in results.into_iter().enumerate() {
-        let (b, kind, seed) = cells[i];
         match r.expect("every cell reports") {
             Ok((entries, dur)) => {
                 demos.extend(entries);
                 simulated += dur;
             }
-            Err(m) => failures.push((format!("{}_{}_s{}", b.name, kind.name(), seed), m)),
+            Err(m) => failures.push((cell_name(cells[i]), m)),
         }
     }
     let manifest = Manifest {

@@ -3,14 +3,18 @@
 //! A simulated world that produces demonstrations for `objmodel`, with exact ground truth: the
 //! stand-in for the robot, the camera and the user of Sanan, Bretan & Heck (IROS 2019).
 //!
-//! * [`spec`]: boxes (size, mass, offset centre of mass, friction) and the tag stuck on them.
+//! * [`spec`]: boxes (size, mass, offset centre of mass, friction) and the tag stuck on them;
+//!   [`turned`]: the same box resting on another face; [`rigid`]: a rigid body in its own
+//!   frame, from a spec, a learnt model ([`learnt`], which also puts it in the scenes) or a
+//!   URDF ([`urdf_body`]); [`onset`]: the tilt at which it starts to topple on a palm.
 //! * [`world`]: rapier3d-f64 tuned for accurate toppling (no contact recycling, Coulomb
 //!   friction, stiff contacts); [`convert`] is the one glam ↔ nalgebra boundary.
 //! * [`scenes`]: direct topple, instrumented topple, slide, general motion, compound.
 //! * [`noise`]: tracking noise (Gaussian, dropped frames, sign flips, tag mirror flips).
 //! * [`events`], [`truth`]: what really happened, in the tag frame.
 //! * [`demo`]: [`simulate`] and [`write_demo`]; [`dataset`]: the standard data set.
-//! * [`eval`]: the learner measured against the truth of a data set.
+//! * [`eval`]: the learner measured against the truth of a data set; [`claims`]: the learnt
+//!   model against the true box in simulation (corners, CoM, topple onsets on a palm).
 //! * [`arm`]: a 7-DoF Franka Panda with a palm (URDF, kinematics, IK, rapier multibody).
 //! * [`task`]: the toppling skill on the arm and the Fig. 1 loop (try, fail, ask for a
 //!   demonstration, learn, succeed).
@@ -30,16 +34,22 @@
 #![warn(missing_docs)]
 
 pub mod arm;
+pub mod claims;
 pub mod convert;
 pub mod dataset;
 pub mod demo;
 pub mod eval;
 pub mod events;
+pub mod learnt;
 pub mod noise;
+pub mod onset;
+pub mod rigid;
 pub mod scenes;
 pub mod spec;
 pub mod task;
 pub mod truth;
+pub mod turned;
+pub mod urdf_body;
 pub mod world;
 
 pub use dataset::{standard_dataset, write_dataset, DatasetPlan, Manifest, Progress};

@@ -137,6 +137,11 @@ pub struct BoxSpec {
     pub friction: f64,
     /// The tracking tag.
     pub tag: TagMount,
+    /// A learnt object in place of the box ([`crate::learnt`]): its body and tag frame
+    /// replace those the numbers above describe (which then give its extents and CoM for the
+    /// scenes' scripts).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub learnt: Option<crate::learnt::Learnt>,
 }
 
 impl BoxSpec {
@@ -149,6 +154,7 @@ impl BoxSpec {
             com_offset: [0.0; 3],
             friction: 0.8,
             tag: TagMount::centred(BoxFace::PosX),
+            learnt: None,
         }
     }
 
@@ -195,6 +201,9 @@ impl BoxSpec {
 
     /// The tag frame in the box frame (see [`TagMount`]).
     pub fn box_from_tag(&self) -> Isometry3<f64> {
+        if let Some(l) = &self.learnt {
+            return l.box_from_tag;
+        }
         let h = self.half_extents();
         let n = self.tag.face.normal();
         let v = if self.tag.face.axis_sign().0 == 2 {

@@ -84,12 +84,20 @@ pub fn physics_world(p: &PhysicsParams) -> PhysicsWorld {
 
 /// The rigid body and collider of the box of `spec` at `world_from_box`, with friction `mu`
 /// (combined with the other surface's by the smaller). Its mass properties are the spec's mass,
-/// CoM and inertia, never derived from a density.
+/// CoM and inertia, never derived from a density. A learnt object's spec
+/// ([`crate::learnt::learnt_spec`]) gives the learnt body instead.
 pub fn box_builders(
     spec: &BoxSpec,
     mu: f64,
     world_from_box: &Isometry3<f64>,
 ) -> (RigidBodyBuilder, ColliderBuilder) {
+    if let Some(l) = &spec.learnt {
+        // A hull with no volume (which no closed learnt shape has) falls back to the box of the
+        // spec's extents below.
+        if let Some(b) = l.body.builders(mu, world_from_box) {
+            return b;
+        }
+    }
     let h = spec.half_extents();
     let mp = MassProperties::new(
         vec_from_na(&spec.com_box().coords),
@@ -156,6 +164,11 @@ impl World {
     pub fn add_box(&mut self, spec: &BoxSpec, mu: f64, world_from_box: &Isometry3<f64>) -> Body {
         let (body, col) = box_builders(spec, mu, world_from_box);
         self.pw.insert(body, col).0
+    }
+
+    /// A body from its builders (see [`crate::rigid::RigidModel::builders`]).
+    pub fn add_body(&mut self, body: RigidBodyBuilder, collider: ColliderBuilder) -> Body {
+        self.pw.insert(body, collider).0
     }
 
     /// Set the friction of every collider of `body`.

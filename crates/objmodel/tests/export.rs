@@ -73,8 +73,9 @@ fn the_exported_body_is_the_box() {
     }
 }
 
-/// The tree of the four upright topples alone never saw the top face: the export is an error
-/// that says the shape is open, and towards the top.
+/// The tree of the four upright topples alone never saw the top face: with their centre of
+/// mass it is inferred (marked so); without one, the export is an error that says the shape is
+/// open, and towards the top.
 #[test]
 fn an_open_shape_is_an_error_that_says_what_is_missing() {
     let b = SynthBox::random(&mut StdRng::seed_from_u64(3));
@@ -90,10 +91,25 @@ fn an_open_shape_is_an_error_that_says_what_is_missing() {
         d.name = format!("side{side}");
         learner.learn(&mut tree, &[Source::Memory(&d)]).unwrap();
     }
-    let e = Body::from_tree(&tree, 0.6, None).unwrap_err().to_string();
-    assert!(e.contains("open towards"), "{e}");
     // The top face's outward normal, in the tag frame: the tag sits on the top face.
     let up = b.box_from_tag.inverse() * Vector3::z();
+    // With the centre of mass the four pendulums give, the top face is inferred opposite the
+    // bottom one, and the export says so.
+    assert!(tree.com.is_some());
+    let body = Body::from_tree(&tree, 0.6, None).unwrap();
+    let inferred: Vec<_> = body
+        .shape
+        .faces
+        .iter()
+        .filter(|f| f.inferred.is_some())
+        .collect();
+    assert_eq!(inferred.len(), 1);
+    assert!(inferred[0].normal.dot(&up) > 0.99, "{}", inferred[0].normal);
+    assert!(body.notes.iter().any(|n| n.contains("never seen")));
+    // Without a centre of mass nothing bounds the top: the shape is open there.
+    tree.com = None;
+    let e = Body::from_tree(&tree, 0.6, None).unwrap_err().to_string();
+    assert!(e.contains("open towards"), "{e}");
     let first = e
         .split('[')
         .nth(1)

@@ -13,7 +13,7 @@ pub mod mjcf;
 pub mod urdf;
 
 use crate::mass;
-use crate::shape::{self, Shape};
+use crate::shape::Shape;
 use crate::tree::Tree;
 use crate::{Error, Result};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
@@ -69,7 +69,8 @@ impl Body {
                 "the friction coefficient must be >= 0, not {mu}"
             )));
         }
-        let shape = shape::reconstruct(&tree.learnt_faces())
+        let shape = tree
+            .reconstruct_shape()
             .map_err(|e| Error::Data(format!("no closed shape to export: {e}")))?;
         let uniform = mass::uniform(&shape);
         let mut notes = vec![format!(
@@ -79,6 +80,9 @@ impl Body {
         )];
         for (id, why) in &shape.left_out {
             notes.push(format!("face {id} left out of the shape: {why}"));
+        }
+        for why in &shape.assumptions {
+            notes.push(format!("shape: {why}"));
         }
         // A centre of mass outside the shape contradicts it: it is not used.
         let outside = |c: &Vector3<f64>| shape.outside(c).map_or(0.0, |(d, _)| d);

@@ -29,6 +29,7 @@ use crate::shape::{LearntFace, Shape};
 mod checks;
 mod file;
 mod pendulums;
+mod unconfirmed;
 pub use checks::Contradiction;
 use nalgebra::{Matrix3, Vector3};
 pub use pendulums::{CentreOfMass, Pendulum, PendulumObservation};
@@ -562,8 +563,35 @@ impl Tree {
     /// contradictions between them.
     fn refit_whole(&mut self) {
         self.com = self.centre_of_mass();
-        self.shape = crate::shape::reconstruct(&self.learnt_faces()).ok();
+        self.shape = self.reconstruct_shape().ok();
         self.contradictions = self.contradictions();
+    }
+
+    /// The shape of the learnt faces, with a face never seen inferred opposite a seen one from
+    /// the centre of mass ([`crate::shape::reconstruct_inferring`]; the CoM's standard
+    /// deviation is taken as its planes' RMS residual, at least [`SYSTEMATIC_POINT_M`]), and
+    /// without the faces seen once that cut into the shape of those seen more often or could
+    /// not have held the object at rest (`tree/unconfirmed.rs`; listed in its `left_out`).
+    pub fn reconstruct_shape(&self) -> Result<Shape, crate::shape::Incomplete> {
+        let com = self
+            .com
+            .as_ref()
+            .map(|c| (c.point, c.rms_residual_m.max(SYSTEMATIC_POINT_M)));
+        let mut out = self.unconfirmed_cuts(&self.learnt_faces(), com);
+        loop {
+            let kept: Vec<LearntFace> = self
+                .learnt_faces()
+                .into_iter()
+                .filter(|f| out.iter().all(|(id, _)| *id != f.id))
+                .collect();
+            let mut shape = crate::shape::reconstruct_inferring(&kept, com)?;
+            let unstable = self.unstable_rests(&shape, com);
+            if unstable.is_empty() {
+                shape.left_out.extend(out);
+                return Ok(shape);
+            }
+            out.extend(unstable);
+        }
     }
 
     /// The faces as the shape takes them.

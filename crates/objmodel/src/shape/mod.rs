@@ -13,6 +13,18 @@
 //! `δn ⟂ n` moves its plane at `x` by `δn · x`, so the vertex covariance is
 //! `A⁻¹ diag(σ_d² + |x_⊥|² σ_n² / 2) A⁻ᵀ` (per axis of `δn`, hence the half), `x_⊥` the part of
 //! `x` along the face.
+//!
+//! [`reconstruct_inferring`] closes a shape that the learnt faces leave open where a face was
+//! never seen but its opposite was, under a stated assumption: the unseen face is parallel to
+//! its opposite (as in a box) and the object's density is uniform along their common normal,
+//! so that the centre of mass lies halfway between them. Such a face is marked
+//! [`ShapeFace::inferred`] with the assumption; its offset's standard deviation is that of the
+//! opposite face's and twice the CoM's (the distance is twice the CoM's height), and says
+//! nothing of how wrong the assumption may be (a weight inside the object moves the face by
+//! twice the weight's offset of the CoM).
+
+mod inferred;
+pub use inferred::{opposite_id, reconstruct_inferring, OPPOSITE_RAD};
 
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
@@ -36,6 +48,13 @@ pub struct ShapeFace {
     /// Indices into [`Shape::vertices`] of the face's corners, counter-clockwise seen from
     /// outside.
     pub polygon: Vec<usize>,
+    /// Standard deviation of the offset \[m\].
+    #[serde(default)]
+    pub offset_sigma_m: f64,
+    /// The assumption under which the face was inferred, for a face never seen (see
+    /// [`reconstruct_inferring`]); absent for a face the data determine.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inferred: Option<String>,
 }
 
 /// The reconstructed shape.
@@ -51,6 +70,10 @@ pub struct Shape {
     pub extents: [Vector3<f64>; 2],
     /// Faces of the tree that were left out, and why.
     pub left_out: Vec<(String, String)>,
+    /// The assumptions the shape rests on beyond the data (one per inferred face); empty when
+    /// the data determine every face.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub assumptions: Vec<String>,
 }
 
 impl Shape {
@@ -98,7 +121,9 @@ impl std::fmt::Display for Incomplete {
                 write!(
                     f,
                     " (object frame): no face facing there has been seen; demonstrate a topple \
-                     onto it or away from it"
+                     onto it or away from it (e.g. turn the object over and topple it), or, \
+                     when the face opposite was seen, topples about three edges of different \
+                     directions, whose centre of mass lets the face be inferred"
                 )
             }
         }
@@ -201,6 +226,8 @@ pub fn reconstruct(learnt: &[LearntFace]) -> Result<Shape, Incomplete> {
             normal: p.n,
             offset: p.d,
             polygon: counter_clockwise(polygon, &vertices, &p.n),
+            offset_sigma_m: p.sigma_d,
+            inferred: None,
         });
     }
     let mut min = Vector3::repeat(f64::INFINITY);
@@ -215,6 +242,7 @@ pub fn reconstruct(learnt: &[LearntFace]) -> Result<Shape, Incomplete> {
         vertices: vertices.into_iter().map(|(v, _)| v).collect(),
         extents: [min, max],
         left_out,
+        assumptions: Vec::new(),
     })
 }
 

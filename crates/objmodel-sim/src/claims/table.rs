@@ -1,0 +1,160 @@
+//! The claims as a Markdown report: a summary line per box, then every tilting-palm
+//! experiment.
+
+use super::{onset_claim, onset_error_deg, BoxClaims, FaceOnset, ONSET_DEG, POSITION_M};
+use crate::onset::Onset;
+
+fn onset_cell(o: &Onset) -> String {
+    match o {
+        Onset::Topples(t) => format!("{:.2}", t.to_degrees()),
+        Onset::Slides(t) => format!("slides {:.1}", t.to_degrees()),
+        Onset::Neither => "none".into(),
+    }
+}
+
+fn pair_cells(p: Option<&[Onset; 2]>) -> String {
+    match p {
+        None => "| – | – | – ".into(),
+        Some(p) => format!(
+            "| {} | {} | {} ",
+            onset_cell(&p[0]),
+            onset_cell(&p[1]),
+            onset_error_deg(p).map_or("–".into(), |d| format!("{d:+.2}"))
+        ),
+    }
+}
+
+/// Worst |onset error| \[deg\] and how many experiments (of those where the true box topples)
+/// meet the claim, over `pairs`.
+fn summary<'a>(pairs: impl Iterator<Item = &'a [Onset; 2]>) -> (f64, usize, usize) {
+    let (mut worst, mut ok, mut n) = (0.0f64, 0, 0);
+    for p in pairs {
+        if !matches!(p[0], Onset::Topples(_)) {
+            continue;
+        }
+        n += 1;
+        ok += onset_claim(p) as usize;
+        worst = worst.max(onset_error_deg(p).map_or(f64::INFINITY, f64::abs));
+    }
+    (worst, ok, n)
+}
+
+/// Whether every claim holds for `b`: corners and CoM within [`POSITION_M`], and every onset
+/// where the true box topples within [`ONSET_DEG`] in each simulator that ran.
+pub fn holds(b: &BoxClaims) -> bool {
+    b.error.is_none()
+        && b.corner_error_m <= POSITION_M
+        && b.com_error_m <= POSITION_M
+        && b.onsets
+            .iter()
+            .all(|o| onset_claim(&o.rapier) && o.mujoco.as_ref().is_none_or(onset_claim))
+}
+
+/// The per-box summary table.
+pub fn summary_table(boxes: &[BoxClaims]) -> String {
+    let mut s = String::from(
+        "| box | demos | shape | corners [mm] | CoM [mm] | CoM from | rapier onset | MuJoCo onset | all claims |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
+    );
+    for b in boxes {
+        if let Some(e) = &b.error {
+            s += &format!(
+                "| {} | {} | – | – | – | – | – | – | no model: {e} |\n",
+                b.name, b.demos
+            );
+            continue;
+        }
+        let (wr, okr, nr) = summary(b.onsets.iter().map(|o| &o.rapier));
+        let mj: Vec<&[Onset; 2]> = b.onsets.iter().filter_map(|o| o.mujoco.as_ref()).collect();
+        let mujoco = if mj.is_empty() {
+            "not run".to_string()
+        } else {
+            let (wm, okm, nm) = summary(mj.into_iter());
+            format!("{wm:.2}°, {okm}/{nm}")
+        };
+        s += &format!(
+            "| {} | {} | {} | {:.2} | {:.2} | {} | {wr:.2}°, {okr}/{nr} | {mujoco} | {} |\n",
+            b.name,
+            b.demos,
+            b.shape,
+            b.corner_error_m * 1e3,
+            b.com_error_m * 1e3,
+            if b.com_learnt {
+                "pendulums"
+            } else {
+                "centroid"
+            },
+            if holds(b) { "yes" } else { "**no**" },
+        );
+    }
+    for b in boxes.iter().filter(|b| !b.assumptions.is_empty()) {
+        s += &format!(
+            "\n{}'s shape assumes: {}\n",
+            b.name,
+            b.assumptions.join("; ")
+        );
+    }
+    s
+}
+
+/// The report: `intro` (what was measured, how), the summary, `more` (further sections), then
+/// every experiment.
+pub fn markdown(intro: &str, boxes: &[BoxClaims], more: &str) -> String {
+    let mut s = String::from(intro);
+    s += &format!(
+        "\n## Per box\n\nClaims: corners and CoM within {:.0} mm, onset within {ONSET_DEG:.0}° \
+         of the true box's in the same simulator wherever the true box topples. Onset columns: \
+         worst |learnt − true| [deg] and experiments meeting the claim / experiments where the \
+         true box topples.\n\n",
+        POSITION_M * 1e3
+    );
+    s += &summary_table(boxes);
+    let (wr, okr, nr) = summary(
+        boxes
+            .iter()
+            .flat_map(|b| b.onsets.iter().map(|o| &o.rapier)),
+    );
+    let (wm, okm, nm) = summary(
+        boxes
+            .iter()
+            .flat_map(|b| b.onsets.iter().filter_map(|o| o.mujoco.as_ref())),
+    );
+    let within = |b: &&BoxClaims, x: f64| b.error.is_none() && x <= POSITION_M;
+    s += &format!(
+        "\nIn all: corners within {:.0} mm for {} of {} boxes, CoM for {}; onsets within \
+         {ONSET_DEG:.0}° in {okr} of {nr} rapier experiments (worst {wr:.2}°) and {okm} of {nm} \
+         MuJoCo ones (worst {wm:.2}°). A worst of inf° means the learnt body slid where the true \
+         box toppled.\n",
+        POSITION_M * 1e3,
+        boxes.iter().filter(|b| within(b, b.corner_error_m)).count(),
+        boxes.len(),
+        boxes.iter().filter(|b| within(b, b.com_error_m)).count(),
+    );
+    s += more;
+    s += "\n## Every experiment\n\nThe face of the true box it rests on and the box axis the \
+          tilt carries it towards; φ: quasi-static tipping angles [deg] of the true box and the \
+          learnt body; onsets [deg] of the true box, the learnt body and their difference, in \
+          each simulator. `slides X`: it slid first, at X°. Rows where the true box's \
+          `tan φ > μ` (it must slide first) are marked †.\n\n\
+          | box | face | toward | φ true | φ learnt | rapier true | rapier learnt | Δ | MuJoCo true | MuJoCo learnt | Δ |\n\
+          |---|---|---|---|---|---|---|---|---|---|---|\n";
+    for b in boxes {
+        for o in &b.onsets {
+            s += &row(&b.name, o);
+        }
+    }
+    s
+}
+
+fn row(name: &str, o: &FaceOnset) -> String {
+    format!(
+        "| {name} | {}{} | {} | {:.2} | {:.2} {}{}|\n",
+        o.face,
+        if o.slides_first { " †" } else { "" },
+        o.toward,
+        o.phi_deg[0],
+        o.phi_deg[1],
+        pair_cells(Some(&o.rapier)),
+        pair_cells(o.mujoco.as_ref()),
+    )
+}

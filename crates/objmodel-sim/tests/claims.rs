@@ -1,0 +1,73 @@
+//! Issue 19's claim on the standard data set (all demonstrations of each box at realistic
+//! noise learnt together), the parts that hold: every box gets a closed model, its CoM within
+//! 3 mm, and its corners within 3 mm for the four boxes where they are (the weighted box's are
+//! 3.5 mm off: docs/model-claims.md). The topple onsets within 1° do not hold for any box as a
+//! whole (1.0 to 1.8° worst, 7-8 of 8-12 experiments per box): the table reports them; here
+//! the experiment itself is checked: the true box starts to topple within half a degree of
+//! its quasi-static angle, in rapier and in MuJoCo, and the two simulators agree on the
+//! learnt body within half a degree.
+
+use objmodel_sim::claims::{learn_boxes, measure_box, POSITION_M};
+use objmodel_sim::onset::Onset;
+
+/// The Python with MuJoCo (`OBJMODEL_PYTHON`, else `python3`), or None (a failure when
+/// `OBJMODEL_REQUIRE_MUJOCO` is set).
+fn python_with_mujoco() -> Option<String> {
+    let python = std::env::var("OBJMODEL_PYTHON").unwrap_or_else(|_| "python3".into());
+    let ok = std::process::Command::new(&python)
+        .args(["-c", "import mujoco"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !ok && std::env::var_os("OBJMODEL_REQUIRE_MUJOCO").is_some() {
+        panic!("{python} cannot import mujoco, and OBJMODEL_REQUIRE_MUJOCO is set");
+    }
+    ok.then_some(python)
+}
+
+#[test]
+fn learnt_models_of_the_standard_boxes_meet_the_position_claims() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    let plan = objmodel_sim::standard_dataset(false);
+    objmodel_sim::write_dataset(&data, &plan, &mut |_| {}).unwrap();
+    let python = python_with_mujoco();
+    if python.is_none() {
+        eprintln!("no Python with mujoco: MuJoCo not run (set OBJMODEL_PYTHON)");
+    }
+    let work = dir.path().join("work");
+    for (spec, tree, demos) in learn_boxes(&data, "real", true).unwrap() {
+        let c = measure_box(&spec, &tree, demos, python.as_deref(), &work).unwrap();
+        eprintln!(
+            "{}: corners {:.2} mm, CoM {:.2} mm",
+            c.name,
+            c.corner_error_m * 1e3,
+            c.com_error_m * 1e3
+        );
+        assert!(c.error.is_none(), "{}: {:?}", c.name, c.error);
+        assert!(c.com_error_m <= POSITION_M, "{}", c.name);
+        if c.name != "weighted" {
+            assert!(c.corner_error_m <= POSITION_M, "{}", c.name);
+        }
+        for o in &c.onsets {
+            let phi = o.phi_deg[0].to_radians();
+            let mut pairs = vec![("rapier", o.rapier)];
+            pairs.extend(o.mujoco.map(|m| ("MuJoCo", m)));
+            for (sim, pair) in &pairs {
+                if let Onset::Topples(t) = pair[0] {
+                    assert!(
+                        (t - phi).abs() < 0.5f64.to_radians(),
+                        "{} {} towards {} in {sim}: true box at {t} rad, quasi-static {phi}",
+                        c.name,
+                        o.face,
+                        o.toward
+                    );
+                }
+            }
+            if let (Some(m), [_, Onset::Topples(r)]) = (o.mujoco, o.rapier) {
+                if let Onset::Topples(t) = m[1] {
+                    assert!((t - r).abs() < 0.5f64.to_radians(), "{} {}", c.name, o.face);
+                }
+            }
+        }
+    }
+}
