@@ -6,13 +6,19 @@
 //!   stops touching above [`CONTACT_OUT`] (hysteresis against numerical chatter);
 //! * the touching corners say what is in contact: a face (3 or 4 corners of one face), an edge
 //!   (its 2 corners), a vertex, or nothing;
-//! * a face contact is a rest when the box's speed is below [`REST_V`] and its turn rate below
-//!   [`REST_W`] (over ±5 samples), else a slide; an edge contact is a topple while the edge's
-//!   midpoint slips slower than [`EDGE_SLIP`] along the support, else general motion;
-//! * an impact starts when a corner reaches the support faster than [`IMPACT_SPEED`] and lasts
-//!   until every touching corner moves slower than [`SETTLE_SPEED`] along the support's normal
-//!   (at least [`MIN_STEPS`] samples, at most [`IMPACT_MAX`]), or until nothing touches (a
-//!   bounce);
+//! * a face contact whose box tilts (turn rate about a line in the support's plane above
+//!   [`TILT_W`] and above its spin about the normal, over ±5 samples) is an edge contact about
+//!   the edge of that face that moves least: the start of a topple, or rocking, before a corner has risen
+//!   [`CONTACT_IN`];
+//! * a face contact is a rest when the box's speed along the support is below [`REST_V`] and its
+//!   spin below [`REST_W`] (over ±5 samples; settling along the normal is not motion), else a
+//!   slide; an edge contact is a topple while the edge's midpoint slips slower than
+//!   [`EDGE_SLIP`] along the support, else general motion;
+//! * an impact starts when a corner reaches the support faster than [`IMPACT_SPEED`] (within
+//!   the distance it covers in 3 steps: the solver's speculative contacts act that early) and
+//!   lasts until every touching corner moves slower than [`SETTLE_SPEED`] along the support's
+//!   normal (at least [`MIN_STEPS`] samples, at most [`IMPACT_MAX`]), or until the box has left
+//!   the support again (a bounce);
 //! * while a hand holds the box (the scene's grasp intervals) the mode is `carried`.
 //!
 //! Runs of equal (mode, feature) become intervals; a run shorter than [`MIN_STEPS`] samples
@@ -26,7 +32,7 @@ use crate::events::{shared_edge, support_from_box};
 use crate::scenes::{Sample, SceneOutput};
 use crate::spec::{BoxFace, BoxSpec};
 use crate::truth::{arr, BoxFeatures, EdgeFeature, EdgeTruth, FaceFeature, ModeTruth};
-use nalgebra::{Point3, Vector3};
+use nalgebra::{Isometry3, Point3, Vector3};
 
 /// A corner closer than this to the support touches it \[m\].
 pub const CONTACT_IN: f64 = 3e-4;
@@ -42,6 +48,9 @@ pub const IMPACT_MAX: f64 = 0.05;
 pub const REST_V: f64 = 2e-3;
 /// See [`REST_V`] \[rad/s\].
 pub const REST_W: f64 = 0.02;
+/// A box on a face tilting faster than this about a line in the support's plane turns about an
+/// edge \[rad/s\].
+pub const TILT_W: f64 = 0.05;
 /// An edge contact whose midpoint slips faster than this is not a topple \[m/s\].
 pub const EDGE_SLIP: f64 = 0.01;
 /// Shortest run of samples kept as its own interval.
@@ -121,6 +130,15 @@ enum Contact {
     Vertex,
 }
 
+/// The edge contact where faces `a` and `b` meet, faces in the order of [`BoxFace::ALL`].
+fn edge_contact(a: BoxFace, b: BoxFace) -> Contact {
+    if face_index(a) <= face_index(b) {
+        Contact::Edge(a, b)
+    } else {
+        Contact::Edge(b, a)
+    }
+}
+
 /// The contact of a set of touching corners (bit mask over the 8 corners).
 fn contact_of(touch: u8) -> Contact {
     let n = touch.count_ones();
@@ -147,7 +165,7 @@ fn contact_of(touch: u8) -> Contact {
                 BoxFace::from_axis_sign(k, s)
             });
             let (a, b) = (faces.next().unwrap(), faces.next().unwrap());
-            return Contact::Edge(a, b);
+            return edge_contact(a, b);
         }
     }
     Contact::Vertex
@@ -167,10 +185,10 @@ fn label(s: &[Sample], h: &Vector3<f64>, out: &SceneOutput) -> Vec<(&'static str
     let n = s.len();
     let dt = if n > 1 { s[1].t - s[0].t } else { 1.0 };
     let corners: Vec<Point3<f64>> = (0..8).map(|j| corner(h, j)).collect();
-    let heights: Vec<[f64; 8]> = s
+    let sfb: Vec<Isometry3<f64>> = s.iter().map(support_from_box).collect();
+    let heights: Vec<[f64; 8]> = sfb
         .iter()
-        .map(|x| {
-            let sfb = support_from_box(x);
+        .map(|sfb| {
             let mut z = [0.0; 8];
             for j in 0..8 {
                 z[j] = (sfb * corners[j]).z;
@@ -179,10 +197,9 @@ fn label(s: &[Sample], h: &Vector3<f64>, out: &SceneOutput) -> Vec<(&'static str
         })
         .collect();
     let mut touch = vec![0u8; n];
-    for i in 0..n {
-        for j in 0..8 {
+    for (i, zs) in heights.iter().enumerate() {
+        for (j, &z) in zs.iter().enumerate() {
             let was = i > 0 && touch[i - 1] >> j & 1 == 1;
-            let z = heights[i][j];
             if z < CONTACT_IN || (was && z < CONTACT_OUT) {
                 touch[i] |= 1 << j;
             }
@@ -197,33 +214,62 @@ fn label(s: &[Sample], h: &Vector3<f64>, out: &SceneOutput) -> Vec<(&'static str
             (heights[b][j] - heights[a][j]) / ((b - a) as f64 * dt)
         }
     };
-    let moving = |i: usize| {
+    // Motion relative to the support over ±5 samples: in-plane speed, spin about the support's
+    // normal and tilt rate about a line in its plane.
+    let motion = |i: usize| {
         let (a, b) = (i.saturating_sub(5), (i + 5).min(n - 1));
         if a == b {
-            return false;
+            return (0.0, 0.0, 0.0);
         }
-        let (pa, pb) = (support_from_box(&s[a]), support_from_box(&s[b]));
+        let (pa, pb) = (sfb[a], sfb[b]);
         let t = s[b].t - s[a].t;
-        (pb.translation.vector - pa.translation.vector).norm() / t > REST_V
-            || pa.rotation.angle_to(&pb.rotation) / t > REST_W
+        let w = (pb.rotation * pa.rotation.inverse()).scaled_axis() / t;
+        let v = (pb.translation.vector - pa.translation.vector) / t;
+        (v.xy().norm(), w.z.abs(), w.xy().norm())
+    };
+    // A corner reaching the support: moving down faster than IMPACT_SPEED and within the
+    // distance it covers in 3 steps (the solver's speculative contacts act that early).
+    let near = |i: usize, j: usize| {
+        let v = -zdot(i, j, true);
+        v > IMPACT_SPEED && heights[i][j] < CONTACT_IN + 3.0 * v * dt
     };
     let mut labels = Vec::with_capacity(n);
     let mut impact_since: Option<usize> = None;
     for i in 0..n {
-        let contact = contact_of(touch[i]);
-        let arrivals = (0..8).any(|j| {
-            i > 0
-                && touch[i] >> j & 1 == 1
-                && touch[i - 1] >> j & 1 == 0
-                && -zdot(i, j, true) > IMPACT_SPEED
-        });
+        let mut contact = contact_of(touch[i]);
+        let (v_plane, spin, tilt) = motion(i);
+        if let Contact::Face(f) = contact {
+            // A face that tilts about a line on the support turns about the edge of that face
+            // that moves least.
+            if tilt > TILT_W && tilt > spin {
+                let (k, _) = f.axis_sign();
+                let (a, b) = (i.saturating_sub(5), (i + 5).min(n - 1));
+                let (pa, pb) = (sfb[a], sfb[b]);
+                let still = BoxFace::ALL
+                    .into_iter()
+                    .filter(|g| g.axis_sign().0 != k)
+                    .map(|g| {
+                        let c = edge_contact(f, g);
+                        let (ea, eb) = (edge_corner(f, g, 0), edge_corner(f, g, 1));
+                        let mid = Point3::from((corner(h, ea).coords + corner(h, eb).coords) * 0.5);
+                        (c, (pb * mid - pa * mid).norm())
+                    })
+                    .min_by(|x, y| x.1.total_cmp(&y.1));
+                if let Some((c, _)) = still {
+                    contact = c;
+                }
+            }
+        }
+        let arrivals = i > 0 && (0..8).any(|j| near(i, j) && !near(i - 1, j));
         if let Some(i0) = impact_since {
-            let settled = (0..8)
-                .filter(|&j| touch[i] >> j & 1 == 1)
-                .all(|j| zdot(i, j, false).abs() < SETTLE_SPEED);
-            let done = contact == Contact::None
-                || (settled && i - i0 >= MIN_STEPS)
-                || s[i].t - s[i0].t > IMPACT_MAX;
+            let touching: Vec<usize> = (0..8).filter(|&j| touch[i] >> j & 1 == 1).collect();
+            let settled = !touching.is_empty()
+                && touching
+                    .iter()
+                    .all(|&j| zdot(i, j, false).abs() < SETTLE_SPEED);
+            let bounced = touching.is_empty() && (0..8).all(|j| !near(i, j));
+            let done =
+                (i - i0 >= MIN_STEPS && (settled || bounced)) || s[i].t - s[i0].t > IMPACT_MAX;
             if done && !arrivals {
                 impact_since = None;
             }
@@ -239,7 +285,7 @@ fn label(s: &[Sample], h: &Vector3<f64>, out: &SceneOutput) -> Vec<(&'static str
             match contact {
                 Contact::None => "flight",
                 Contact::Face(_) => {
-                    if moving(i) {
+                    if v_plane > REST_V || spin > REST_W {
                         "slide"
                     } else {
                         "rest"
@@ -255,10 +301,7 @@ fn label(s: &[Sample], h: &Vector3<f64>, out: &SceneOutput) -> Vec<(&'static str
                     let slip = if ia == ib {
                         0.0
                     } else {
-                        let (ma, mb) = (
-                            support_from_box(&s[ia]) * mid,
-                            support_from_box(&s[ib]) * mid,
-                        );
+                        let (ma, mb) = (sfb[ia] * mid, sfb[ib] * mid);
                         (mb - ma).xy().norm() / (s[ib].t - s[ia].t)
                     };
                     if slip < EDGE_SLIP {
@@ -269,6 +312,12 @@ fn label(s: &[Sample], h: &Vector3<f64>, out: &SceneOutput) -> Vec<(&'static str
                 }
                 Contact::Vertex => "general",
             }
+        };
+        // In the hand, what touches the table does not matter.
+        let contact = if mode == "carried" {
+            Contact::None
+        } else {
+            contact
         };
         labels.push((mode, contact));
     }

@@ -55,7 +55,9 @@ fn check_modes(spec: &BoxSpec, out: &SceneOutput, truth: &Truth) {
                         (com(w[2]).coords - 2.0 * com(w[1]).coords + com(w[0]).coords) / (dt * dt);
                     assert!(
                         (a - Vector3::new(0.0, 0.0, -9.81)).norm() < 0.05,
-                        "flight at {:.3} s accelerates at {a:?}",
+                        "flight {:.3}-{:.3} s accelerates at {a:?} at {:.4} s",
+                        m.t0,
+                        m.t1,
                         s[w[1]].t
                     );
                 }
@@ -144,4 +146,50 @@ fn box_features_are_the_faces_and_edges_of_the_box() {
             }
         }
     }
+}
+
+#[test]
+fn topple_then_slide_topples_about_an_edge_then_slides_on_the_adjacent_face() {
+    for (b, seed) in [(0, 1), (2, 2), (4, 3)] {
+        let (spec, out, truth) = scene(SceneKind::ToppleSlide, b, seed);
+        check_modes(&spec, &out, &truth);
+        let big: Vec<&ModeTruth> = truth
+            .modes
+            .iter()
+            .filter(|m| {
+                (m.mode == "topple" && m.turn_deg > 30.0) || (m.mode == "slide" && m.travel > 0.02)
+            })
+            .collect();
+        assert_eq!(big.len(), 2, "{:?}", truth.modes);
+        let (topple, slide) = (big[0], big[1]);
+        assert_eq!(
+            (topple.mode.as_str(), slide.mode.as_str()),
+            ("topple", "slide")
+        );
+        // The box slides on the face it toppled onto: one of the edge's two faces, not the
+        // face it stood on first.
+        let e = topple.edge.as_ref().unwrap();
+        let f = slide.face.as_ref().unwrap();
+        assert!(e.faces.contains(&f.id), "{e:?} {f:?}");
+        assert_ne!(truth.modes[0].face.as_ref().unwrap().id, f.id);
+        assert!(slide.t0 > topple.t1);
+    }
+}
+
+#[test]
+fn session_holds_topples_slides_and_carries_with_rests_between() {
+    let (spec, out, truth) = scene(SceneKind::Session, 1, 1);
+    check_modes(&spec, &out, &truth);
+    let count = |k: &str, keep: &dyn Fn(&ModeTruth) -> bool| {
+        truth
+            .modes
+            .iter()
+            .filter(|m| m.mode == k && keep(m))
+            .count()
+    };
+    assert!(count("topple", &|m| m.turn_deg > 30.0) >= 1);
+    assert!(count("slide", &|m| m.travel > 0.02) >= 1);
+    assert!(count("carried", &|_| true) >= 1);
+    assert!(count("rest", &|m| m.t1 - m.t0 > 0.4) >= 5);
+    assert!(truth.duration > 10.0);
 }
