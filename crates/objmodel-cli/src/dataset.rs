@@ -20,11 +20,12 @@ pub struct DatasetArgs {
     /// Output folder (created if needed).
     #[arg(short, long, default_value = "data")]
     pub output: PathBuf,
-    /// A small set: 4 boxes and 1 seed instead of 5 boxes and 3 seeds.
+    /// A small set: 4 boxes, 1 seed and the original five kinds only (no compounds
+    /// topple-then-slide, sessions or tosses unless --tosses).
     #[arg(long)]
     pub quick: bool,
-    /// Tosses in all, spread over the boxes in turn (default 15, or 4 with --quick); e.g.
-    /// `--tosses 500` for the toss benchmark.
+    /// Tosses in all, spread over the boxes in turn, each also at motion-capture noise
+    /// (default 15, none with --quick); e.g. `--tosses 500` for the toss benchmark.
     #[arg(long)]
     pub tosses: Option<usize>,
     /// Worker threads (default: up to 2).

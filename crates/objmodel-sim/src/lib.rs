@@ -6,9 +6,12 @@
 //! * [`spec`]: boxes (size, mass, offset centre of mass, friction) and the tag stuck on them.
 //! * [`world`]: rapier3d-f64 tuned for accurate toppling (no contact recycling, Coulomb
 //!   friction, stiff contacts); [`convert`] is the one glam ↔ nalgebra boundary.
-//! * [`scenes`]: direct topple, instrumented topple, slide, general motion, compound.
-//! * [`noise`]: tracking noise (Gaussian, dropped frames, sign flips, tag mirror flips).
-//! * [`events`], [`truth`]: what really happened, in the tag frame.
+//! * [`scenes`]: direct topple, instrumented topple, slide, general motion, compound
+//!   (slide then topple); and the messy ones: topple then slide, toss, session.
+//! * [`noise`]: tracking noise (Gaussian, dropped frames, sign flips, tag mirror flips; camera
+//!   and motion-capture presets).
+//! * [`events`], [`modes`], [`truth`]: what really happened, in the tag frame; [`modes`] the
+//!   contact mode of every interval (see `docs/dataset.md`).
 //! * [`demo`]: [`simulate`] and [`write_demo`]; [`dataset`]: the standard data set.
 //! * [`eval`]: the learner measured against the truth of a data set.
 //! * [`arm`]: a 7-DoF Franka Panda with a palm (URDF, kinematics, IK, rapier multibody).

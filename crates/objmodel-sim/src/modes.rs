@@ -171,7 +171,7 @@ fn contact_of(touch: u8) -> Contact {
     Contact::Vertex
 }
 
-/// Intervals of `[begin, end)` sample ranges during which a hand holds the box.
+/// Whether a hand holds the box at time `t` (the scene's carry and grasp intervals).
 fn held(out: &SceneOutput, t: f64) -> bool {
     out.script
         .carry
