@@ -2,7 +2,7 @@
 //! manifest.
 
 use anyhow::{bail, Context, Result};
-use objmodel_sim::dataset::standard_dataset;
+use objmodel_sim::dataset::{standard_dataset, with_tosses};
 use objmodel_sim::write_dataset;
 use std::path::PathBuf;
 
@@ -11,14 +11,23 @@ use std::path::PathBuf;
 #[command(after_help = "\
 Writes, for each standard box (one with an offset centre of mass) x each kind (topple,
 instrumented, slide, general, compound) x each seed, the demo at three noise levels (clean,
-real, noisy) — NAME.tum, NAME.palm.tum, NAME.truth.json — and OUT/manifest.json listing them.")]
+real, noisy) — NAME.tum, NAME.palm.tum, NAME.truth.json — and OUT/manifest.json listing them.
+Besides: topple-then-slide compounds, one long session per box and tosses (box thrown onto a
+table), and motion-capture versions (noise 0.1-0.5 mm, 0.05-0.3 deg, 120-240 Hz) of the
+instrumented topples, compounds, sessions and tosses. Every truth file lists the contact mode
+of each interval (`modes`) and the box's faces and edges (`features`); see docs/dataset.md.")]
 pub struct DatasetArgs {
     /// Output folder (created if needed).
     #[arg(short, long, default_value = "data")]
     pub output: PathBuf,
-    /// A small set: 4 boxes and 1 seed instead of 5 boxes and 3 seeds.
+    /// A small set: 4 boxes, 1 seed and the original five kinds only (no compounds
+    /// topple-then-slide, sessions or tosses unless --tosses).
     #[arg(long)]
     pub quick: bool,
+    /// Tosses in all, spread over the boxes in turn, each also at motion-capture noise
+    /// (default 15, none with --quick); e.g. `--tosses 500` for the toss benchmark.
+    #[arg(long)]
+    pub tosses: Option<usize>,
     /// Worker threads (default: up to 2).
     #[arg(long)]
     pub threads: Option<usize>,
@@ -30,6 +39,9 @@ pub struct DatasetArgs {
 /// Run `objmodel dataset`.
 pub fn run(a: &DatasetArgs) -> Result<()> {
     let mut plan = standard_dataset(a.quick);
+    if let Some(n) = a.tosses {
+        plan = with_tosses(plan, n);
+    }
     if let Some(t) = a.threads {
         if t == 0 {
             bail!("--threads must be at least 1");

@@ -23,7 +23,7 @@
 
 use crate::model_edges::shape_edges;
 use nalgebra::Vector3;
-use objmodel::shape::{reconstruct, Incomplete, Shape};
+use objmodel::shape::{Incomplete, Shape};
 use objmodel::tree::{Face, Tree};
 use serde::Serialize;
 use std::collections::HashSet;
@@ -167,7 +167,7 @@ impl ModelDrawing {
         };
         let built = match &tree.shape {
             Some(s) => Ok(s.clone()),
-            None => reconstruct(&tree.learnt_faces()),
+            None => tree.reconstruct_shape(),
         };
         let (centre, radius) = frame(tree, built.as_ref().ok());
         let mut features = Vec::new();
@@ -178,7 +178,10 @@ impl ModelDrawing {
                 features.push(Feature {
                     kind: FeatureKind::Face,
                     id: sf.id.clone(),
-                    known: status(&sf.id),
+                    known: match (&sf.inferred, status(&sf.id)) {
+                        (Some(_), Known::Seen) => Known::Inferred,
+                        (_, k) => k,
+                    },
                     points: sf
                         .polygon
                         .iter()
@@ -186,10 +189,13 @@ impl ModelDrawing {
                         .collect(),
                     support: face.map(|f| f.n_support),
                     sigma_m: face.and_then(|f| f.offset_sigma_m),
-                    info: face.map_or_else(
-                        || format!("face {} of the shape (not in the tree's faces)", sf.id),
-                        face_info,
-                    ),
+                    info: match &sf.inferred {
+                        Some(why) => format!("face {} inferred: {why}", sf.id),
+                        None => face.map_or_else(
+                            || format!("face {} of the shape (not in the tree's faces)", sf.id),
+                            face_info,
+                        ),
+                    },
                 });
             }
             features.extend(shape_edges(tree, shape, &status));
@@ -329,6 +335,7 @@ fn empty_shape(centre: Vector3<f64>, radius: f64) -> Shape {
         vertex_sigma_m: Vec::new(),
         extents: [centre - r, centre + r],
         left_out: Vec::new(),
+        assumptions: Vec::new(),
     }
 }
 

@@ -1,14 +1,19 @@
 //! The standard data set: several boxes (one with an offset centre of mass) × every kind of
-//! demonstration × three noise levels × a few seeds, with a `manifest.json`.
+//! demonstration × three noise levels × a few seeds, with a `manifest.json`; and the messy
+//! scenes of issue 20 (topple-then-slide compounds, long sessions, tosses), some of them also
+//! at motion-capture noise and rate.
 //!
-//! Each (box, kind, seed) is simulated once; the three noise levels are drawn on the same clean
-//! trajectory, so noise is the only difference between them.
+//! Each (box, kind, seed) is simulated once; the noise levels are drawn on the same clean
+//! trajectory, so noise (and, for motion capture, the tracking rate) is the only difference
+//! between them.
 
-use crate::demo::{simulate_clean, write_demo, SimOptions};
+use crate::demo::{clean_demo, run_scene, tracked, write_demo, CleanDemo, SimOptions};
 use crate::noise::TrackerNoise;
 use crate::spec::{BoxFace, BoxSpec, TagMount};
 use crate::turned::Turn;
 use crate::{Result, SceneKind, SimError};
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -34,6 +39,18 @@ pub struct DatasetPlan {
     pub options: SimOptions,
     /// Worker threads (scenes run in parallel).
     pub threads: usize,
+    /// Messy scenes made for every box besides `kinds`: each kind with its number of seeds
+    /// (seeds 1..=n).
+    #[serde(default)]
+    pub messy: Vec<(SceneKind, usize)>,
+    /// Tosses in all: toss `k` (1..=tosses) throws box `(k − 1) mod boxes` with seed `k`.
+    #[serde(default)]
+    pub tosses: usize,
+    /// Kinds also written at motion-capture noise ([`TrackerNoise::mocap_drawn`]: sigmas drawn
+    /// per demo) and rate (one of [`TrackerNoise::MOCAP_RATES`] drawn per demo), named
+    /// `..._mocap_...`, besides `noises`.
+    #[serde(default)]
+    pub mocap_kinds: Vec<SceneKind>,
 }
 
 /// The standard boxes, each with its own tag sticker:
@@ -72,10 +89,13 @@ pub fn standard_boxes() -> Vec<BoxSpec> {
     ]
 }
 
-/// The standard plan: 5 boxes × 5 kinds × (clean, real, noisy) × 3 seeds, and the topples
-/// again with each box upside down (direct and instrumented) and standing on either `x` end
-/// (direct; left out for a box too wide to topple so); `quick` keeps 4 boxes, 1 seed and no
-/// turned boxes.
+/// The standard plan: 5 boxes × 5 kinds × (clean, real, noisy) × 3 seeds; the topples again
+/// with each box upside down (direct and instrumented) and standing on either `x` end (direct;
+/// left out for a box too wide to topple so); and besides: topple-then-slide compounds (2
+/// seeds per box), one session per box, 3 tosses per box, and motion-capture versions of the
+/// instrumented topples, both compounds, the sessions and the tosses. `quick` keeps 4 boxes,
+/// 1 seed, no turned boxes and only the original five kinds. [`with_tosses`] sets the tosses
+/// (with `quick` too).
 pub fn standard_dataset(quick: bool) -> DatasetPlan {
     let mut boxes = standard_boxes();
     if quick {
@@ -104,7 +124,30 @@ pub fn standard_dataset(quick: bool) -> DatasetPlan {
             .map(|n| n.get())
             .unwrap_or(1)
             .min(2),
+        messy: if quick {
+            vec![]
+        } else {
+            vec![(SceneKind::ToppleSlide, 2), (SceneKind::Session, 1)]
+        },
+        tosses: if quick { 0 } else { 15 },
+        mocap_kinds: if quick {
+            vec![SceneKind::Toss]
+        } else {
+            vec![
+                SceneKind::InstrumentedTopple,
+                SceneKind::Compound,
+                SceneKind::ToppleSlide,
+                SceneKind::Toss,
+                SceneKind::Session,
+            ]
+        },
     }
+}
+
+/// `plan` with `n` tosses in all (see [`DatasetPlan::tosses`]).
+pub fn with_tosses(mut plan: DatasetPlan, n: usize) -> DatasetPlan {
+    plan.tosses = n;
+    plan
 }
 
 /// One demo in the manifest.
@@ -137,6 +180,9 @@ pub struct ManifestEntry {
     pub frames: usize,
     /// Duration \[s\].
     pub duration: f64,
+    /// Tracking rate \[Hz\].
+    #[serde(default)]
+    pub rate_hz: f64,
 }
 
 /// `manifest.json`.
@@ -173,6 +219,23 @@ pub struct Progress {
 type CellOutcome = std::result::Result<(Vec<ManifestEntry>, f64), String>;
 type CellResult = (usize, CellOutcome);
 
+/// The noise levels and tracking rates of one cell: the plan's levels at its rate, then for a
+/// [`DatasetPlan::mocap_kinds`] kind motion capture with drawn sigmas and rate.
+fn cell_noises(plan: &DatasetPlan, kind: SceneKind, seed: u64) -> Vec<(TrackerNoise, f64)> {
+    let mut v: Vec<(TrackerNoise, f64)> = plan
+        .noises
+        .iter()
+        .map(|n| (n.clone(), plan.options.rate_hz))
+        .collect();
+    if plan.mocap_kinds.contains(&kind) {
+        let mut rng = StdRng::seed_from_u64(seed ^ 0x006d_6f63_6170 ^ (kind as u64) << 40);
+        let rates = TrackerNoise::MOCAP_RATES;
+        let rate = rates[rng.random_range(0..rates.len())];
+        v.push((TrackerNoise::mocap_drawn(&mut rng), rate));
+    }
+    v
+}
+
 fn run_cell(
     dir: &Path,
     plan: &DatasetPlan,
@@ -192,41 +255,82 @@ fn run_cell(
     let mut last_err = String::new();
     for attempt in 0..4u64 {
         let s = seed + 1000 * attempt;
-        match simulate_clean(kind, b, s, &plan.options) {
-            Ok(clean) => {
-                let mut entries = Vec::new();
-                for noise in &plan.noises {
-                    let name = format!("{stem}_{}_s{seed}", noise.name);
-                    let demo = clean.with_noise(noise);
-                    let files = write_demo(dir, &name, &demo).map_err(|e| e.to_string())?;
-                    let rel = |p: &PathBuf| {
-                        p.file_name()
-                            .map(|f| f.to_string_lossy().into_owned())
-                            .unwrap_or_default()
-                    };
-                    entries.push(ManifestEntry {
-                        name,
-                        scene: kind.name().into(),
-                        kind: kind.truth_kind().into(),
-                        turned: turn,
-                        instrumented: demo.truth.instrumented,
-                        r#box: b.name.clone(),
-                        noise: noise.name.clone(),
-                        seed: s,
-                        tum: rel(&files.tum),
-                        palm: files.palm.as_ref().map(rel),
-                        truth: rel(&files.truth),
-                        frames: demo.object.len(),
-                        duration: demo.truth.duration,
-                    });
-                }
-                return Ok((entries, clean.truth.duration));
-            }
+        let out = match run_scene(kind, b, s, &plan.options) {
+            Ok(out) => out,
             // Not every box can do every kind turned (a box too wide to topple standing on its
             // end): that cell is left out.
             Err(SimError::InvalidSpec(_)) if turn.is_some() => return Ok((Vec::new(), 0.0)),
             Err(SimError::InvalidSpec(m)) => return Err(m),
-            Err(e) => last_err = format!("seed {s}: {e}"),
+            Err(e) => {
+                last_err = format!("seed {s}: {e}");
+                continue;
+            }
+        };
+        let mut entries = Vec::new();
+        let mut clean_at: Vec<(f64, CleanDemo)> = Vec::new();
+        let mut duration = 0.0;
+        for (noise, rate) in cell_noises(plan, kind, seed) {
+            if !clean_at.iter().any(|(r, _)| *r == rate) {
+                let made = match clean_at.first() {
+                    // Another rate of the same run: the same truth, tracked anew.
+                    Some((_, first)) => {
+                        let (object, palm) = tracked(&out, b, rate);
+                        let mut truth = first.truth.clone();
+                        truth.rate_hz = rate;
+                        Ok(CleanDemo {
+                            kind,
+                            object,
+                            palm: out.script.palm.then_some(palm),
+                            truth,
+                        })
+                    }
+                    None => {
+                        let opts = SimOptions {
+                            rate_hz: rate,
+                            ..plan.options
+                        };
+                        clean_demo(kind, b, s, &out, &opts)
+                    }
+                };
+                match made {
+                    Ok(c) => clean_at.push((rate, c)),
+                    Err(e) => {
+                        last_err = format!("seed {s}: {e}");
+                        break;
+                    }
+                }
+            }
+            let Some((_, clean)) = clean_at.iter().find(|(r, _)| *r == rate) else {
+                break;
+            };
+            duration = clean.truth.duration;
+            let name = format!("{stem}_{}_s{seed}", noise.name);
+            let demo = clean.with_noise(&noise);
+            let files = write_demo(dir, &name, &demo).map_err(|e| e.to_string())?;
+            let rel = |p: &PathBuf| {
+                p.file_name()
+                    .map(|f| f.to_string_lossy().into_owned())
+                    .unwrap_or_default()
+            };
+            entries.push(ManifestEntry {
+                name,
+                scene: kind.name().into(),
+                kind: kind.truth_kind().into(),
+                turned: turn,
+                instrumented: demo.truth.instrumented,
+                r#box: b.name.clone(),
+                noise: noise.name.clone(),
+                seed: s,
+                tum: rel(&files.tum),
+                palm: files.palm.as_ref().map(rel),
+                truth: rel(&files.truth),
+                frames: demo.object.len(),
+                duration: demo.truth.duration,
+                rate_hz: rate,
+            });
+        }
+        if entries.len() == cell_noises(plan, kind, seed).len() {
+            return Ok((entries, duration));
         }
     }
     Err(last_err)
@@ -265,6 +369,23 @@ pub fn write_dataset(
                     }
                 }
             }
+        }
+    }
+    for b in &plan.boxes {
+        for &(kind, n) in &plan.messy {
+            for seed in 1..=n as u64 {
+                cells.push((b, kind, seed, None));
+            }
+        }
+    }
+    if !plan.boxes.is_empty() {
+        for k in 1..=plan.tosses {
+            cells.push((
+                &plan.boxes[(k - 1) % plan.boxes.len()],
+                SceneKind::Toss,
+                k as u64,
+                None,
+            ));
         }
     }
     let total = cells.len();

@@ -91,6 +91,9 @@ fn kind_salt(kind: SceneKind) -> u64 {
         SceneKind::Slide => 0x3333,
         SceneKind::General => 0x4444,
         SceneKind::Compound => 0x5555,
+        SceneKind::ToppleSlide => 0x6666,
+        SceneKind::Toss => 0x7777,
+        SceneKind::Session => 0x8888,
     }
 }
 
@@ -101,6 +104,17 @@ pub fn simulate_clean(
     seed: u64,
     opts: &SimOptions,
 ) -> Result<CleanDemo> {
+    let out = run_scene(kind, spec, seed, opts)?;
+    clean_demo(kind, spec, seed, &out, opts)
+}
+
+/// Run the scene of `kind` for `seed`: its full-rate record.
+pub fn run_scene(
+    kind: SceneKind,
+    spec: &BoxSpec,
+    seed: u64,
+    opts: &SimOptions,
+) -> Result<SceneOutput> {
     spec.validate()?;
     if !(opts.rate_hz > 0.0 && opts.rate_hz <= opts.physics.step_hz) {
         return Err(SimError::InvalidSpec(format!(
@@ -110,15 +124,28 @@ pub fn simulate_clean(
     }
     let mut rng = StdRng::seed_from_u64(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ kind_salt(kind));
     let p = &opts.physics;
-    let out = match kind {
+    Ok(match kind {
         SceneKind::Topple => scenes::topple::run(spec, p, &mut rng)?,
         SceneKind::InstrumentedTopple => scenes::instrumented::run(spec, p, &mut rng)?,
         SceneKind::Slide => scenes::slide::run(spec, p, &mut rng)?,
         SceneKind::General => scenes::general::run(spec, p, &mut rng)?,
         SceneKind::Compound => scenes::compound::run(spec, p, &mut rng)?,
-    };
-    let truth = truth_of(kind, spec, seed, &out, opts)?;
-    let (object, palm) = tracked(&out, spec, opts.rate_hz);
+        SceneKind::ToppleSlide => scenes::topple_slide::run(spec, p, &mut rng)?,
+        SceneKind::Toss => scenes::toss::run(spec, p, &mut rng)?,
+        SceneKind::Session => scenes::session::run(spec, p, &mut rng)?,
+    })
+}
+
+/// The clean demonstration of a finished scene, tracked at `opts.rate_hz`, with its truth.
+pub fn clean_demo(
+    kind: SceneKind,
+    spec: &BoxSpec,
+    seed: u64,
+    out: &SceneOutput,
+    opts: &SimOptions,
+) -> Result<CleanDemo> {
+    let truth = truth_of(kind, spec, seed, out, opts)?;
+    let (object, palm) = tracked(out, spec, opts.rate_hz);
     let palm = out.script.palm.then_some(palm);
     Ok(CleanDemo {
         kind,
@@ -222,6 +249,8 @@ pub fn truth_of(
         physics_hz: out.step_hz,
         noise: TrackerNoise::clean(),
         script: out.script.notes.iter().cloned().collect(),
+        features: crate::modes::box_features(spec),
+        modes: crate::modes::contact_modes(spec, out),
     })
 }
 

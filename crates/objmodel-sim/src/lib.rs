@@ -9,9 +9,12 @@
 //!   URDF ([`urdf_body`]); [`onset`]: the tilt at which it starts to topple on a palm.
 //! * [`world`]: rapier3d-f64 tuned for accurate toppling (no contact recycling, Coulomb
 //!   friction, stiff contacts); [`convert`] is the one glam ↔ nalgebra boundary.
-//! * [`scenes`]: direct topple, instrumented topple, slide, general motion, compound.
-//! * [`noise`]: tracking noise (Gaussian, dropped frames, sign flips, tag mirror flips).
-//! * [`events`], [`truth`]: what really happened, in the tag frame.
+//! * [`scenes`]: direct topple, instrumented topple, slide, general motion, compound
+//!   (slide then topple); and the messy ones: topple then slide, toss, session.
+//! * [`noise`]: tracking noise (Gaussian, dropped frames, sign flips, tag mirror flips; camera
+//!   and motion-capture presets).
+//! * [`events`], [`modes`], [`truth`]: what really happened, in the tag frame; [`modes`] the
+//!   contact mode of every interval (see `docs/dataset.md`).
 //! * [`demo`]: [`simulate`] and [`write_demo`]; [`dataset`]: the standard data set.
 //! * [`eval`]: the learner measured against the truth of a data set; [`claims`]: the learnt
 //!   model against the true box in simulation (corners, CoM, topple onsets on a palm).
@@ -41,6 +44,7 @@ pub mod demo;
 pub mod eval;
 pub mod events;
 pub mod learnt;
+pub mod modes;
 pub mod noise;
 pub mod onset;
 pub mod rigid;
@@ -97,10 +101,17 @@ pub enum SceneKind {
     General,
     /// A slide, then a topple, in one demonstration.
     Compound,
+    /// A topple, then a slide on the new face, in one demonstration.
+    ToppleSlide,
+    /// A box thrown onto a table: flight, impacts, bounces, slides, rolls, rest.
+    Toss,
+    /// A long session: several topples, slides and carries in a row, with rests between.
+    Session,
 }
 
 impl SceneKind {
-    /// Every kind.
+    /// The kinds of the original standard dataset: one demonstration each (the compound is a
+    /// slide and a topple). [`SceneKind::MESSY`] lists the others.
     pub const ALL: [SceneKind; 5] = [
         SceneKind::Topple,
         SceneKind::InstrumentedTopple,
@@ -108,6 +119,9 @@ impl SceneKind {
         SceneKind::General,
         SceneKind::Compound,
     ];
+
+    /// The scenes of real, messy demonstrations (issue 20): compounds, tosses, sessions.
+    pub const MESSY: [SceneKind; 3] = [SceneKind::ToppleSlide, SceneKind::Toss, SceneKind::Session];
 
     /// Short name used in file names and on the command line.
     pub fn name(self) -> &'static str {
@@ -117,22 +131,32 @@ impl SceneKind {
             SceneKind::Slide => "slide",
             SceneKind::General => "general",
             SceneKind::Compound => "compound",
+            SceneKind::ToppleSlide => "topple_slide",
+            SceneKind::Toss => "toss",
+            SceneKind::Session => "session",
         }
     }
 
     /// The kind label of the truth: "topple" (also for instrumented), "slide", "general",
-    /// "compound".
+    /// "compound", and for the messy scenes their own names ("topple_slide", "toss",
+    /// "session"), whose features are in the truth's `modes`.
     pub fn truth_kind(self) -> &'static str {
         match self {
             SceneKind::Topple | SceneKind::InstrumentedTopple => "topple",
             SceneKind::Slide => "slide",
             SceneKind::General => "general",
             SceneKind::Compound => "compound",
+            SceneKind::ToppleSlide => "topple_slide",
+            SceneKind::Toss => "toss",
+            SceneKind::Session => "session",
         }
     }
 
     /// Parse a [`SceneKind::name`].
     pub fn from_name(s: &str) -> Option<SceneKind> {
-        SceneKind::ALL.into_iter().find(|k| k.name() == s)
+        SceneKind::ALL
+            .into_iter()
+            .chain(SceneKind::MESSY)
+            .find(|k| k.name() == s)
     }
 }

@@ -154,6 +154,82 @@ pub struct Truth {
     pub noise: TrackerNoise,
     /// Scripted random choices (push height \[m\], speed \[m/s\], tilt rate \[rad/s\], ...).
     pub script: std::collections::BTreeMap<String, f64>,
+    /// Every face and edge of the box, tag frame, with the ids that [`Truth::modes`] use.
+    #[serde(default)]
+    pub features: BoxFeatures,
+    /// The contact mode of every instant, as consecutive intervals that cover the whole demo
+    /// (see [`crate::modes`]).
+    #[serde(default)]
+    pub modes: Vec<ModeTruth>,
+}
+
+/// A face of the box: its id (the [`crate::BoxFace`] name, e.g. `"neg_z"`) and its plane in
+/// the tag frame, `{x : normal · x = offset}`, `normal` outward.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FaceFeature {
+    /// `"pos_x"`, `"neg_x"`, `"pos_y"`, `"neg_y"`, `"pos_z"` or `"neg_z"` (box frame).
+    pub id: String,
+    /// Outward unit normal, tag frame.
+    pub normal: [f64; 3],
+    /// Plane offset \[m\].
+    pub offset: f64,
+}
+
+/// An edge of the box: its id `"FACE_A/FACE_B"` (the two faces that meet there, in the order
+/// of [`crate::BoxFace::ALL`]) and its line in the tag frame.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EdgeFeature {
+    /// `"pos_x/neg_z"` and so on.
+    pub id: String,
+    /// The two faces that meet at the edge.
+    pub faces: [String; 2],
+    /// End points, unit direction and the point closest to the tag origin, tag frame.
+    #[serde(flatten)]
+    pub line: EdgeTruth,
+}
+
+/// The 6 faces and 12 edges of the box in the tag frame.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct BoxFeatures {
+    /// The faces.
+    pub faces: Vec<FaceFeature>,
+    /// The edges.
+    pub edges: Vec<EdgeFeature>,
+}
+
+/// One interval of a single contact mode between the box and its support (the table, or the
+/// palm of an instrumented demo).
+///
+/// `mode` is one of
+/// * `"rest"`: a face lies on the support and the box does not move relative to it;
+/// * `"slide"`: a face lies on the support and the box moves on it (planar motion, eq. 5);
+/// * `"topple"`: only an edge touches the support and that edge does not slip: rotation about
+///   a fixed edge (eq. 1-4);
+/// * `"flight"`: nothing touches the box (free fall, whatever it spins);
+/// * `"impact"`: a corner has just reached the support faster than 5 cm/s, until the touching
+///   corners have stopped moving along the support's normal (or the box bounces off);
+/// * `"carried"`: a hand holds the box (grasped, or before a throw's release);
+/// * `"general"`: any other contact: a corner alone, or an edge that slips.
+///
+/// `contact` says what touches: `"face"`, `"edge"`, `"vertex"`, `"none"` or `"hand"`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModeTruth {
+    /// The mode (see above).
+    pub mode: String,
+    /// What touches the support.
+    pub contact: String,
+    /// Start \[s\].
+    pub t0: f64,
+    /// End \[s\].
+    pub t1: f64,
+    /// The face on the support (rest, slide, and an impact or general motion on a face).
+    pub face: Option<FaceFeature>,
+    /// The edge on the support (topple, and an impact or general motion on an edge).
+    pub edge: Option<EdgeFeature>,
+    /// Angle the box turned relative to its support over the interval \[deg\].
+    pub turn_deg: f64,
+    /// Distance the box's centre moved relative to its support over the interval \[m\].
+    pub travel: f64,
 }
 
 /// `[x, y, z]` of a vector.

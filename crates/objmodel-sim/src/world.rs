@@ -179,6 +179,25 @@ impl World {
         }
     }
 
+    /// Set the restitution of every collider of `body`, combined with the other surface's by
+    /// the larger (the table's is 0).
+    pub fn set_restitution(&mut self, body: Body, e: f64) {
+        let cols: Vec<ColliderHandle> = self.pw.bodies[body].colliders().to_vec();
+        for c in cols {
+            let col = &mut self.pw.colliders[c];
+            col.set_restitution(e);
+            col.set_restitution_combine_rule(CoefficientCombineRule::Max);
+        }
+    }
+
+    /// Set a dynamic body's velocity: its centre of mass's \[m/s\] and its angular velocity
+    /// \[rad/s\], world frame.
+    pub fn set_velocity(&mut self, body: Body, v_com: &Vector3<f64>, w: &Vector3<f64>) {
+        let b = &mut self.pw.bodies[body];
+        b.set_linvel(vec_from_na(v_com), true);
+        b.set_angvel(vec_from_na(w), true);
+    }
+
     /// Pose of a body's frame in the world: `world_from_body`.
     pub fn pose(&self, body: Body) -> Isometry3<f64> {
         pose_to_na(self.pw.bodies[body].position())

@@ -13,15 +13,18 @@ fn small_dataset_round_trips_through_the_core_reader() {
     let mut plan = standard_dataset(true);
     plan.boxes = vec![standard_boxes()[0].clone(), standard_boxes()[3].clone()];
     plan.noises = vec![TrackerNoise::clean(), TrackerNoise::real()];
+    plan.messy = vec![];
+    plan.tosses = 2;
+    plan.mocap_kinds = vec![SceneKind::Toss];
     let mut calls = 0;
     let m = write_dataset(dir, &plan, &mut |p| {
         calls += 1;
         assert!(p.done <= p.total);
     })
     .unwrap();
-    assert_eq!(calls, 2 * SceneKind::ALL.len());
+    assert_eq!(calls, 2 * SceneKind::ALL.len() + 2);
     assert!(m.failures.is_empty(), "{:?}", m.failures);
-    assert_eq!(m.demos.len(), 2 * SceneKind::ALL.len() * 2);
+    assert_eq!(m.demos.len(), 2 * SceneKind::ALL.len() * 2 + 2 * 3);
     assert!(dir.join("manifest.json").exists());
     for e in &m.demos {
         let palm = e.palm.as_ref().map(|p| dir.join(p));
@@ -33,6 +36,26 @@ fn small_dataset_round_trips_through_the_core_reader() {
             serde_json::from_str(&std::fs::read_to_string(dir.join(&e.truth)).unwrap()).unwrap();
         assert_eq!(truth.kind, e.kind);
         assert_eq!(truth.noise.name, e.noise);
+        assert_eq!(truth.rate_hz, e.rate_hz);
+        if e.noise == "mocap" {
+            assert!(TrackerNoise::MOCAP_RATES.contains(&e.rate_hz));
+            let s = &truth.noise.sigma;
+            assert!((1e-4..5e-4).contains(&s.sigma_position), "{s:?}");
+            assert!(
+                (0.05..0.3).contains(&s.sigma_rotation.to_degrees()),
+                "{s:?}"
+            );
+        } else {
+            assert_eq!(e.rate_hz, 30.0);
+        }
+        // The modes cover the demo without gaps, and the box has 6 faces and 12 edges.
+        assert_eq!(truth.features.faces.len(), 6);
+        assert_eq!(truth.features.edges.len(), 12);
+        assert_eq!(truth.modes.first().map(|m| m.t0), Some(0.0));
+        assert!((truth.modes.last().unwrap().t1 - truth.duration).abs() < 1e-9);
+        for w in truth.modes.windows(2) {
+            assert_eq!(w[0].t1, w[1].t0);
+        }
         match e.kind.as_str() {
             "topple" => {
                 assert!(truth.edge.is_some() && truth.face.is_none() && truth.phi.is_some())
@@ -41,7 +64,7 @@ fn small_dataset_round_trips_through_the_core_reader() {
             "compound" => assert!(truth.face.is_some() && truth.edge.is_some()),
             _ => assert!(truth.face.is_none() && truth.edge.is_none()),
         }
-        if e.noise == "clean" {
+        if e.noise == "clean" && e.kind != "toss" {
             // The resting normals, mapped by the first and last tag poses, point down the support.
             let support = |i: usize| {
                 demo.palm

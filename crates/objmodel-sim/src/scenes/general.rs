@@ -13,7 +13,8 @@ use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
 use rand::rngs::StdRng;
 use rand::Rng;
 
-fn min_jerk(tau: f64) -> f64 {
+/// Minimum-jerk timing `s(τ) = 10τ³ − 15τ⁴ + 6τ⁵` of `τ` clamped to \[0, 1\].
+pub fn min_jerk(tau: f64) -> f64 {
     let t = tau.clamp(0.0, 1.0);
     t * t * t * (10.0 - 15.0 * t + 6.0 * t * t)
 }

@@ -9,8 +9,11 @@ pub mod compound;
 pub mod general;
 pub mod instrumented;
 pub mod push;
+pub mod session;
 pub mod slide;
 pub mod topple;
+pub mod topple_slide;
+pub mod toss;
 
 use crate::spec::BoxSpec;
 use crate::world::{Body, PhysicsParams, World};
@@ -44,6 +47,9 @@ pub struct Script {
     pub second_phase: Option<f64>,
     /// General scene: grasp and release times \[s\].
     pub carry: Option<(f64, f64)>,
+    /// Other intervals during which a hand holds the box (a throw before its release, the
+    /// carries of a session) \[s\].
+    pub grasps: Vec<(f64, f64)>,
     /// Free-form description of the randomised choices (push height, speed, tilt rate, ...).
     pub notes: Vec<(String, f64)>,
 }

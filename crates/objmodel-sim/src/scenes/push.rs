@@ -45,13 +45,30 @@ impl Push {
     /// World-frame start point (1.5 cm before the face) and unit direction of this push for the
     /// box's current pose in `run` (the support is the level table).
     pub fn line(&self, run: &Run, spec: &BoxSpec) -> (Vector3<f64>, Vector3<f64>) {
+        self.line_up(run, spec, 2, 1.0)
+    }
+
+    /// [`Push::line`] for a box lying on any face: box axis `up` (0, 1, 2) with sign `up_sign`
+    /// points up, `axis` is one of the two other (horizontal) axes, the lateral offset runs
+    /// along the third, and the yaw error turns about `up`.
+    pub fn line_up(
+        &self,
+        run: &Run,
+        spec: &BoxSpec,
+        up: usize,
+        up_sign: f64,
+    ) -> (Vector3<f64>, Vector3<f64>) {
         let s = run.samples.last().expect("a sample");
         let b = s.world_from_box;
         let h = spec.half_extents();
-        let other = 1 - self.axis;
+        let other = 3 - self.axis - up;
         let mut e_box = Vector3::zeros();
         e_box[self.axis] = self.sign;
-        let e_box = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), self.yaw) * e_box;
+        let mut up_axis = Vector3::zeros();
+        up_axis[up] = up_sign;
+        let e_box =
+            UnitQuaternion::from_axis_angle(&nalgebra::Unit::new_unchecked(up_axis), self.yaw)
+                * e_box;
         let mut contact = Vector3::zeros();
         contact[self.axis] = -self.sign * h[self.axis];
         contact[other] = self.lateral;
