@@ -183,7 +183,7 @@ impl Learner {
             classification.withhold_all(
                 "the tracking noise cannot be estimated from this demonstration: the motion \
                  between its frames exceeds the noise (a fast motion at this frame rate); give \
-                 the tracker's noise (--noise) to learn from it",
+                 the tracker's noise (--noise-position, --noise-rotation) to learn from it",
             );
         }
         crate::arrival::confirm_arrivals(classification, recording, &self.config);
