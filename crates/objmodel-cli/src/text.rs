@@ -66,6 +66,17 @@ pub fn classification(c: &Classification, frames: bool) -> String {
                 f.sigma_normal().to_degrees()
             );
         }
+        if let Some(w) = &seg.withheld {
+            s += &format!("    {w}\n");
+        }
+    }
+    for f in c.rest_faces() {
+        s += &format!(
+            "  rest on the support: face normal {} (outward), ±{:.2} deg ({} frames)\n",
+            v3(&f.normal),
+            f.sigma_normal().to_degrees(),
+            f.frames
+        );
     }
     if frames {
         s += "  frames:\n";
@@ -155,7 +166,7 @@ pub fn tree(tree: &Tree) -> String {
             f.evidence.rest
         );
     }
-    match objmodel::shape::reconstruct(&tree.learnt_faces()) {
+    match tree.reconstruct_shape() {
         Ok(shape) => {
             s += &format!(
                 "  shape: closed, {} faces, {} vertices, extents {} to {} m\n",
@@ -166,6 +177,9 @@ pub fn tree(tree: &Tree) -> String {
             );
             for (id, why) in &shape.left_out {
                 s += &format!("    {id} left out: {why}\n");
+            }
+            for a in &shape.assumptions {
+                s += &format!("    assumed: {a}\n");
             }
         }
         Err(e) => s += &format!("  shape: not closed yet: {e}\n"),

@@ -342,6 +342,9 @@ pub(super) fn analyse_segment(
         if let Some(w) = edge_off_level(e, &d, alpha) {
             withheld = Some(format!("edge not taught: {w}"));
             edge = None;
+            // Nor grouped into a topple of the demonstration.
+            topple_best = None;
+            topple_stats = LineStats::default();
         }
     }
 
