@@ -39,6 +39,7 @@
 //!   noise model; `rest_stats`: a rest's mean pose and drift;
 //! * `block`: the sufficient statistics of a run of frames; `segments`: the motion segments;
 //! * `msac`: the fixed-line and fixed-plane fits; `analysis`: what one segment teaches;
+//!   `parts`: where a segment's parts end and what each must show to teach;
 //!   `conclusion`: what the segments teach together (votes, topples by edge);
 //! * `robust`, `paper`: the two methods, streaming; `analyzer`: the [`Analyzer`] that drives
 //!   them; `files`: [`classify_files`].
@@ -53,6 +54,7 @@ pub(crate) mod frame_model;
 mod msac;
 mod palm;
 mod paper;
+mod parts;
 mod rest;
 mod rest_stats;
 mod rest_sums;

@@ -13,8 +13,10 @@
 //!   to the palm; both box tag and palm are tracked;
 //! * **slide**: the box translates and turns on its bottom face;
 //! * **general**: the box is lifted, turned about changing axes, and put down;
-//! * **compounds** ([`compound`]): a push that slides the box and then tips it over its leading
-//!   edge, and a topple whose landing slides on, with no rest between the parts.
+//! * **compounds** ([`slide_then_topple`], [`topple_then_slide`], [`drop_then_slide`]): a
+//!   push that slides the box and then tips it over its leading edge, a topple whose landing
+//!   slides on, and a box that drops onto the table and slides into its rest, with no rest
+//!   between the parts.
 //!
 //! Tracking noise ([`SynthNoise`]): Gaussian position and orientation noise, dropped frames,
 //! quaternion sign flips, and single-frame tag flips (the orientation jumps by 30-60° about an

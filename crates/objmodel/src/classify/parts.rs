@@ -1,0 +1,132 @@
+//! The parts of a segment and what each must show before it teaches: where a part ends
+//! (`part_end`), whether it follows another motion without a rest between and so is not
+//! measured from its own start (`after_other_motion`), and whether its feature is level as a
+//! contact on a level support is (`edge_off_level`, `face_off_level`).
+
+use super::block::Block;
+use super::Label;
+use crate::edge::EdgeObservation;
+use crate::face::{FaceObservation, SUPPORT_LEVEL_SIGMA_RAD};
+use nalgebra::Vector3;
+
+/// Whether an edge is not level: an edge a box topples about lies in the face it rests on, and
+/// that face lies on a level support (a table, or a palm in the palm's frame) to within
+/// [`SUPPORT_LEVEL_SIGMA_RAD`]. The edge's tilt from level (its direction's component along
+/// "down" `d`) is tested against that and the direction's own variance along `d`, χ²₁ at `alpha`.
+/// (The segment's fits only bound the tilt by [`super::RobustConfig::max_axis_tilt_rad`], a
+/// search bound; a thrown box's flight from a hand passed it with an "edge" 20° from level.)
+pub(super) fn edge_off_level(e: &EdgeObservation, d: &Vector3<f64>, alpha: f64) -> Option<String> {
+    let sin_tilt = e.line.direction.dot(d).clamp(-1.0, 1.0);
+    let var = d.dot(&(e.direction_cov * d)) + SUPPORT_LEVEL_SIGMA_RAD.powi(2);
+    let tilt = sin_tilt.asin();
+    (tilt * tilt / var > crate::stats::chi2_threshold(1.0, alpha)).then(|| {
+        format!(
+            "its direction is {:.1}° from level (±{:.1}°), and an edge toppled about lies in \
+             the level face the object rests on",
+            tilt.abs().to_degrees(),
+            var.sqrt().to_degrees()
+        )
+    })
+}
+
+/// Whether a slide's face is not level: the plane of a slide on a level support is level,
+/// so its normal is "down" `d` to within [`SUPPORT_LEVEL_SIGMA_RAD`] and its own covariance
+/// (per axis), χ²₂ at `alpha`.
+pub(super) fn face_off_level(f: &FaceObservation, d: &Vector3<f64>, alpha: f64) -> Option<String> {
+    let angle = f.normal.cross(d).norm().atan2(f.normal.dot(d));
+    let var = f.sigma_normal().powi(2) + SUPPORT_LEVEL_SIGMA_RAD.powi(2);
+    (angle * angle / var > crate::stats::chi2_threshold(2.0, alpha)).then(|| {
+        format!(
+            "its normal is {:.1}° from vertical (±{:.1}°), and a slide on a level support moves \
+             in a level plane",
+            angle.to_degrees(),
+            var.sqrt().to_degrees()
+        )
+    })
+}
+
+/// Where a part of a segment ends: the start time \[s\] of the first run of at least
+/// `min_frames` measurably moving frames that the part's model does not explain (`member`
+/// false) after the part has started (infinity if none). Shorter runs are within the per-frame
+/// tests' false alarms (and tag flips), and the part goes on through them; a run as long as a
+/// part needs to be a part is another motion, after which the part's model (measured from the
+/// segment's reference) no longer holds even if frames fit it again by chance.
+pub(super) fn part_end(
+    blocks: &[Block],
+    idx: &[usize],
+    mut member: impl FnMut(&Block) -> bool,
+    min_frames: f64,
+) -> f64 {
+    let (mut started, mut run, mut run_start) = (false, 0u64, f64::INFINITY);
+    for &i in idx {
+        let b = &blocks[i];
+        if b.significant == 0 || matches!(b.label, Label::Landing) {
+            continue;
+        }
+        if member(b) {
+            started = true;
+            run = 0;
+        } else if started {
+            if run == 0 {
+                run_start = b.t0;
+            }
+            run += b.significant;
+            if run as f64 >= min_frames {
+                return run_start;
+            }
+        }
+    }
+    f64::INFINITY
+}
+
+/// Whether the frames labelled `label` in a segment follow another mode of motion: at least
+/// `min_frames` measurably moving frames labelled otherwise (topple, slide or general) before
+/// the first of them. Every frame's motion is measured from the segment's reference, the rest
+/// before the segment; a topple that starts after a slide (a push that slides a box and then
+/// tips it, no rest between) turns about its edge *after* the slide's displacement, so its
+/// frames' screws relative to the reference are the slide composed with the rotation, whose
+/// axes are not the edge (they sweep by about the slide's length over the rotation), and a
+/// line fitted to a subset of them is a wrong edge. Likewise for a slide after a topple or a
+/// flight. `min_frames` is the evidence a part needs to be a part ([`super::MIN_EDGE_FRAMES`],
+/// [`super::MIN_FACE_FRAMES`]): fewer frames labelled otherwise are within the per-frame tests'
+/// false alarms. Frames that the part's own model explains as well (`explained`: a slide's
+/// first frames that a rotation about the edge explains too, and are labelled topple by the
+/// labels' priority) are ambiguous and do not count. Returns what the part follows, for the
+/// report.
+pub(super) fn after_other_motion(
+    blocks: &[Block],
+    idx: &[usize],
+    label: Label,
+    min_frames: f64,
+    mut explained: impl FnMut(&Block) -> bool,
+) -> Option<String> {
+    let first = idx.iter().position(|&i| blocks[i].label == label)?;
+    let (mut frames, mut t) = (0u64, None);
+    let mut kinds: Vec<&str> = Vec::new();
+    for &i in &idx[..first] {
+        let b = &blocks[i];
+        if explained(b) {
+            continue;
+        }
+        let name = match b.label {
+            Label::Topple => "topple",
+            Label::Slide => "slide",
+            Label::General => "general motion",
+            _ => continue,
+        };
+        frames += b.significant;
+        t.get_or_insert(b.t0);
+        if b.significant > 0 && !kinds.contains(&name) {
+            kinds.push(name);
+        }
+    }
+    (frames as f64 >= min_frames).then(|| {
+        format!(
+            "starts at {:.2} s after {frames} frames of {} from {:.2} s without a rest \
+             between, so it is not measured from its own start",
+            blocks[idx[first]].t0,
+            kinds.join(" and "),
+            t.unwrap_or(0.0)
+        )
+    })
+}
