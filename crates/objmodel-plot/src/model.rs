@@ -23,7 +23,7 @@
 
 use crate::model_edges::shape_edges;
 use nalgebra::Vector3;
-use objmodel::shape::{Incomplete, Shape};
+use objmodel::shape::{reconstruct, Incomplete, Shape};
 use objmodel::tree::{Face, Tree};
 use serde::Serialize;
 use std::collections::HashSet;
@@ -167,7 +167,7 @@ impl ModelDrawing {
         };
         let built = match &tree.shape {
             Some(s) => Ok(s.clone()),
-            None => tree.reconstruct_shape(),
+            None => reconstruct(&tree.learnt_faces()),
         };
         let (centre, radius) = frame(tree, built.as_ref().ok());
         let mut features = Vec::new();
