@@ -179,7 +179,9 @@ impl Learner {
     /// not be measured ([`Learner::noise_unmeasurable`]), and the rests that a motion reached
     /// are tested against that motion measured back from them ([`crate::arrival`]).
     fn check(&self, classification: &mut Classification, recording: &Recording) {
-        if self.noise_unmeasurable(recording) {
+        if !has_long_rest(classification, recording, self.config.robust.rest_window_s)
+            && self.noise_unmeasurable(recording)
+        {
             classification.withhold_all(
                 "the tracking noise cannot be estimated from this demonstration: the motion \
                  between its frames exceeds the noise (a fast motion at this frame rate); give \
@@ -364,6 +366,22 @@ impl Learner {
         }
         Ok(out)
     }
+}
+
+/// Whether the demonstration rests, somewhere, for at least the rest test's window: then its
+/// frames at rest show the noise by themselves, and the estimate is not the motion's (a fast
+/// fall between long rests measured no differently).
+fn has_long_rest(c: &Classification, recording: &Recording, window_s: f64) -> bool {
+    let (Some(first), Some(last)) = (recording.object.first(), recording.object.last()) else {
+        return false;
+    };
+    if c.segments.is_empty() {
+        return last.t - first.t >= window_s;
+    }
+    let mut gaps = vec![c.segments[0].t_start - first.t];
+    gaps.extend(c.segments.windows(2).map(|w| w[1].t_start - w[0].t_end));
+    gaps.push(last.t - c.segments[c.segments.len() - 1].t_end);
+    gaps.iter().any(|&g| g >= window_s)
 }
 
 /// What a demonstration without motion is told.
