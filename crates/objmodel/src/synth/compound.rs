@@ -4,31 +4,19 @@
 //! less, never something else.
 
 use super::{
-    add_noise, side_edge, smoothstep, times, topple_motion, world_start, SynthBox, SynthDemo,
-    SynthNoise, SynthTruth,
+    add_noise, side_edge, smoothstep, times, tipping_angle, topple_angle, topple_motion,
+    world_start, SynthBox, SynthDemo, SynthNoise, SynthTruth,
 };
 use crate::classify::Kind;
 use crate::trajectory::{Demonstration, StampedPose};
 use nalgebra::{Isometry3, Translation3, Vector3};
 use rand::{rngs::StdRng, Rng, SeedableRng};
-use std::f64::consts::FRAC_PI_2;
 
 /// Duration \[s\] of the slide part.
 const SLIDE_S: f64 = 1.2;
 /// Duration \[s\] of the slow rotation up to the tipping angle, and of the fall to 90°.
 const PUSH_S: f64 = 1.5;
 const FALL_S: f64 = 0.35;
-
-/// The topple angle at `s` seconds into the topple part: a slow rotation to the tipping angle
-/// `phi`, then a fall to 90°.
-fn topple_angle(s: f64, phi: f64) -> f64 {
-    if s < PUSH_S {
-        phi * smoothstep(s / PUSH_S)
-    } else {
-        let x = ((s - PUSH_S) / FALL_S).clamp(0.0, 1.0);
-        phi + (FRAC_PI_2 - phi) * x * x
-    }
-}
 
 /// A push that first slides the box by `slide_m` \[m\] on its bottom face towards the side
 /// `side` (0..4: +x, +y, -x, -y of the box) and then, without stopping, tips it over that side's
@@ -44,12 +32,7 @@ pub fn slide_then_topple(
 ) -> SynthDemo {
     let mut rng = StdRng::seed_from_u64(seed);
     let (edge, dir, out) = side_edge(&b.half, side);
-    let along = if side.is_multiple_of(2) {
-        b.half.x
-    } else {
-        b.half.y
-    };
-    let phi = along.atan2(b.half.z);
+    let phi = tipping_angle(&b.half, side);
     let rest = 1.0;
     let world0 = world_start(&mut rng, &b.half);
     let ts = times(rate, rest, SLIDE_S + PUSH_S + FALL_S);
@@ -59,7 +42,7 @@ pub fn slide_then_topple(
         .map(|&t| {
             let s = t - t0 - rest;
             let slid = out * slide_m * smoothstep(s / SLIDE_S);
-            let alpha = topple_angle(s - SLIDE_S, phi).max(0.0);
+            let alpha = topple_angle(s - SLIDE_S, phi, PUSH_S, FALL_S).max(0.0);
             let world_from_box =
                 world0 * Translation3::from(slid) * topple_motion(&edge, &dir, &out, alpha, 0.0);
             StampedPose::new(t, world_from_box * b.box_from_tag)
@@ -90,12 +73,7 @@ pub fn topple_then_slide(
 ) -> SynthDemo {
     let mut rng = StdRng::seed_from_u64(seed);
     let (edge, dir, out) = side_edge(&b.half, side);
-    let along = if side.is_multiple_of(2) {
-        b.half.x
-    } else {
-        b.half.y
-    };
-    let phi = along.atan2(b.half.z);
+    let phi = tipping_angle(&b.half, side);
     let rest = 1.0;
     let world0 = world_start(&mut rng, &b.half);
     let ts = times(rate, rest, PUSH_S + FALL_S + SLIDE_S);
@@ -104,7 +82,7 @@ pub fn topple_then_slide(
         .iter()
         .map(|&t| {
             let s = t - t0 - rest;
-            let alpha = topple_angle(s, phi).max(0.0);
+            let alpha = topple_angle(s, phi, PUSH_S, FALL_S).max(0.0);
             let slid = out * slide_m * smoothstep((s - PUSH_S - FALL_S) / SLIDE_S);
             let world_from_box = world0
                 * Isometry3::from_parts(Translation3::from(slid), Default::default())

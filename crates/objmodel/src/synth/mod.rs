@@ -222,6 +222,28 @@ fn side_edge(half: &Vector3<f64>, side: usize) -> (Vector3<f64>, Vector3<f64>, V
     (point, Vector3::z().cross(&out), out)
 }
 
+/// The tipping angle φ \[rad\] of a box of half extents `half` over the bottom edge of side
+/// `side` (see [`side_edge`]): the angle from the vertical of its centre seen from that edge.
+fn tipping_angle(half: &Vector3<f64>, side: usize) -> f64 {
+    let along = if side.is_multiple_of(2) {
+        half.x
+    } else {
+        half.y
+    };
+    along.atan2(half.z)
+}
+
+/// The angle \[rad\] of a topple `s` seconds into it: a slow rotation over `push_s` \[s\] to
+/// the tipping angle `phi`, then a fall to 90° over `fall_s`.
+fn topple_angle(s: f64, phi: f64, push_s: f64, fall_s: f64) -> f64 {
+    if s < push_s {
+        phi * smoothstep(s / push_s)
+    } else {
+        let x = ((s - push_s) / fall_s).clamp(0.0, 1.0);
+        phi + (FRAC_PI_2 - phi) * x * x
+    }
+}
+
 /// The pose `box_from_box(t)` of a topple about a bottom edge by angle `alpha`, with the pivot
 /// slipped by `slip` \[m\] along `-out` (in the table plane).
 fn topple_motion(
@@ -282,12 +304,7 @@ pub fn topple(
 ) -> SynthDemo {
     let mut rng = StdRng::seed_from_u64(seed);
     let (edge, dir, out) = side_edge(&b.half, p.side);
-    let along = if p.side.is_multiple_of(2) {
-        b.half.x
-    } else {
-        b.half.y
-    };
-    let phi = along.atan2(b.half.z);
+    let phi = tipping_angle(&b.half, p.side);
     let rest = 1.0;
     let world0 = world_start(&mut rng, &b.half);
     let ts = times(rate, rest, p.push_s + p.fall_s);
@@ -296,12 +313,7 @@ pub fn topple(
         .iter()
         .map(|&t| {
             let s = t - t0 - rest;
-            let alpha = if s < p.push_s {
-                phi * smoothstep(s / p.push_s)
-            } else {
-                let x = ((s - p.push_s) / p.fall_s).clamp(0.0, 1.0);
-                phi + (FRAC_PI_2 - phi) * x * x
-            };
+            let alpha = topple_angle(s, phi, p.push_s, p.fall_s);
             let slip = p.slip
                 * ((alpha - p.slip_from) / (FRAC_PI_2 - p.slip_from))
                     .clamp(0.0, 1.0)
@@ -343,12 +355,7 @@ pub fn instrumented_topple(
 ) -> SynthDemo {
     let mut rng = StdRng::seed_from_u64(seed);
     let (edge, dir, out) = side_edge(&b.half, side);
-    let along = if side.is_multiple_of(2) {
-        b.half.x
-    } else {
-        b.half.y
-    };
-    let phi = along.atan2(b.half.z);
+    let phi = tipping_angle(&b.half, side);
     let (rest, fall_s) = (1.0, 0.3);
     let tilt_s = phi / tilt_rate;
     let palm0 = Isometry3::from_parts(
