@@ -37,6 +37,18 @@ pub fn splice(existing: Option<&str>, tables: &str) -> String {
     format!("{head}{MARKER}\n\n{tables}")
 }
 
+/// Write `tables` into the Markdown page `p` after its hand-written header (see [`splice`]).
+pub fn write_page(p: &std::path::Path, tables: &str) -> Result<()> {
+    let existing = match std::fs::read_to_string(p) {
+        Ok(text) => Some(text),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+        Err(e) => return Err(e).with_context(|| format!("reading {}", p.display())),
+    };
+    let page = splice(existing.as_deref(), tables);
+    objmodel::format::write_atomic(p, page.as_bytes())?;
+    Ok(())
+}
+
 /// Run `objmodel evaluate`.
 pub fn run(a: &EvaluateArgs) -> Result<()> {
     let config = a.opts.config()?;
@@ -44,13 +56,7 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
         .with_context(|| format!("evaluating {}", a.data.display()))?;
     let md = e.markdown();
     if let Some(p) = &a.markdown {
-        let existing = match std::fs::read_to_string(p) {
-            Ok(text) => Some(text),
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
-            Err(e) => return Err(e).with_context(|| format!("reading {}", p.display())),
-        };
-        let page = splice(existing.as_deref(), &md);
-        objmodel::format::write_atomic(p, page.as_bytes())?;
+        write_page(p, &md)?;
     }
     if a.json {
         crate::out(&(serde_json::to_string_pretty(&e)? + "\n"))

@@ -4,6 +4,7 @@
 //! library (learning) and `objmodel-sim` (simulation).
 
 mod bag;
+mod calibrate;
 mod classify;
 mod dataset;
 mod demo;
@@ -56,6 +57,9 @@ enum Command {
     Dataset(dataset::DatasetArgs),
     /// Measure the learner on a simulated dataset against its ground truth.
     Evaluate(evaluate::EvaluateArgs),
+    /// Check that the learner's sigmas are honest, against a simulated dataset's ground
+    /// truth: error / sigma of every learnt quantity, per noise level.
+    Calibrate(calibrate::CalibrateArgs),
     /// Plot a topple's tilt angles over time with the onset and φ (the paper's Fig. 8).
     Plot(plot::PlotArgs),
     /// Write the learnt object as a simulation model: MJCF (MuJoCo) and URDF, with its shape,
@@ -86,6 +90,7 @@ fn main() -> ExitCode {
         Command::Simulate(a) => simulate::run(a),
         Command::Dataset(a) => dataset::run(a),
         Command::Evaluate(a) => evaluate::run(a),
+        Command::Calibrate(a) => calibrate::run(a),
         Command::Plot(a) => plot::run(a),
         Command::Plan(a) => plan::run(a),
         Command::Export(a) => export::run(a),

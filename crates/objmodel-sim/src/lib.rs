@@ -37,6 +37,7 @@
 #![warn(missing_docs)]
 
 pub mod arm;
+pub mod calibration;
 pub mod claims;
 pub mod convert;
 pub mod dataset;

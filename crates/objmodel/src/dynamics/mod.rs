@@ -8,11 +8,14 @@
 //! difference is the object's rotation relative to the palm. Resting on a level support both
 //! are 0; the object balances over its edge at ψ = φ.
 
+mod budget;
+
 use crate::classify::{Classification, Label};
 use crate::geometry::angle_about;
 use crate::pendulum::{self, FallFit, Onset};
 use crate::recording::Recording;
 use crate::trajectory::StampedPose;
+use budget::Budget;
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
@@ -174,6 +177,16 @@ pub fn analyse(
         // The face normal and edge in the palm frame, averaged over the rest before the motion
         // (one frame would put its orientation noise into every tilt angle).
         let first_moving = c.segments[top.segments[0]].t_start;
+        let budget = Budget {
+            sigma_object: sigma,
+            sigma_palm: sigma,
+            reference_frames: frames
+                .iter()
+                .enumerate()
+                .filter(|(i, f)| !outlier[*i] && f.t < first_moving - REST_MARGIN_S)
+                .take(MAX_REST_FRAMES)
+                .count(),
+        };
         let palm_ref = palm.and_then(|palm| {
             let (mut n_sum, mut u_sum) = (Vector3::zeros(), Vector3::zeros());
             let rest = frames
@@ -255,7 +268,13 @@ pub fn analyse(
                 let palm_sigma = sigma / std::f64::consts::SQRT_2;
                 if let Some((v, se, slope)) = linear_at(&tt, &yy, o.t, palm_sigma) {
                     phi_onset = Some(v);
-                    phi_onset_sigma = Some((se * se + (slope * o.sigma_t).powi(2)).sqrt());
+                    phi_onset_sigma = Some(
+                        (se * se
+                            + (slope * o.sigma_t).powi(2)
+                            + budget.resting_normal()
+                            + budget.palm_reference())
+                        .sqrt(),
+                    );
                 }
                 onset_r = Some(o);
             }
@@ -272,12 +291,19 @@ pub fn analyse(
                 phi0,
             )
         };
+        // A fall that is not a free pendulum within the noise teaches no φ.
+        let passes = |f: &pendulum::FallFit| {
+            f.chi2_per_dof
+                <= crate::stats::chi2_threshold(f.frames as f64 - 4.0, 0.01)
+                    / (f.frames as f64 - 4.0)
+        };
         let fall = match onset_r {
             Some(o) => {
                 let k0 = series.t.partition_point(|&t| t < o.t);
                 (k0 + 6 <= last_pivot)
                     .then(|| fit_from(k0, phi_onset.unwrap_or(series.object[k0])))
                     .flatten()
+                    .filter(passes)
             }
             None => {
                 let first_pivot = (0..idx.len())
@@ -289,11 +315,6 @@ pub fn analyse(
                 // pendulum fitted through those frames lowers φ (by 0.6° on exact rapier pushes,
                 // 3° at 1 mm / 0.5° noise; in MuJoCo 19 of 20 low); past it the object falls
                 // away from the pusher.
-                let passes = |f: &pendulum::FallFit| {
-                    f.chi2_per_dof
-                        <= crate::stats::chi2_threshold(f.frames as f64 - 4.0, 0.01)
-                            / (f.frames as f64 - 4.0)
-                };
                 let mut best = None;
                 let mut k0 = last_pivot.saturating_sub(6);
                 while k0 >= first_pivot && k0 + 6 <= last_pivot {
@@ -313,6 +334,18 @@ pub fn analyse(
                 best
             }
         };
+        // Its φ's sigma as the data show it (the jackknife; see `pendulum::jackknife`), and
+        // the resting normal's error that is common to every sample (see `budget`).
+        let fall = fall.map(|f| {
+            let k0 = series.t.partition_point(|&t| t < f.t_start);
+            let mut f = pendulum::jackknife_fall(
+                &series.t[k0..=last_pivot],
+                &series.object[k0..=last_pivot],
+                f,
+            );
+            f.phi_sigma = (f.phi_sigma.powi(2) + budget.resting_normal()).sqrt();
+            f
+        });
         // Instrumented: the pendulum on the tilting palm, fitted to the rotation relative to
         // the palm from the rest before to the end of the pivot, against the smoothed tilt.
         let on_support = (!series.palm.is_empty())
@@ -338,13 +371,19 @@ pub fn analyse(
                 let tt = &series.t[start..=end];
                 let theta: Vec<f64> = rel[start..=end].iter().map(|x| x - base).collect();
                 let beta = smooth(&series.t, &series.palm, SMOOTH_S);
-                pendulum::fit_on_support(
+                let beta = &beta[start..=end];
+                let mut fit = pendulum::fit_on_support(
                     tt,
                     &theta,
-                    &beta[start..=end],
+                    beta,
                     sigma,
-                    phi_onset.unwrap_or(beta[start]),
-                )
+                    phi_onset.unwrap_or(beta[0]),
+                )?;
+                // φ is the palm's tilt where the object starts to turn: its offsets (see
+                // `budget`) are one value for every sample.
+                let at = onset_r.map_or(first_moving, |o| o.t);
+                fit.phi_sigma = (fit.phi_sigma.powi(2) + budget.palm_tilt_at(&series.t, at)).sqrt();
+                Some(fit)
             })
             .flatten();
         // The best φ: the inverse-variance weighted mean of the model fits that exist and

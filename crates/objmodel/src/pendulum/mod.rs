@@ -19,6 +19,10 @@
 //! * [`fit_fall`]: nonlinear least squares (Levenberg-Marquardt on an RK4 integration) of the
 //!   equation of motion to ψ(t) over the frames where the object still turns about its edge.
 
+mod jackknife;
+
+pub use jackknife::{jackknife_fall, JACKKNIFE_BLOCKS};
+
 use serde::{Deserialize, Serialize};
 
 /// Standard gravity \[m/s²\].
@@ -240,6 +244,10 @@ pub struct FallFit {
     pub t_start: f64,
     /// End of the fitted span \[s\].
     pub t_end: f64,
+    /// The fitted state (ψ, ψ̇) at `t_start` of a free fall (zero for a pendulum on a support,
+    /// which starts from rest), where the jackknife's refits start.
+    #[serde(skip)]
+    pub(crate) start_state: [f64; 2],
 }
 
 /// Longest span \[s\] the pendulum fits ([`fit_fall`], [`fit_on_support`]) take. A toppling
@@ -330,7 +338,9 @@ fn integrate(
 
 /// Fit the pendulum to ψ(t) \[rad\] with noise `sigma` \[rad\], starting from the guess `phi0`.
 /// Parameters: φ, k, and the state (ψ, ψ̇) at the first sample. Levenberg-Marquardt with a
-/// forward-difference Jacobian; covariance from the inverse normal matrix scaled by the noise.
+/// forward-difference Jacobian; covariance from the inverse normal matrix scaled by the
+/// residuals' variance (`sigma` holds a model tolerance, so it bounds the errors rather than
+/// measuring them). See [`jackknife_fall`] for what the covariance still leaves out.
 pub fn fit_fall(t: &[f64], psi: &[f64], sigma: f64, phi0: f64) -> Option<FallFit> {
     let n = t.len();
     if n < 6 || t[n - 1] - t[0] > MAX_FALL_S || uniform_motion_explains(t, psi, sigma) {
@@ -339,10 +349,6 @@ pub fn fit_fall(t: &[f64], psi: &[f64], sigma: f64, phi0: f64) -> Option<FallFit
     let t0 = t[0];
     let dpsi = (psi[2] - psi[0]) / (t[2] - t[0]);
     let mut p = [phi0, 40.0, psi[0], dpsi];
-    let resid = |p: &[f64; 4]| -> Vec<f64> {
-        let m = simulate(p[0], p[1], t0, p[2], p[3], t);
-        m.iter().zip(psi).map(|(a, b)| b - a).collect()
-    };
     // Initial (φ, k): a coarse grid, as the problem is far from linear.
     let mut best = (f64::INFINITY, p[0], p[1]);
     for i in -12..=12 {
@@ -360,17 +366,37 @@ pub fn fit_fall(t: &[f64], psi: &[f64], sigma: f64, phi0: f64) -> Option<FallFit
     }
     p[0] = best.1;
     p[1] = best.2;
+    let (p, cur, jtj) = fall_lm(t, psi, None, p)?;
+    let mut fit = fit_result(p[0], p[1], cur, &jtj, 4, sigma, Scale::Residuals, t)?;
+    fit.start_state = [p[2], p[3]];
+    Some(fit)
+}
+
+/// Levenberg-Marquardt of the free fall from `p` = (φ, k, ψ₀, ψ̇₀), the state at `t[0]`, with
+/// the samples weighted by `w` (all 1 when `None`); `None` when the solution is not a
+/// pendulum about an edge of a resting object (0 < φ < π/2, k > 0).
+pub(crate) fn fall_lm(
+    t: &[f64],
+    psi: &[f64],
+    w: Option<&[f64]>,
+    p: [f64; 4],
+) -> Option<([f64; 4], f64, [[f64; 4]; 4])> {
+    let t0 = t[0];
+    let resid = |p: &[f64; 4]| -> Vec<f64> {
+        let m = simulate(p[0], p[1], t0, p[2], p[3], t);
+        m.iter()
+            .zip(psi)
+            .enumerate()
+            .map(|(i, (a, b))| (b - a) * w.map_or(1.0, |w| w[i]))
+            .collect()
+    };
     let (p, cur, jtj) = levenberg_marquardt(
         p,
         resid,
         |p| [1e-6, 1e-4 * p[1].max(1.0), 1e-6, 1e-5],
         |q| [q[0], q[1].max(1e-3), q[2], q[3]],
     );
-    // A pendulum about an edge of a resting object: 0 < φ < π/2 and k > 0.
-    if !(p[0] > 0.0 && p[0] < std::f64::consts::FRAC_PI_2 && p[1] > 0.0) {
-        return None;
-    }
-    fit_result(p[0], p[1], cur, &jtj, 4, sigma, t)
+    (p[0] > 0.0 && p[0] < std::f64::consts::FRAC_PI_2 && p[1] > 0.0).then_some((p, cur, jtj))
 }
 
 /// Significance level of the test that a fall is not uniform motion ([`fit_fall`]).
@@ -394,9 +420,20 @@ fn uniform_motion_explains(t: &[f64], psi: &[f64], sigma: f64) -> bool {
     sse / (sigma * sigma) <= crate::stats::chi2_threshold(n - 2.0, UNIFORM_MOTION_ALPHA)
 }
 
+/// How a fit's covariance takes the size of its errors.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Scale {
+    /// `σ` is the samples' noise: covariance `(JᵀJ)⁻¹ σ²`, inflated by the reduced χ² when the
+    /// fit is worse than the noise.
+    Noise,
+    /// `σ` is only a bound on the errors (it holds a model tolerance): covariance
+    /// `(JᵀJ)⁻¹ s²` with `s² = SSE/(n - p)`, the errors' size the residuals show.
+    Residuals,
+}
+
 /// The [`FallFit`] of a least-squares solution with φ and k its first two of `n_params`
-/// parameters: covariance `(JᵀJ)⁻¹ σ²`, inflated by the reduced χ² when the fit is worse than
-/// the noise.
+/// parameters, its covariance scaled as `scale` says.
+#[allow(clippy::too_many_arguments)]
 fn fit_result(
     phi: f64,
     k: f64,
@@ -404,13 +441,18 @@ fn fit_result(
     jtj: &[[f64; 4]; 4],
     n_params: usize,
     sigma: f64,
+    scale: Scale,
     t: &[f64],
 ) -> Option<FallFit> {
     let n = t.len();
     let var = sigma * sigma;
     let chi2 = sse / var / (n as f64 - n_params as f64).max(1.0);
     let m = nalgebra::DMatrix::from_fn(n_params, n_params, |i, j| jtj[i][j]);
-    let cov = m.try_inverse()? * var * chi2.max(1.0);
+    let factor = match scale {
+        Scale::Noise => chi2.max(1.0),
+        Scale::Residuals => chi2,
+    };
+    let cov = m.try_inverse()? * var * factor;
     Some(FallFit {
         phi,
         phi_sigma: cov[(0, 0)].max(0.0).sqrt(),
@@ -422,6 +464,7 @@ fn fit_result(
         frames: n,
         t_start: t[0],
         t_end: t[n - 1],
+        start_state: [0.0; 2],
     })
 }
 
@@ -492,13 +535,6 @@ pub fn fit_on_support(
     if n < 8 || t[n - 1] - t[0] > MAX_FIT_SPAN_S {
         return None;
     }
-    let resid = |p: [f64; 2]| -> Vec<f64> {
-        simulate_on_support(p[0], p[1], t, beta)
-            .iter()
-            .zip(theta)
-            .map(|(m, y)| y - m)
-            .collect()
-    };
     let mut best = (f64::INFINITY, [phi0, 40.0]);
     for i in -40..=40 {
         let ph = phi0 + 0.002 * i as f64;
@@ -513,16 +549,23 @@ pub fn fit_on_support(
             }
         }
     }
+    let resid = |p: &[f64; 2]| -> Vec<f64> {
+        simulate_on_support(p[0], p[1], t, beta)
+            .iter()
+            .zip(theta)
+            .map(|(m, y)| y - m)
+            .collect()
+    };
     let (p, cur, jtj) = levenberg_marquardt(
         best.1,
-        |p: &[f64; 2]| resid(*p),
+        resid,
         |p| [1e-5, 1e-4 * p[1]],
         |q| [q[0], q[1].max(1e-3)],
     );
     if !(p[0] > 0.0 && p[0] < std::f64::consts::FRAC_PI_2) {
         return None;
     }
-    fit_result(p[0], p[1], cur, &jtj, 2, sigma, t)
+    fit_result(p[0], p[1], cur, &jtj, 2, sigma, Scale::Noise, t)
 }
 
 #[cfg(test)]
