@@ -36,8 +36,14 @@ pub enum Quantity {
     EdgePoint,
     /// An edge's direction (2-D).
     EdgeDirection,
-    /// A face's normal (2-D).
+    /// A face's normal, with slides among its evidence (2-D). Its σ holds the support's
+    /// level (1°, `face::SUPPORT_LEVEL_SIGMA_RAD`, a prior on the slide plane): a prior about
+    /// the user's table that the simulator's level one does not need, so in simulation the σ
+    /// is larger than the errors by design.
     FaceNormal,
+    /// A face's normal seen only in rests (2-D): the direction of gravity, whose σ is the
+    /// support's level alone.
+    RestFaceNormal,
     /// A face's offset (1-D).
     FaceOffset,
     /// The centre of mass (3-D).
@@ -69,7 +75,8 @@ impl Quantity {
             Quantity::Phi => "phi",
             Quantity::EdgePoint => "edge position",
             Quantity::EdgeDirection => "edge direction",
-            Quantity::FaceNormal => "face normal",
+            Quantity::FaceNormal => "face normal (slides)",
+            Quantity::RestFaceNormal => "face normal (rests only)",
             Quantity::FaceOffset => "face offset",
             Quantity::Com => "centre of mass",
         }
@@ -215,7 +222,12 @@ fn face_samples(f: &Face, truth: &BoxFeatures, out: &mut Vec<(Quantity, f64, f64
     };
     let angle = angle_to(&v(t.normal));
     // sigma_normal_rad is the RMS per axis of the normal's 2-D tangent error.
-    out.push((Quantity::FaceNormal, angle, z1(angle, f.sigma_normal_rad)));
+    let quantity = if f.evidence.slide > 0 {
+        Quantity::FaceNormal
+    } else {
+        Quantity::RestFaceNormal
+    };
+    out.push((quantity, angle, z1(angle, f.sigma_normal_rad)));
     if let (Some(offset), Some(sigma)) = (f.offset, f.offset_sigma_m) {
         // The same plane with the normal's sign as learnt.
         let true_offset = if f.normal.dot(&v(t.normal)) < 0.0 {

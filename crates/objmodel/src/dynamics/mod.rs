@@ -388,7 +388,9 @@ pub fn analyse(
             .flatten();
         // The best φ: the inverse-variance weighted mean of the model fits that exist and
         // determine φ better than its bounds do (the pendulum on the palm and the free fall),
-        // else the palm tilt at the onset.
+        // else the palm tilt at the onset. Both fits share the resting normal's offset (see
+        // `budget`), which averaging does not reduce; and fits that disagree beyond their
+        // sigmas widen the mean's by the Birge ratio √(χ²/(N-1)).
         let fits: Vec<(f64, f64)> = [on_support, fall]
             .iter()
             .flatten()
@@ -396,11 +398,17 @@ pub fn analyse(
             .map(|f| (f.phi, f.phi_sigma))
             .collect();
         let (phi, phi_sigma) = if !fits.is_empty() {
-            let w: f64 = fits.iter().map(|(_, s)| 1.0 / (s * s)).sum();
-            (
-                Some(fits.iter().map(|(p, s)| p / (s * s)).sum::<f64>() / w),
-                Some(w.sqrt().recip()),
-            )
+            let common = budget.resting_normal();
+            let var = |s: f64| (s * s - common).max(s * s * 1e-6);
+            let w: f64 = fits.iter().map(|(_, s)| 1.0 / var(*s)).sum();
+            let mean = fits.iter().map(|(p, s)| p / var(*s)).sum::<f64>() / w;
+            let chi2: f64 = fits.iter().map(|(p, s)| (p - mean).powi(2) / var(*s)).sum();
+            let birge = if fits.len() > 1 {
+                (chi2 / (fits.len() - 1) as f64).max(1.0)
+            } else {
+                1.0
+            };
+            (Some(mean), Some((birge / w + common).sqrt()))
         } else {
             (phi_onset, phi_onset_sigma)
         };

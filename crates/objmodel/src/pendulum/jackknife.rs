@@ -21,6 +21,10 @@ use super::{fall_lm, FallFit};
 /// Contiguous blocks left out one at a time.
 pub const JACKKNIFE_BLOCKS: usize = 8;
 
+/// Significance level of the test that the blocks' φ scatter more than the least-squares σ
+/// allows.
+pub const MODEL_ALPHA: f64 = 0.01;
+
 /// Frames a refit keeps beyond the number of parameters, at the least.
 const SPARE_FRAMES: usize = 2;
 
@@ -53,7 +57,16 @@ fn jackknife_sigma(
 /// `fit` with its φ's sigma the larger of the least-squares and the jackknife one (infinite
 /// when the jackknife finds φ undetermined).
 fn with_sigma(mut fit: FallFit, jackknife: Option<f64>) -> FallFit {
-    fit.phi_sigma = jackknife.map_or(f64::INFINITY, |s| s.max(fit.phi_sigma));
+    let Some(jk) = jackknife else {
+        fit.phi_sigma = f64::INFINITY;
+        return fit;
+    };
+    // Where the model holds, (G - 1) jk² / σ² is about χ² with G - 1 degrees of freedom; a
+    // larger ratio says the blocks disagree beyond the noise, and the jackknife's σ stands.
+    let dof = (JACKKNIFE_BLOCKS - 1) as f64;
+    if dof * jk * jk > crate::stats::chi2_threshold(dof, MODEL_ALPHA) * fit.phi_sigma.powi(2) {
+        fit.phi_sigma = jk;
+    }
     fit
 }
 
