@@ -473,6 +473,38 @@ fn dataset_quick_evaluate_end_to_end() {
         assert_eq!(page.matches("Classification accuracy").count(), 1);
     }
 
+    // calibrate: every sample names its quantity, set and noise level and has a z; the table
+    // goes after the page's header like evaluate's
+    let r = run(&["calibrate".to_string(), s(&data), "--json".into()]).ok();
+    let samples = r.json();
+    let samples = samples.as_array().expect("samples array");
+    for q in ["phi", "edge_point", "edge_direction", "face_offset"] {
+        r.check(
+            samples
+                .iter()
+                .any(|x| x["quantity"] == q && x["set"] == "demo"),
+            &format!("no {q} sample"),
+        );
+    }
+    for x in samples {
+        assert!(x["error"].as_f64().is_some_and(|e| e >= 0.0), "{x}");
+        assert!(x["noise"].is_string() && x["source"].is_string(), "{x}");
+    }
+    let cal = d.join("calibration.md");
+    std::fs::write(&cal, header).unwrap();
+    let r = run(&[
+        "calibrate".to_string(),
+        s(&data),
+        "--markdown".into(),
+        s(&cal),
+    ])
+    .ok();
+    let page = std::fs::read_to_string(&cal).unwrap();
+    r.check(
+        page.starts_with(header) && page.contains("| phi |"),
+        "calibration table",
+    );
+
     // a folder that is not a dataset is a clear error
     let r = run(&["evaluate".to_string(), s(d.path())]).fails();
     r.check(
