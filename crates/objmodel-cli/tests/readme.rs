@@ -14,13 +14,17 @@ use std::process::Command;
 
 /// Commands not run here, with the test that covers them instead: those that take minutes,
 /// and the export, which needs a closed shape (the demo's box shows 3 of its 6 faces).
-const SLOW: [(&str, &str); 5] = [
+const SLOW: [(&str, &str); 6] = [
     (
         "objmodel learn session.mcap",
         "objmodel's tests/bags.rs, which writes such a bag (this folder has none)",
     ),
     ("objmodel dataset", "objmodel-sim's tests/dataset.rs"),
     ("objmodel evaluate", "objmodel-sim's tests/dataset.rs"),
+    (
+        "objmodel calibrate",
+        "objmodel-cli's tests/cli_outputs.rs and objmodel-sim's tests/calibration.rs",
+    ),
     ("objmodel task", "objmodel-sim's tests/task.rs"),
     ("objmodel export", "objmodel's tests/export.rs"),
 ];

@@ -290,8 +290,15 @@ fn com_z(com: &objmodel::tree::CentreOfMass, err: &Vector3<f64>) -> f64 {
 
 /// Every sample of the dataset in `dir` (with `manifest.json`).
 pub fn samples(dir: &Path, config: &Config) -> anyhow::Result<Vec<Sample>> {
+    let path = dir.join("manifest.json");
+    let text = std::fs::read_to_string(&path).map_err(|e| {
+        anyhow::anyhow!(
+            "{}: {e} (a dataset written by `objmodel dataset`?)",
+            path.display()
+        )
+    })?;
     let manifest: Manifest =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("manifest.json"))?)?;
+        serde_json::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     let learner = Learner::new(*config);
     let mut out = Vec::new();
     let mut groups: BTreeMap<(String, String), (Vec<Observation>, Truth)> = BTreeMap::new();
