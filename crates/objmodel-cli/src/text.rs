@@ -142,8 +142,11 @@ pub fn tree(tree: &Tree) -> String {
         }
     }
     if let Some(com) = &tree.com {
+        let sigma = com.sigma_m.map_or(String::new(), |x| {
+            format!("±{:.1} mm (worst axis), ", x * 1e3)
+        });
         s += &format!(
-            "  centre of mass: {} m (from {} pendulums, rms {:.1} mm)\n",
+            "  centre of mass: {} m {sigma}(from {} pendulums, rms {:.1} mm)\n",
             v3(&com.point),
             com.pendulums,
             com.rms_residual_m * 1e3

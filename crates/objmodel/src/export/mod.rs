@@ -250,6 +250,9 @@ mod tests {
                 point,
                 rms_residual_m: 0.0,
                 pendulums: 3,
+                covariance: None,
+                sigma_m: None,
+                chi2_per_dof: None,
             });
             let body = Body::from_tree(&tree, 1.0, None).unwrap();
             assert_eq!(body.com == point, used);

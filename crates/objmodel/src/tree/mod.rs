@@ -27,12 +27,14 @@ use crate::observation::Observation;
 use crate::shape::{LearntFace, Shape};
 
 mod checks;
+mod com;
 mod file;
 mod pendulums;
 mod unconfirmed;
 pub use checks::Contradiction;
+pub use com::{com_from_planes, CentreOfMass, ComPlane, UNKNOWN_PHI_SIGMA_RAD};
 use nalgebra::{Matrix3, Vector3};
-pub use pendulums::{CentreOfMass, Pendulum, PendulumObservation};
+pub use pendulums::{Pendulum, PendulumObservation};
 use serde::{Deserialize, Serialize};
 
 /// Schema name written into every tree file.
@@ -569,14 +571,18 @@ impl Tree {
 
     /// The shape of the learnt faces, with a face never seen inferred opposite a seen one from
     /// the centre of mass ([`crate::shape::reconstruct_inferring`]; the CoM's standard
-    /// deviation is taken as its planes' RMS residual, at least [`SYSTEMATIC_POINT_M`]), and
+    /// deviation is its `sigma_m` (worst axis), at least [`SYSTEMATIC_POINT_M`]), and
     /// without the faces seen once that cut into the shape of those seen more often or could
     /// not have held the object at rest (`tree/unconfirmed.rs`; listed in its `left_out`).
     pub fn reconstruct_shape(&self) -> Result<Shape, crate::shape::Incomplete> {
-        let com = self
-            .com
-            .as_ref()
-            .map(|c| (c.point, c.rms_residual_m.max(SYSTEMATIC_POINT_M)));
+        let com = self.com.as_ref().map(|c| {
+            (
+                c.point,
+                c.sigma_m
+                    .unwrap_or(c.rms_residual_m)
+                    .max(SYSTEMATIC_POINT_M),
+            )
+        });
         let mut out = self.unconfirmed_cuts(&self.learnt_faces(), com);
         loop {
             let kept: Vec<LearntFace> = self
