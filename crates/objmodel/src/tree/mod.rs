@@ -28,6 +28,7 @@ use crate::shape::{LearntFace, Shape};
 
 mod checks;
 mod com;
+mod derived;
 mod file;
 mod pendulums;
 mod unconfirmed;
@@ -192,6 +193,18 @@ pub struct Tree {
     /// Features that contradict each other beyond their uncertainty ([`Tree::contradictions`]).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub contradictions: Vec<Contradiction>,
+    /// The inertia, from the pendulums where they determine it, else the shape's at uniform
+    /// density ([`crate::inertia`]); with a shape.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inertia: Option<crate::inertia::LearntInertia>,
+    /// What the demonstrations tell of the friction ([`crate::friction`]), if anything.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<crate::friction::FrictionEvidence>,
+    /// The pendulum of every (resting face, edge) pair that the shape and the CoM predict, with
+    /// its uncertainty and the observed one beside it where one was demonstrated
+    /// ([`crate::prediction`]); with a shape and a learnt CoM.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub predictions: Vec<crate::prediction::PredictedPendulum>,
 }
 
 impl Default for Tree {
@@ -206,6 +219,9 @@ impl Default for Tree {
             com: None,
             shape: None,
             contradictions: Vec::new(),
+            inertia: None,
+            friction: None,
+            predictions: Vec::new(),
         }
     }
 }
@@ -567,6 +583,7 @@ impl Tree {
         self.com = self.centre_of_mass();
         self.shape = self.reconstruct_shape().ok();
         self.contradictions = self.contradictions();
+        self.refit_mass_properties();
     }
 
     /// The shape of the learnt faces, with a face never seen inferred opposite a seen one from
