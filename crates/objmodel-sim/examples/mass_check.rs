@@ -7,6 +7,9 @@
 //! ```text
 //! cargo run --release -p objmodel-sim --example mass_check -- DATA_DIR
 //! ```
+//!
+//! With `DUMP="real   brick"` (a prefix of a box's line), that box's CoM planes are printed
+//! beside the truth on standard error.
 
 use anyhow::Result;
 use nalgebra::{Matrix3, Vector3};

@@ -255,10 +255,15 @@ mod tests {
         ))
         .unwrap();
         let com = Vector3::new(0.01, 0.0, 0.0);
-        let mut t = Tree::default();
-        t.predictions =
-            crate::prediction::uncertain(&shape, &com, &(nalgebra::Matrix3::identity() * 1e-6));
-        t.shape = Some(shape);
+        let mut t = Tree {
+            predictions: crate::prediction::uncertain(
+                &shape,
+                &com,
+                &(nalgebra::Matrix3::identity() * 1e-6),
+            ),
+            shape: Some(shape),
+            ..Tree::default()
+        };
         let pose =
             Isometry3::from_parts(Translation3::new(0.0, 0.0, 0.1), UnitQuaternion::identity());
         let p = plan(
