@@ -122,12 +122,22 @@ pub fn run(a: &PlanArgs) -> Result<()> {
         crate::out(&(serde_json::to_string_pretty(&p)? + "\n"))
     } else {
         let v = |x: &nalgebra::Vector3<f64>| format!("[{:+.4}, {:+.4}, {:+.4}]", x.x, x.y, x.z);
+        let edge = if p.predicted {
+            format!(
+                "{} (faces resting/landing; no one demonstrated it: phi predicted from the \
+                 shape and the CoM, ±{:.2} deg)",
+                p.edge,
+                p.phi_sigma.unwrap_or(f64::NAN).to_degrees()
+            )
+        } else {
+            p.edge.clone()
+        };
         crate::out(&format!(
             "tilt the palm by {:.2} deg about the line through {} m along {} (palm frame)\n  edge {}, phi {:.2} deg, margin {:.2} deg, already tilted {:.2} deg; the object falls towards {}\n",
             p.tilt.to_degrees(),
             v(&p.axis_point),
             v(&p.axis_direction),
-            p.edge,
+            edge,
             p.phi.to_degrees(),
             p.margin.to_degrees(),
             p.current_tilt.to_degrees(),

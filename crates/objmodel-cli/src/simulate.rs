@@ -51,9 +51,11 @@ pub struct SimulateArgs {
         allow_hyphen_values = true
     )]
     pub com: String,
-    /// Box–table (or palm) friction coefficient (slides use their own low value).
-    #[arg(long, default_value_t = 0.8)]
-    pub friction: f64,
+    /// Box–table (or palm) friction coefficient (slides use their own low value). Default: 0.8;
+    /// with --model, the model's (as `objmodel export` takes it: 0.8, raised above the lower
+    /// bound its instrumented topples show).
+    #[arg(long)]
+    pub friction: Option<f64>,
     /// Tracking noise: `clean` (exact), `real` (1 mm, 0.5 deg, 3% drops, sign and mirror
     /// flips) or `noisy` (2 mm, 1 deg, more drops and flips).
     #[arg(long, default_value = "real", value_parser = ["clean", "real", "noisy"])]
@@ -105,16 +107,17 @@ pub fn box_from_args(a: &SimulateArgs) -> Result<BoxSpec> {
     };
     let spec = BoxSpec::new("box", [d[0], d[1], d[2]], a.mass)
         .with_com([c[0], c[1], c[2]])
-        .with_friction(a.friction)
+        .with_friction(a.friction.unwrap_or(objmodel::export::DEFAULT_FRICTION))
         .with_tag(tag);
     spec.validate()?;
     Ok(spec)
 }
 
-/// The object of the learnt model `path`, with the mass and friction of the arguments.
+/// The object of the learnt model `path`, with the mass and friction of the arguments (without
+/// a friction, the model's: [`objmodel::export::Body::from_tree`]).
 pub fn learnt_from_args(path: &std::path::Path, a: &SimulateArgs) -> Result<BoxSpec> {
     let tree = objmodel::tree::Tree::load(path)?;
-    let body = objmodel::export::Body::from_tree(&tree, a.mass, Some(a.friction))
+    let body = objmodel::export::Body::from_tree(&tree, a.mass, a.friction)
         .with_context(|| format!("{}", path.display()))?;
     let spec = objmodel_sim::learnt::learnt_spec(&body, "learnt");
     spec.validate()

@@ -142,8 +142,11 @@ pub fn tree(tree: &Tree) -> String {
         }
     }
     if let Some(com) = &tree.com {
+        let sigma = com.sigma_m.map_or(String::new(), |x| {
+            format!("±{:.1} mm (worst axis), ", x * 1e3)
+        });
         s += &format!(
-            "  centre of mass: {} m (from {} pendulums, rms {:.1} mm)\n",
+            "  centre of mass: {} m {sigma}(from {} pendulums, rms {:.1} mm)\n",
             v3(&com.point),
             com.pendulums,
             com.rms_residual_m * 1e3
@@ -183,6 +186,45 @@ pub fn tree(tree: &Tree) -> String {
             }
         }
         Err(e) => s += &format!("  shape: not closed yet: {e}\n"),
+    }
+    if let Some(i) = &tree.inertia {
+        let ev = i.matrix().symmetric_eigenvalues();
+        s += &format!(
+            "  inertia per kg about the CoM: principal {:.2}, {:.2}, {:.2} cm² ({})\n",
+            ev[0] * 1e4,
+            ev[1] * 1e4,
+            ev[2] * 1e4,
+            i.note
+        );
+    }
+    if let Some(f) = &tree.friction {
+        s += &format!("  friction: {}\n", f.note);
+    }
+    if !tree.predictions.is_empty() {
+        s += "  predicted pendulums (shape and CoM), resting face -> landing face: phi, l_p; \
+              observed beside\n";
+    }
+    for q in &tree.predictions {
+        let sd = |x: Option<f64>, k: f64| x.map_or(String::new(), |x| format!(" ±{:.2}", x * k));
+        let observed = q.observed.as_ref().map_or(String::new(), |o| {
+            format!(
+                "; observed {}: phi {:.2}{} deg{}",
+                o.edge,
+                o.phi.to_degrees(),
+                sd(o.phi_sigma, 180.0 / std::f64::consts::PI),
+                o.phi_z
+                    .map_or(String::new(), |z| format!(" ({z:+.1} sigma)"))
+            )
+        });
+        s += &format!(
+            "    {} -> {}: phi {:.2}{} deg, l_p {:.1}{} mm{observed}\n",
+            q.resting_face,
+            q.landing_face,
+            q.phi.to_degrees(),
+            sd(q.phi_sigma, 180.0 / std::f64::consts::PI),
+            q.l_p * 1e3,
+            sd(q.l_p_sigma, 1e3),
+        );
     }
     for c in &tree.contradictions {
         s += &format!("  contradiction: {}\n", c.what);

@@ -94,7 +94,8 @@ fn at_first_poses(
 /// to topple). `margin`: past φ [rad] (default 2° + 3 σ_φ).
 ///
 /// Returns a dict: the JSON of `objmodel plan --json` (`edge`, `axis_point`,
-/// `axis_direction`, `tilt`, `phi`, ...).
+/// `axis_direction`, `tilt`, `phi`, ..., `predicted`: True when no one demonstrated the edge and
+/// φ is the one the shape and the CoM predict, with its `phi_sigma`).
 #[pyfunction]
 #[pyo3(
     signature = (tree, *, object_in_palm=None, gravity_in_palm=None, from_demo=None, palm=None, times=None, gravity=Gravity::default(), towards=None, margin=None, quat_order="xyzw"),

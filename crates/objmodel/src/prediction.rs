@@ -9,6 +9,11 @@
 //! `φ = atan2(r · (u × n), r · (-n))`, `l_p = |r|`. φ > 0 for every edge of a face means the
 //! object can rest on it (the CoM is above the face); the support must tilt past φ about that
 //! edge to topple it.
+//!
+//! [`uncertain`] adds their standard deviations (see `prediction/sigma.rs`).
+
+mod sigma;
+pub use sigma::{observed_beside, uncertain, EDGE_MATCH_M};
 
 use crate::shape::Shape;
 use nalgebra::Vector3;
@@ -30,6 +35,34 @@ pub struct PredictedPendulum {
     pub phi: f64,
     /// `l_p` \[m\].
     pub l_p: f64,
+    /// Outward normal of the resting face (object frame).
+    #[serde(default)]
+    pub resting_normal: Vector3<f64>,
+    /// Standard deviation of φ \[rad\], propagated from the two faces that make the edge and
+    /// the CoM ([`uncertain`]); absent from [`pendulums`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub phi_sigma: Option<f64>,
+    /// Standard deviation of `l_p` \[m\], likewise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub l_p_sigma: Option<f64>,
+    /// The pendulum the tree observed on this (face, edge), when one was demonstrated.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub observed: Option<ObservedPendulum>,
+}
+
+/// An observed pendulum beside its prediction.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ObservedPendulum {
+    /// The tree's edge.
+    pub edge: String,
+    /// Observed φ \[rad\].
+    pub phi: f64,
+    /// Its standard deviation \[rad\].
+    pub phi_sigma: Option<f64>,
+    /// Observed `l_p` \[m\] (the fall's ratio under the homogeneous-box model), if any.
+    pub l_p: Option<f64>,
+    /// (observed - predicted) φ over the two sigmas combined.
+    pub phi_z: Option<f64>,
 }
 
 /// The pendulums of every (face, edge) pair of `shape` for the centre of mass `com`.
@@ -64,6 +97,10 @@ pub fn pendulums(shape: &Shape, com: &Vector3<f64>) -> Vec<PredictedPendulum> {
                 edge_direction: u,
                 phi: r.dot(&w).atan2(-r.dot(&n)),
                 l_p: r.norm(),
+                resting_normal: n,
+                phi_sigma: None,
+                l_p_sigma: None,
+                observed: None,
             });
         }
     }

@@ -11,6 +11,10 @@
 //! tilted about the edge by the pendulum's φ (measured from the vertical). Rotating the palm by
 //! `tilt = φ - ψ₀ + margin` about the edge line (right-hand rule about the toppling axis), with
 //! ψ₀ the tilt it already has, topples the object onto the adjacent face.
+//!
+//! An edge of that face about which no one demonstrated a topple is a candidate too, from the
+//! pendulum the shape and the CoM predict (`tree.predictions`, with its propagated σ_φ in the
+//! margin); the plan says so (`predicted`).
 
 use crate::geometry::angle_about;
 use crate::tree::{Tree, SAME_FACE_RAD};
@@ -62,6 +66,11 @@ pub struct Plan {
     pub resting_face_normal: Vector3<f64>,
     /// Outward normal of the face it will land on, in the palm frame, if learnt.
     pub landing_face_normal: Option<Vector3<f64>>,
+    /// Whether the pendulum is predicted from the shape and the CoM (no one demonstrated a
+    /// topple about this edge from this face) rather than observed; `edge` is then
+    /// `RESTING/LANDING`, the two faces' ids.
+    #[serde(default)]
+    pub predicted: bool,
 }
 
 /// Choose the edge and the tilt. Errors (which trigger a request for a demonstration) when the
@@ -111,8 +120,45 @@ pub fn plan(tree: &Tree, req: &PlanRequest) -> Result<Plan> {
                 topple_direction: fall,
                 resting_face_normal: n,
                 landing_face_normal: landing,
+                predicted: false,
             });
         }
+    }
+    // Edges of the face no one demonstrated: the pendulums the shape and the CoM predict.
+    for q in tree.predictions.iter().filter(|q| q.observed.is_none()) {
+        if q.resting_normal.angle(&down_obj) > SAME_FACE_RAD || q.phi <= 0.0 {
+            continue;
+        }
+        let u = rot * q.edge_direction;
+        let n = rot * q.resting_normal;
+        let current = angle_about(&u, &-g, &-n);
+        let margin = req
+            .margin
+            .unwrap_or(MIN_MARGIN_RAD + MARGIN_SIGMAS * q.phi_sigma.unwrap_or(0.0));
+        let point = (req.palm_from_object * Point3::from(q.edge_point)).coords;
+        let fall = -(u.cross(&n));
+        let fall = (fall - g * g.dot(&fall))
+            .try_normalize(1e-12)
+            .unwrap_or(fall);
+        let landing = tree
+            .shape
+            .as_ref()
+            .and_then(|s| s.faces.iter().find(|f| f.id == q.landing_face))
+            .map(|f| rot * f.normal);
+        candidates.push(Plan {
+            edge: format!("{}/{}", q.resting_face, q.landing_face),
+            axis_point: point - u * u.dot(&point),
+            axis_direction: u,
+            tilt: q.phi - current + margin,
+            phi: q.phi,
+            phi_sigma: q.phi_sigma,
+            current_tilt: current,
+            margin,
+            topple_direction: fall,
+            resting_face_normal: n,
+            landing_face_normal: landing,
+            predicted: true,
+        });
     }
     let key = |p: &Plan| match req.towards {
         Some(t) => -p.topple_direction.dot(&t.normalize()),
@@ -194,6 +240,71 @@ mod tests {
         let com_after = r * (Vector3::new(0.02, 0.0, 0.1) - p.axis_point);
         let h = com_after - p.axis_direction * p.axis_direction.dot(&com_after);
         assert!(h.cross(&Vector3::z()).norm() < 1e-12, "{h:?}");
+    }
+
+    /// A box no one toppled, whose shape and CoM are known: the plan tilts about the edge the
+    /// prediction gives, with its phi, says that it is predicted, and its margin holds 3 σ_φ.
+    #[test]
+    fn an_edge_no_one_demonstrated_is_planned_from_its_prediction() {
+        use crate::shape::{reconstruct, tests_support::box_faces};
+        let size = Vector3::new(0.1, 0.1, 0.2);
+        let shape = reconstruct(&box_faces(
+            Vector3::zeros(),
+            &UnitQuaternion::identity(),
+            &size,
+        ))
+        .unwrap();
+        let com = Vector3::new(0.01, 0.0, 0.0);
+        let mut t = Tree {
+            predictions: crate::prediction::uncertain(
+                &shape,
+                &com,
+                &(nalgebra::Matrix3::identity() * 1e-6),
+            ),
+            shape: Some(shape),
+            ..Tree::default()
+        };
+        let pose =
+            Isometry3::from_parts(Translation3::new(0.0, 0.0, 0.1), UnitQuaternion::identity());
+        let p = plan(
+            &t,
+            &PlanRequest {
+                palm_from_object: pose,
+                towards: None,
+                gravity_in_palm: -Vector3::z(),
+                margin: None,
+            },
+        )
+        .unwrap();
+        assert!(p.predicted);
+        // Easiest: over the +x edge, the CoM 0.04 m from it across, 0.1 m up.
+        let phi = 0.04f64.atan2(0.1);
+        assert!((p.phi - phi).abs() < 1e-12, "{} vs {phi}", p.phi);
+        assert!((p.topple_direction - Vector3::x()).norm() < 1e-12);
+        let sigma = p.phi_sigma.unwrap();
+        assert!(sigma > 0.0);
+        assert!((p.margin - (MIN_MARGIN_RAD + MARGIN_SIGMAS * sigma)).abs() < 1e-12);
+        // A demonstrated pendulum on that face wins over no prediction only by its tilt; with
+        // the prediction marked observed, it is not offered twice.
+        t.predictions.iter_mut().for_each(|q| {
+            q.observed = Some(crate::prediction::ObservedPendulum {
+                edge: "e0".into(),
+                phi: q.phi,
+                phi_sigma: None,
+                l_p: None,
+                phi_z: None,
+            })
+        });
+        assert!(plan(
+            &t,
+            &PlanRequest {
+                palm_from_object: pose,
+                towards: None,
+                gravity_in_palm: -Vector3::z(),
+                margin: None,
+            },
+        )
+        .is_err());
     }
 
     #[test]

@@ -84,6 +84,9 @@ pub fn analytic_box(offsets: bool) -> Tree {
         point: Vector3::from(COM),
         rms_residual_m: 5e-4,
         pendulums: 3,
+        covariance: None,
+        sigma_m: None,
+        chi2_per_dof: None,
     });
     tree.shape = reconstruct(&tree.learnt_faces()).ok();
     tree.contradictions = tree.contradictions();

@@ -5,9 +5,11 @@
 //! The body's frame is the object frame: the tracked frame whose poses the demonstration files
 //! give. Its shape is the convex polyhedron of the learnt faces ([`crate::shape`]); its centre
 //! of mass the one the pendulums determine (`tree.com`), or, without one, the shape's centroid
-//! at uniform density; its inertia that of the shape at uniform density, about that centre.
-//! Mass cannot come from kinematics: the caller gives it. Friction: [`DEFAULT_FRICTION`]
-//! unless given. Each choice is recorded in [`Body::notes`], and the files say them too.
+//! at uniform density; its inertia from the pendulums' falls where they determine it, else the
+//! shape's at uniform density, about that centre ([`crate::inertia`]). Mass cannot come from
+//! kinematics: the caller gives it. Friction: the caller's, else the data's estimate, else
+//! [`DEFAULT_FRICTION`] raised above the data's lower bound ([`crate::friction`]). Each choice is
+//! recorded in [`Body::notes`], and the files say them too.
 
 pub mod mjcf;
 pub mod urdf;
@@ -114,7 +116,17 @@ impl Body {
                 uniform.centroid
             }
         };
-        notes.push("inertia: the shape's at uniform density, about the centre of mass".to_string());
+        let inertia = crate::inertia::learn(tree, &shape, &com);
+        notes.push(format!(
+            "inertia ({}): {}",
+            match inertia.source {
+                crate::inertia::InertiaSource::Pendulums => "from the pendulums",
+                crate::inertia::InertiaSource::PendulumsAndUniformDensity =>
+                    "from the pendulums and the shape at uniform density",
+                crate::inertia::InertiaSource::UniformDensity => "the shape at uniform density",
+            },
+            inertia.note
+        ));
         notes.push(format!(
             "mass: {mass_kg} kg, given (kinematics cannot tell it)"
         ));
@@ -123,14 +135,11 @@ impl Body {
                 notes.push(format!("friction: {mu}, given"));
                 mu
             }
-            None => {
-                notes.push(format!("friction: {DEFAULT_FRICTION}, the default"));
-                DEFAULT_FRICTION
-            }
+            None => friction_from(tree, &mut notes),
         };
         Ok(Body {
             box_fit: box_fit(&shape),
-            inertia: uniform.inertia_per_kg * mass_kg,
+            inertia: inertia.matrix() * mass_kg,
             shape,
             mass_kg,
             com,
@@ -139,6 +148,43 @@ impl Body {
         })
     }
 }
+
+/// The friction coefficient when none is given: the data's estimate, else [`DEFAULT_FRICTION`],
+/// raised to [`BOUND_MARGIN`] times the data's lower bound when that is above it (so that the
+/// simulated object holds where the real one held); the choice goes to `notes`.
+fn friction_from(tree: &Tree, notes: &mut Vec<String>) -> f64 {
+    let evidence = tree.friction.as_ref();
+    if let Some(mu) = evidence.and_then(|f| f.estimate) {
+        notes.push(format!(
+            "friction: {mu:.3}, estimated from the demonstrations"
+        ));
+        return mu;
+    }
+    match evidence.and_then(|f| f.lower_bound) {
+        Some(b) if b * BOUND_MARGIN > DEFAULT_FRICTION => {
+            let mu = b * BOUND_MARGIN;
+            notes.push(format!(
+                "friction: {mu:.3}, {BOUND_MARGIN} x the lower bound {b:.3} the demonstrations                  show (above the default {DEFAULT_FRICTION}); not measured: give --friction"
+            ));
+            mu
+        }
+        Some(b) => {
+            notes.push(format!(
+                "friction: {DEFAULT_FRICTION}, the default (the demonstrations show only that                  it is above {b:.3}); give --friction"
+            ));
+            DEFAULT_FRICTION
+        }
+        None => {
+            notes.push(format!(
+                "friction: {DEFAULT_FRICTION}, the default (no demonstration tells it); give                  --friction"
+            ));
+            DEFAULT_FRICTION
+        }
+    }
+}
+
+/// The factor on the data's friction lower bound when it is used instead of the default.
+pub const BOUND_MARGIN: f64 = 1.1;
 
 /// The shape as a box, when its six faces are three pairs of opposite, mutually orthogonal
 /// faces (within [`BOX_ANGLE_RAD`]) and it has eight corners.
@@ -250,6 +296,9 @@ mod tests {
                 point,
                 rms_residual_m: 0.0,
                 pendulums: 3,
+                covariance: None,
+                sigma_m: None,
+                chi2_per_dof: None,
             });
             let body = Body::from_tree(&tree, 1.0, None).unwrap();
             assert_eq!(body.com == point, used);

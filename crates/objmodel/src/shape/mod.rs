@@ -51,6 +51,9 @@ pub struct ShapeFace {
     /// Standard deviation of the offset \[m\].
     #[serde(default)]
     pub offset_sigma_m: f64,
+    /// Standard deviation of the normal per axis \[rad\] (absent in older files: 0).
+    #[serde(default)]
+    pub normal_sigma_rad: f64,
     /// The assumption under which the face was inferred, for a face never seen (see
     /// [`reconstruct_inferring`]); absent for a face the data determine.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -227,6 +230,7 @@ pub fn reconstruct(learnt: &[LearntFace]) -> Result<Shape, Incomplete> {
             offset: p.d,
             polygon: counter_clockwise(polygon, &vertices, &p.n),
             offset_sigma_m: p.sigma_d,
+            normal_sigma_rad: p.sigma_n,
             inferred: None,
         });
     }

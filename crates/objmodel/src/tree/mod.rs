@@ -27,12 +27,15 @@ use crate::observation::Observation;
 use crate::shape::{LearntFace, Shape};
 
 mod checks;
+mod com;
+mod derived;
 mod file;
 mod pendulums;
 mod unconfirmed;
 pub use checks::Contradiction;
+pub use com::{com_from_planes, CentreOfMass, ComPlane, UNKNOWN_PHI_SIGMA_RAD};
 use nalgebra::{Matrix3, Vector3};
-pub use pendulums::{CentreOfMass, Pendulum, PendulumObservation};
+pub use pendulums::{Pendulum, PendulumObservation};
 use serde::{Deserialize, Serialize};
 
 /// Schema name written into every tree file.
@@ -190,6 +193,18 @@ pub struct Tree {
     /// Features that contradict each other beyond their uncertainty ([`Tree::contradictions`]).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub contradictions: Vec<Contradiction>,
+    /// The inertia, from the pendulums where they determine it, else the shape's at uniform
+    /// density ([`crate::inertia`]); with a shape.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inertia: Option<crate::inertia::LearntInertia>,
+    /// What the demonstrations tell of the friction ([`crate::friction`]), if anything.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<crate::friction::FrictionEvidence>,
+    /// The pendulum of every (resting face, edge) pair that the shape and the CoM predict, with
+    /// its uncertainty and the observed one beside it where one was demonstrated
+    /// ([`crate::prediction`]); with a shape and a learnt CoM.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub predictions: Vec<crate::prediction::PredictedPendulum>,
 }
 
 impl Default for Tree {
@@ -204,6 +219,9 @@ impl Default for Tree {
             com: None,
             shape: None,
             contradictions: Vec::new(),
+            inertia: None,
+            friction: None,
+            predictions: Vec::new(),
         }
     }
 }
@@ -565,18 +583,23 @@ impl Tree {
         self.com = self.centre_of_mass();
         self.shape = self.reconstruct_shape().ok();
         self.contradictions = self.contradictions();
+        self.refit_mass_properties();
     }
 
     /// The shape of the learnt faces, with a face never seen inferred opposite a seen one from
     /// the centre of mass ([`crate::shape::reconstruct_inferring`]; the CoM's standard
-    /// deviation is taken as its planes' RMS residual, at least [`SYSTEMATIC_POINT_M`]), and
+    /// deviation is its `sigma_m` (worst axis), at least [`SYSTEMATIC_POINT_M`]), and
     /// without the faces seen once that cut into the shape of those seen more often or could
     /// not have held the object at rest (`tree/unconfirmed.rs`; listed in its `left_out`).
     pub fn reconstruct_shape(&self) -> Result<Shape, crate::shape::Incomplete> {
-        let com = self
-            .com
-            .as_ref()
-            .map(|c| (c.point, c.rms_residual_m.max(SYSTEMATIC_POINT_M)));
+        let com = self.com.as_ref().map(|c| {
+            (
+                c.point,
+                c.sigma_m
+                    .unwrap_or(c.rms_residual_m)
+                    .max(SYSTEMATIC_POINT_M),
+            )
+        });
         let mut out = self.unconfirmed_cuts(&self.learnt_faces(), com);
         loop {
             let kept: Vec<LearntFace> = self

@@ -1,7 +1,7 @@
-//! The tree's dynamic models: a planar pendulum per (edge, resting face), and the centre of
-//! mass that the pendulums of several edges determine.
+//! The tree's dynamic models: a planar pendulum per (edge, resting face); the centre of mass
+//! they determine together is in [`super::com`].
 
-use super::{angle, Tree, CONDITION_MIN, SAME_FACE_RAD};
+use super::{angle, Tree, SAME_FACE_RAD};
 use crate::classify::Topple;
 use crate::dynamics::ToppleDynamics;
 use nalgebra::Vector3;
@@ -92,19 +92,6 @@ impl Pendulum {
     }
 }
 
-/// Where the centre of mass is, from the pendulums: each (edge, resting face, φ) puts the CoM
-/// in the plane through the edge tilted by φ from the face's inward normal; three or more
-/// independent planes give the point by least squares.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct CentreOfMass {
-    /// The CoM in the object frame \[m\].
-    pub point: Vector3<f64>,
-    /// RMS residual distance of the CoM from the planes \[m\].
-    pub rms_residual_m: f64,
-    /// Pendulums used.
-    pub pendulums: usize,
-}
-
 impl Tree {
     /// Add a topple's dynamics as a pendulum observation of the edge `edge_id` (the edge its
     /// topple `top` of the demonstration `demo` was just fused into), for the face it rested
@@ -161,92 +148,5 @@ impl Tree {
                 edge.pendulums.push(p);
             }
         }
-    }
-
-    /// The CoM from the pendulums (see [`CentreOfMass`]); `None` with fewer than three
-    /// independent planes.
-    pub fn centre_of_mass(&self) -> Option<CentreOfMass> {
-        let mut planes = Vec::new();
-        for e in &self.edges {
-            for p in &e.pendulums {
-                let (Some(phi), n) = (p.phi, p.resting_face_normal) else {
-                    continue;
-                };
-                let u = p.toppling_axis;
-                let inward = -n;
-                // Along the face from the edge into the object: the face lifts on that side.
-                let w = u.cross(&n).normalize();
-                let d = inward * phi.cos() + w * phi.sin();
-                let m = u.cross(&d).normalize();
-                let sigma = p.phi_sigma.unwrap_or(0.02).max(1e-3);
-                planes.push((m, m.dot(&e.point), 1.0 / sigma));
-            }
-        }
-        com_from_planes(&planes)
-    }
-}
-
-/// The point closest, in the weighted least-squares sense, to planes `m · x = d` given as
-/// `(unit m, d [m], weight [1/rad])`; `None` with fewer than three planes or when their normals
-/// are too close to parallel to fix a point ([`CONDITION_MIN`] on `Σ m mᵀ`: the geometry decides
-/// whether the planes meet in a point, the weights only how well each is known).
-fn com_from_planes(planes: &[(Vector3<f64>, f64, f64)]) -> Option<CentreOfMass> {
-    if planes.len() < 3 {
-        return None;
-    }
-    let mut a = nalgebra::Matrix3::zeros();
-    let mut b = Vector3::zeros();
-    let mut geometry = nalgebra::Matrix3::zeros();
-    for (m, d, w) in planes {
-        a += m * m.transpose() * (w * w);
-        b += m * (d * w * w);
-        geometry += m * m.transpose();
-    }
-    let eig = geometry.symmetric_eigenvalues();
-    if eig.min() < CONDITION_MIN * eig.max() {
-        return None;
-    }
-    let x = a.try_inverse()? * b;
-    let rms = (planes
-        .iter()
-        .map(|(m, d, _)| (m.dot(&x) - d).powi(2))
-        .sum::<f64>()
-        / planes.len() as f64)
-        .sqrt();
-    Some(CentreOfMass {
-        point: x,
-        rms_residual_m: rms,
-        pendulums: planes.len(),
-    })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Three planes along z known well and one across z known poorly still fix the point: the
-    /// geometry is good, only the weights differ (by 200 here).
-    #[test]
-    fn planes_of_unequal_weight_fix_a_point() {
-        let x = Vector3::new(0.01, -0.02, 0.03);
-        let plane = |m: Vector3<f64>, w: f64| {
-            let m = m.normalize();
-            (m, m.dot(&x), w)
-        };
-        let planes = [
-            plane(Vector3::new(1.0, 0.0, 0.1), 1000.0),
-            plane(Vector3::new(0.0, 1.0, 0.1), 1000.0),
-            plane(Vector3::new(1.0, 1.0, 0.0), 1000.0),
-            plane(Vector3::new(0.1, 0.0, 1.0), 5.0),
-        ];
-        let com = com_from_planes(&planes).expect("a point");
-        assert!((com.point - x).norm() < 1e-12, "{}", com.point);
-        // Three planes through one line do not.
-        let line = [
-            plane(Vector3::new(1.0, 0.0, 0.0), 1.0),
-            plane(Vector3::new(0.0, 1.0, 0.0), 1.0),
-            plane(Vector3::new(1.0, 1.0, 0.0), 1.0),
-        ];
-        assert!(com_from_planes(&line).is_none());
     }
 }

@@ -216,6 +216,9 @@ mod tests {
             point: Vector3::new(0.0, 0.0, -0.01),
             rms_residual_m: 0.002,
             pendulums: 3,
+            covariance: None,
+            sigma_m: None,
+            chi2_per_dof: None,
         });
         let shape = tree.reconstruct_shape().unwrap();
         assert_eq!(shape.faces.len(), 6);
