@@ -277,15 +277,14 @@ fn tree_samples(tree: &Tree, truth: &Truth, out: &mut Vec<(Quantity, f64, f64)>)
     }
 }
 
-/// The centre of mass's error in units of its covariance. Until the tree carries a
-/// covariance, its RMS plane residual stands as an isotropic sigma.
+/// The centre of mass's error in units of its covariance (the 3-D Mahalanobis distance);
+/// infinite without a usable covariance.
 fn com_z(com: &objmodel::tree::CentreOfMass, err: &Vector3<f64>) -> f64 {
-    let cov = Matrix3::identity() * com.rms_residual_m.powi(2);
-    match cov.try_inverse() {
-        Some(inv) if err.norm() > 0.0 => err.dot(&(inv * err)).sqrt(),
-        _ if err.norm() == 0.0 => 0.0,
-        _ => f64::INFINITY,
+    if err.norm() == 0.0 {
+        return 0.0;
     }
+    com.standardised_error(&(com.point - err))
+        .map_or(f64::INFINITY, |z| z.norm())
 }
 
 /// Every sample of the dataset in `dir` (with `manifest.json`).
