@@ -36,6 +36,10 @@ pub const MAX_DEPTH: usize = 3;
 /// classifier's `min_rest_s` (the rest must be long enough to start a segment).
 const HELD_REST: f64 = 1.25;
 
+/// Fraction of the largest rotation of the re-measured frames that the frames of a
+/// re-measured edge must reach (see [`adopt`]).
+pub const CARRIED_FRACTION: f64 = 0.5;
+
 /// A part of a segment measured again from its onset: where, and what the classifier said of
 /// the frames from there on.
 #[derive(Clone, Debug)]
@@ -121,7 +125,16 @@ fn remeasure(c: &mut Classification, recording: &Recording, config: &Config, dep
         else {
             continue;
         };
-        let Some(mut sub) = classify_from(c, recording, &config, reference, t_end) else {
+        // First the frames up to the largest turn from the reference (a topple's landing; on
+        // a tilted palm the box may slide on after it, and those frames, all at one pose, can
+        // outnumber the fall's), then all of them.
+        let turned = largest_turn(recording, reference, t_end);
+        let up_to_turn = turned
+            .and_then(|t| classify_from(c, recording, &config, reference, t + 1e-9))
+            .filter(|sub| teaches_edge(sub));
+        let Some(mut sub) =
+            up_to_turn.or_else(|| classify_from(c, recording, &config, reference, t_end))
+        else {
             continue;
         };
         remeasure(&mut sub, recording, &config, depth - 1);
@@ -176,11 +189,11 @@ fn classify_from(
     let mut object: Vec<StampedPose> = (0..held)
         .map(|i| StampedPose::new(reference.t - (held - i) as f64 * dt, g0))
         .collect();
-    let mut index: Vec<Option<u64>> = vec![None; held];
+    let mut index: Vec<Option<(u64, f64)>> = vec![None; held];
     for f in frames {
         if let Some(p) = pose(f) {
             object.push(StampedPose::new(f.t, p));
-            index.push(Some(f.index));
+            index.push(Some((f.index, f.t)));
         }
     }
     let demo = Demonstration {
@@ -189,24 +202,62 @@ fn classify_from(
         palm: None,
     };
     let mut sub = classify(&demo, config).ok()?;
-    // Back to the first pass's frame indices, without the held rest.
+    // Back to the first pass's frame indices, without the held rest and the reference (they
+    // keep the first pass's labels).
     sub.labels.retain_mut(|r| {
-        let (Some(Some(a)), Some(Some(b))) = (
-            index.get(r.first.max(held)),
-            index.get(r.last.min(index.len() - 1)),
-        ) else {
-            return false;
-        };
-        if r.last < held {
+        if r.last <= held {
             return false;
         }
-        r.frames -= held.saturating_sub(r.first) as u64;
-        r.first = *a as usize;
-        r.last = *b as usize;
-        r.t_start = r.t_start.max(reference.t);
+        let from = r.first.max(held + 1);
+        let (Some(Some((a, ta))), Some(Some((b, tb)))) =
+            (index.get(from), index.get(r.last.min(index.len() - 1)))
+        else {
+            return false;
+        };
+        r.frames -= (from - r.first) as u64;
+        (r.first, r.last, r.t_start, r.t_end) = (*a as usize, *b as usize, *ta, *tb);
         true
     });
     Some(sub)
+}
+
+/// Whether a re-measured part teaches an edge: its first segment's, if the edge's frames
+/// carry the rotation. A topple measured from its onset carries the rotation of the frames
+/// from there on (it is followed by its landing, or by a rest): an "edge" whose frames turn by
+/// less than [`CARRIED_FRACTION`] of it explains a part of the motion that is not the topple
+/// (a slide's first frames pass for rotations about a distant line).
+fn teaches_edge(sub: &Classification) -> bool {
+    sub.segments.first().is_some_and(|s| {
+        s.edge
+            .as_ref()
+            .is_some_and(|e| e.max_angle >= CARRIED_FRACTION * s.max_angle)
+    })
+}
+
+/// The time of the kept frame in `[reference, t_end)` turned farthest from the reference.
+fn largest_turn(recording: &Recording, reference: &RecordedFrame, t_end: f64) -> Option<f64> {
+    let (q0, palm0) = (reference.rotation, palm_rotation(recording, reference.t));
+    recording
+        .object
+        .iter()
+        .filter(|f| f.t > reference.t && f.t < t_end)
+        .filter_map(|f| {
+            // Relative to the palm when there is one.
+            let rel = match (palm0, palm_rotation(recording, f.t)) {
+                (Some(p0), Some(p)) => (p0.inverse() * q0).inverse() * (p.inverse() * f.rotation),
+                _ => q0.inverse() * f.rotation,
+            };
+            Some((rel.angle(), f.t))
+        })
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, t)| t)
+}
+
+fn palm_rotation(recording: &Recording, t: f64) -> Option<nalgebra::UnitQuaternion<f64>> {
+    if recording.palm.is_empty() {
+        return None;
+    }
+    pose_at(&recording.palm, t).map(|p| p.rotation)
 }
 
 /// `world_from_palm` at time `t`, interpolated between the kept palm poses.
@@ -243,46 +294,63 @@ fn adopt(c: &mut Classification, r: Remeasured, recording: &Recording, config: &
     if first.edge.is_none() && first.face.is_none() {
         return;
     }
+    if first.edge.is_some() && !teaches_edge(&r.sub) {
+        return;
+    }
     // The labels from the reference on are the re-measured ones, in segment k.
-    let cut = r.t_reference;
+    let i_ref = r.i_reference as usize;
+    let i_sub_end = r.sub.labels.last().map_or(i_ref, |l| l.last);
+    // A run's frames within [a, b], as a run (times from the kept frames).
+    let clip = |run: &LabelRun, a: usize, b: usize| -> Option<LabelRun> {
+        let (a, b) = (run.first.max(a), run.last.min(b));
+        let inside: Vec<&RecordedFrame> = recording
+            .object
+            .iter()
+            .filter(|f| (a as u64..=b as u64).contains(&f.index))
+            .collect();
+        let (first, last) = (inside.first()?, inside.last()?);
+        Some(LabelRun {
+            first: first.index as usize,
+            last: last.index as usize,
+            t_start: first.t,
+            t_end: last.t,
+            frames: inside.len() as u64,
+            ..*run
+        })
+    };
     let mut labels: Vec<LabelRun> = Vec::with_capacity(c.labels.len() + r.sub.labels.len());
     let mut votes = Votes::default();
     let mut inserted = false;
-    for run in c.labels.drain(..) {
-        if run.segment == Some(k) && run.t_end > cut {
-            if !inserted {
-                inserted = true;
-                if run.t_start <= cut && run.first as u64 <= r.i_reference {
-                    // The part of this run up to the reference.
-                    let mut head = run;
-                    head.t_end = cut;
-                    head.last = r.i_reference as usize;
-                    head.frames = recording
-                        .object
-                        .iter()
-                        .filter(|f| (run.first as u64..=r.i_reference).contains(&f.index))
-                        .count() as u64;
-                    if let Some(v) = head.label.vote() {
-                        votes.add(v, head.frames);
-                    }
-                    labels.push(head);
-                }
-                for mut s in r.sub.labels.iter().copied() {
-                    s.segment = Some(k);
-                    if let Some(v) = s.label.vote() {
-                        votes.add(v, s.frames);
-                    }
-                    labels.push(s);
-                }
-            }
-            continue;
-        }
-        if run.segment == Some(k) {
-            if let Some(v) = run.label.vote() {
-                votes.add(v, run.frames);
-            }
+    let keep = |run: LabelRun, labels: &mut Vec<LabelRun>, votes: &mut Votes| {
+        if let Some(v) = run.label.vote() {
+            votes.add(v, run.frames);
         }
         labels.push(run);
+    };
+    for run in c.labels.drain(..) {
+        if run.segment != Some(k) {
+            labels.push(run);
+            continue;
+        }
+        if run.last <= i_ref || run.first > i_sub_end {
+            keep(run, &mut labels, &mut votes);
+            continue;
+        }
+        // Up to the reference: the first pass's; then the re-measured labels; after them,
+        // the first pass's again.
+        if let Some(head) = clip(&run, 0, i_ref) {
+            keep(head, &mut labels, &mut votes);
+        }
+        if !inserted {
+            inserted = true;
+            for mut s in r.sub.labels.iter().copied() {
+                s.segment = Some(k);
+                keep(s, &mut labels, &mut votes);
+            }
+        }
+        if let Some(tail) = clip(&run, i_sub_end + 1, usize::MAX) {
+            keep(tail, &mut labels, &mut votes);
+        }
     }
     c.labels = labels;
     c.votes.topple = c.votes.topple - seg.votes.topple + votes.topple;
@@ -302,7 +370,8 @@ fn adopt(c: &mut Classification, r: Remeasured, recording: &Recording, config: &
         seg.face = Some(f.clone());
     }
     seg.remeasured = Some(note);
-    seg.withheld = None;
+    seg.onset_frame = r.sub.labels.first().map(|l| l.first);
+    seg.withheld_before_onset = seg.withheld.take();
     // The face the object rested on before: the segment's, if the object still rests on it at
     // the onset (the held rest's "down" agrees with it).
     let same_face = match (seg.resting_normal_before, first.resting_normal_before) {

@@ -348,6 +348,9 @@ pub(super) fn analyse_segment(
         .as_ref()
         .zip(seg.down_ref)
         .and_then(|(e, d)| edge_off_level(e, &d, alpha));
+    // An edge rotation that passed every test but turned too little to locate its edge is
+    // still a contact mode measured from the rest: it shows the rest was on the support.
+    let small_rotation = turned_too_little.is_some() && off_level.is_none();
     if let Some(w) = turned_too_little.or(off_level) {
         withheld = Some(format!("edge not taught: {w}"));
         edge = None;
@@ -399,12 +402,12 @@ pub(super) fn analyse_segment(
     // The rests around the segment were on the support when a contact mode measured from them
     // leaves the rest before (it leads the segment: its features are taught) or reaches the
     // rest after (it lasts to the segment's end, landing aside).
+    let rotation = edge.is_some() || small_rotation;
     let departs_from_support = seg.rest_before.is_some()
         && seg.rest_before_frames >= MIN_FACE_FRAMES
-        && (face.is_some() || edge.is_some());
+        && (face.is_some() || rotation);
     let arrives_on_support = seg.rest_after.is_some()
-        && ((face.is_some() && slide_end.is_infinite())
-            || (edge.is_some() && topple_end.is_infinite()));
+        && ((face.is_some() && slide_end.is_infinite()) || (rotation && topple_end.is_infinite()));
     let segment = Segment {
         topple_stats,
         topple_best,
@@ -424,6 +427,8 @@ pub(super) fn analyse_segment(
         withheld,
         remeasured: None,
         onset_on_rested_face: false,
+        onset_frame: None,
+        withheld_before_onset: None,
     };
     (segment, warning)
 }

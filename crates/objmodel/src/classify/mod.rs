@@ -373,6 +373,12 @@ pub struct Segment {
     /// segment (then that face is the topple's face before).
     #[serde(skip)]
     pub(crate) onset_on_rested_face: bool,
+    /// The first frame of that later part (its parts start there).
+    #[serde(skip)]
+    pub(crate) onset_frame: Option<usize>,
+    /// Why the part before that onset taught nothing, if the first pass said why.
+    #[serde(skip)]
+    pub(crate) withheld_before_onset: Option<String>,
 }
 
 /// One topple of a demonstration: one or more topple segments about one edge.

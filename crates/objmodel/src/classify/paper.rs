@@ -259,6 +259,8 @@ impl PaperMethod {
                 withheld: None,
                 remeasured: None,
                 onset_on_rested_face: false,
+                onset_frame: None,
+                withheld_before_onset: None,
             }],
             labels: self.runs,
             paper_edge,

@@ -64,8 +64,14 @@ pub(crate) fn parts(c: &Classification) -> Vec<Part> {
                 push_or_extend(&mut out, p);
             }
         }
+        // A segment's later part measured from its own onset starts a part there.
+        let onset = run
+            .segment
+            .and_then(|k| c.segments.get(k))
+            .and_then(|s| s.onset_frame)
+            .is_some_and(|i| run.first >= i && out.last().is_some_and(|l| l.last < i));
         match out.last_mut() {
-            Some(last) if last.segment == run.segment && last.kind == kind => {
+            Some(last) if last.segment == run.segment && last.kind == kind && !onset => {
                 extend(last, &run);
             }
             _ => out.push(new_part(&run, kind)),
@@ -74,7 +80,7 @@ pub(crate) fn parts(c: &Classification) -> Vec<Part> {
     if let Some(p) = pending {
         push_or_extend(&mut out, p);
     }
-    merge_short_interruptions(&mut out);
+    merge_short_interruptions(c, &mut out);
     mark_taught(c, &mut out);
     out
 }
@@ -119,8 +125,14 @@ fn push_or_extend(out: &mut Vec<Part>, r: LabelRun) {
 
 /// A moving part shorter than [`MIN_EDGE_FRAMES`] between two parts of one kind in one segment
 /// is an interruption of that part, not a part.
-fn merge_short_interruptions(out: &mut Vec<Part>) {
+fn merge_short_interruptions(c: &Classification, out: &mut Vec<Part>) {
     let moving = |l: Label| l.vote().is_some();
+    let onset_between = |a: &Part, n: &Part| {
+        a.segment
+            .and_then(|k| c.segments.get(k))
+            .and_then(|s| s.onset_frame)
+            .is_some_and(|i| a.last < i && i <= n.first)
+    };
     let mut i = 1;
     while i + 1 < out.len() {
         let (a, b, n) = (&out[i - 1], &out[i], &out[i + 1]);
@@ -130,6 +142,7 @@ fn merge_short_interruptions(out: &mut Vec<Part>) {
             && moving(a.kind)
             && a.segment == b.segment
             && b.segment == n.segment
+            && !onset_between(a, n)
         {
             let (b, n) = (out.remove(i), out.remove(i));
             let a = &mut out[i - 1];
@@ -145,16 +158,12 @@ fn merge_short_interruptions(out: &mut Vec<Part>) {
 /// Put each segment's features, and the faces rested on, on the parts that taught them.
 fn mark_taught(c: &Classification, out: &mut [Part]) {
     for (k, s) in c.segments.iter().enumerate() {
-        // A re-measured segment's feature comes from the first part of its kind that starts
-        // after its first part.
-        let skip_first = usize::from(s.remeasured.is_some());
+        // A re-measured segment's feature comes from the first part of its kind from the
+        // onset on.
+        let from = s.onset_frame.unwrap_or(0);
         let of_kind = |out: &[Part], label: Label| {
             out.iter()
-                .enumerate()
-                .filter(|(_, p)| p.segment == Some(k) && p.kind.vote().is_some())
-                .skip(skip_first)
-                .find(|(_, p)| p.kind == label)
-                .map(|(j, _)| j)
+                .position(|p| p.segment == Some(k) && p.kind == label && p.first >= from)
         };
         if s.edge.is_some() {
             if let Some(j) = of_kind(out, Label::Topple) {
@@ -166,7 +175,10 @@ fn mark_taught(c: &Classification, out: &mut [Part]) {
                 out[j].taught.push("face".into());
             }
         }
-        if let Some(w) = &s.withheld {
+        for w in [&s.withheld, &s.withheld_before_onset]
+            .into_iter()
+            .flatten()
+        {
             let label = if w.starts_with("face") {
                 Label::Slide
             } else {
@@ -174,7 +186,7 @@ fn mark_taught(c: &Classification, out: &mut [Part]) {
             };
             if let Some(p) = out
                 .iter_mut()
-                .find(|p| p.segment == Some(k) && p.kind == label)
+                .find(|p| p.segment == Some(k) && p.kind == label && p.withheld.is_none())
             {
                 p.withheld = Some(w.clone());
             }
