@@ -228,9 +228,10 @@ fn classify_from(
 /// (a slide's first frames pass for rotations about a distant line).
 fn teaches_edge(sub: &Classification) -> bool {
     sub.segments.first().is_some_and(|s| {
-        s.edge
-            .as_ref()
-            .is_some_and(|e| e.max_angle >= CARRIED_FRACTION * s.max_angle)
+        s.edge.as_ref().is_some_and(|e| {
+            // (An edge from a later part of its own passed this against its own frames.)
+            s.remeasured.is_some() || e.max_angle >= CARRIED_FRACTION * s.max_angle
+        })
     })
 }
 
@@ -358,10 +359,13 @@ fn adopt(c: &mut Classification, r: Remeasured, recording: &Recording, config: &
     c.votes.general = c.votes.general - seg.votes.general + votes.general;
     seg.votes = votes;
     seg.kind = votes.winner().unwrap_or(Kind::General);
-    let note = format!(
-        "measured from its onset at {:.2} s (the pose at {:.2} s), after the part before it",
-        r.t_onset, r.t_reference
-    );
+    // (An edge from a later part of the re-measured part: that part's onset.)
+    let note = first.remeasured.clone().unwrap_or_else(|| {
+        format!(
+            "measured from its onset at {:.2} s (the pose at {:.2} s), after the part before it",
+            r.t_onset, r.t_reference
+        )
+    });
     if let Some(e) = &first.edge {
         seg.edge = Some(e.clone());
         seg.topple_stats = first.topple_stats;
@@ -370,7 +374,9 @@ fn adopt(c: &mut Classification, r: Remeasured, recording: &Recording, config: &
         seg.face = Some(f.clone());
     }
     seg.remeasured = Some(note);
-    seg.onset_frame = r.sub.labels.first().map(|l| l.first);
+    seg.onset_frame = first
+        .onset_frame
+        .or_else(|| r.sub.labels.first().map(|l| l.first));
     seg.withheld_before_onset = seg.withheld.take();
     // The face the object rested on before: the segment's, if the object still rests on it at
     // the onset (the held rest's "down" agrees with it).
