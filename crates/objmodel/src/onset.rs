@@ -131,7 +131,7 @@ fn remeasure(c: &mut Classification, recording: &Recording, config: &Config, dep
         let turned = largest_turn(recording, reference, t_end);
         let up_to_turn = turned
             .and_then(|t| classify_from(c, recording, &config, reference, t + 1e-9))
-            .filter(|sub| teaches_edge(sub));
+            .filter(teaches_edge);
         let Some(mut sub) =
             up_to_turn.or_else(|| classify_from(c, recording, &config, reference, t_end))
         else {
@@ -242,13 +242,13 @@ fn largest_turn(recording: &Recording, reference: &RecordedFrame, t_end: f64) ->
         .object
         .iter()
         .filter(|f| f.t > reference.t && f.t < t_end)
-        .filter_map(|f| {
+        .map(|f| {
             // Relative to the palm when there is one.
             let rel = match (palm0, palm_rotation(recording, f.t)) {
                 (Some(p0), Some(p)) => (p0.inverse() * q0).inverse() * (p.inverse() * f.rotation),
                 _ => q0.inverse() * f.rotation,
             };
-            Some((rel.angle(), f.t))
+            (rel.angle(), f.t)
         })
         .max_by(|a, b| a.0.total_cmp(&b.0))
         .map(|(_, t)| t)
