@@ -118,6 +118,9 @@ pub fn precision_rows(
     rows.into_values().collect()
 }
 
+/// Noise levels from the least to the most noisy.
+const NOISE_ORDER: [&str; 4] = ["clean", "mocap", "real", "noisy"];
+
 /// The rows as a Markdown table, scenes in the order given (others after them).
 pub fn markdown(rows: &[PrecisionRow], order: &[&str]) -> String {
     let mut s = String::from(
@@ -129,10 +132,26 @@ pub fn markdown(rows: &[PrecisionRow], order: &[&str]) -> String {
          | scene | noise | demos | edges true/learnt | faces true/learnt | precision |\n\
          |---|---|---|---|---|---|\n",
     );
-    let rank = |scene: &str| order.iter().position(|o| *o == scene).unwrap_or(order.len());
+    let rank = |scene: &str| {
+        order
+            .iter()
+            .position(|o| *o == scene)
+            .unwrap_or(order.len())
+    };
+    let noise_rank = |n: &str| {
+        NOISE_ORDER
+            .iter()
+            .position(|o| *o == n)
+            .unwrap_or(NOISE_ORDER.len())
+    };
     let mut sorted: Vec<&PrecisionRow> = rows.iter().collect();
     sorted.sort_by(|a, b| {
-        (rank(&a.scene), &a.scene, &a.noise).cmp(&(rank(&b.scene), &b.scene, &b.noise))
+        (rank(&a.scene), &a.scene, noise_rank(&a.noise), &a.noise).cmp(&(
+            rank(&b.scene),
+            &b.scene,
+            noise_rank(&b.noise),
+            &b.noise,
+        ))
     });
     for r in sorted {
         s += &format!(

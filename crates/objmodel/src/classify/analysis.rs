@@ -426,7 +426,6 @@ pub(super) fn analyse_segment(
         arrives_on_support,
         withheld,
         remeasured: None,
-        onset_on_rested_face: false,
         onset_frame: None,
         withheld_before_onset: None,
     };

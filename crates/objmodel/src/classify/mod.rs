@@ -369,10 +369,6 @@ pub struct Segment {
     /// [`crate::onset`]): where.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub remeasured: Option<String>,
-    /// Whether, at that onset, the object still rested on the face it rested on before the
-    /// segment (then that face is the topple's face before).
-    #[serde(skip)]
-    pub(crate) onset_on_rested_face: bool,
     /// The first frame of that later part (its parts start there).
     #[serde(skip)]
     pub(crate) onset_frame: Option<usize>,

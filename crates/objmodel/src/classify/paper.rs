@@ -258,7 +258,6 @@ impl PaperMethod {
                 arrives_on_support: false,
                 withheld: None,
                 remeasured: None,
-                onset_on_rested_face: false,
                 onset_frame: None,
                 withheld_before_onset: None,
             }],
