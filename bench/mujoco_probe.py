@@ -23,6 +23,7 @@ atan(half length / half height) (topples).
     python3 bench/mujoco_probe.py [N per kind, default 10]
     OBJMODEL=target/release/objmodel python3 bench/mujoco_probe.py 20
     NOISE=0 python3 bench/mujoco_probe.py      (exact poses: what is the physics, what the noise)
+    KINDS=instrumented python3 bench/mujoco_probe.py 20    (only some kinds; comma-separated)
 
 Needs numpy, scipy and mujoco (pip install mujoco). Writes into $PROBE_DIR (default
 /tmp/objmodel-mujoco). Not a test: the numbers are for reading (see the notes on issue 3).
@@ -213,7 +214,8 @@ def main():
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 10
     os.makedirs(DIR, exist_ok=True)
     rng = np.random.default_rng(11)
-    for kind in ("topple", "instrumented", "straight-slide", "turning-slide"):
+    kinds = os.environ.get("KINDS", "topple,instrumented,straight-slide,turning-slide").split(",")
+    for kind in kinds:
         ok, total, skipped, edge_errs, face_errs, phi_errs = 0, 0, 0, [], [], []
         while total < n:
             palm = None

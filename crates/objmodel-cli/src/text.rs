@@ -69,6 +69,31 @@ pub fn classification(c: &Classification, frames: bool) -> String {
         if let Some(w) = &seg.withheld {
             s += &format!("    {w}\n");
         }
+        if let Some(w) = &seg.remeasured {
+            s += &format!("    {w}\n");
+        }
+    }
+    if c.parts.len() > 1 {
+        s += "  parts:\n";
+        for p in &c.parts {
+            let kind = serde_json::to_value(p.kind)
+                .ok()
+                .and_then(|v| v.as_str().map(str::to_string))
+                .unwrap_or_default();
+            s += &format!(
+                "    {:.2}-{:.2} s  {kind}{}{}\n",
+                p.t_start,
+                p.t_end,
+                if p.taught.is_empty() {
+                    String::new()
+                } else {
+                    format!(", taught {}", p.taught.join(", "))
+                },
+                p.withheld
+                    .as_ref()
+                    .map_or(String::new(), |w| format!(" ({w})"))
+            );
+        }
     }
     for f in c.rest_faces() {
         s += &format!(

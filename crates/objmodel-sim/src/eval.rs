@@ -73,6 +73,8 @@ pub struct Evaluation {
     pub fused: Vec<FusedResult>,
     /// Centre-of-mass errors per box and noise level.
     pub coms: Vec<ComResult>,
+    /// Precision of the features learnt per scene kind and noise level.
+    pub precision: Vec<crate::eval_precision::PrecisionRow>,
 }
 
 /// The CoM learnt from all topples of a box.
@@ -114,6 +116,7 @@ pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
     let mut demos = Vec::new();
     let mut groups: BTreeMap<(String, String), Vec<(Observation, Truth)>> = BTreeMap::new();
     let learner = Learner::new(*config);
+    let mut by_scene: BTreeMap<(String, String, String), (Vec<Observation>, _)> = BTreeMap::new();
     for m in &manifest.demos {
         let truth: Truth = serde_json::from_str(&std::fs::read_to_string(dir.join(&m.truth))?)?;
         let palm = m.palm.as_ref().map(|p| dir.join(p));
@@ -175,6 +178,11 @@ pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
             onset_s,
             inertia_ratio_m,
         });
+        by_scene
+            .entry((m.scene.clone(), m.r#box.clone(), m.noise.clone()))
+            .or_insert_with(|| (Vec::new(), truth.features.clone()))
+            .0
+            .push(observation.clone());
         if truth.edge.is_some() && c.kind == Kind::Topple {
             groups
                 .entry((m.r#box.clone(), m.noise.clone()))
@@ -227,7 +235,13 @@ pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
             }
         }
     }
-    Ok(Evaluation { demos, fused, coms })
+    let precision = crate::eval_precision::precision_rows(&by_scene);
+    Ok(Evaluation {
+        demos,
+        fused,
+        coms,
+        precision,
+    })
 }
 
 /// `I_e/(m l_p)` \[m\] of the true box about its true edge: homogeneous box inertia about the
@@ -391,6 +405,20 @@ impl Evaluation {
                 max(&d)
             );
         }
+        s += "\n";
+        s += &crate::eval_precision::markdown(
+            &self.precision,
+            &[
+                "topple",
+                "instrumented",
+                "slide",
+                "general",
+                "compound",
+                "topple_slide",
+                "toss",
+                "session",
+            ],
+        );
         s
     }
 }

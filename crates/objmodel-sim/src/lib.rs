@@ -43,6 +43,7 @@ pub mod convert;
 pub mod dataset;
 pub mod demo;
 pub mod eval;
+pub mod eval_precision;
 pub mod events;
 pub mod learnt;
 pub mod modes;

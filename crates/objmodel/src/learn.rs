@@ -188,7 +188,9 @@ impl Learner {
                  the tracker's noise (--noise-position, --noise-rotation) to learn from it",
             );
         }
+        crate::onset::remeasure_later_parts(classification, recording, &self.config);
         crate::arrival::confirm_arrivals(classification, recording, &self.config);
+        classification.fill_parts();
     }
 
     /// Whether the robust method estimated the noise (none given) from frames whose motion

@@ -60,6 +60,7 @@ pub mod learn;
 pub mod mass;
 pub mod noise;
 pub mod observation;
+pub mod onset;
 pub mod pendulum;
 pub mod prediction;
 pub mod recording;

@@ -7,7 +7,9 @@ use super::msac::{
     fit_line, fit_plane, line_inlier, plane_inlier, rotation_explains_translation, slide_normal,
     Thresholds,
 };
-use super::parts::{after_other_motion, edge_off_level, face_off_level, part_end};
+use super::parts::{
+    after_other_motion, edge_off_level, edge_turns_too_little, face_off_level, part_end,
+};
 use super::segments::MotionSegment;
 use super::{Config, Kind, Label, Segment, Votes};
 use crate::edge::EdgeObservation;
@@ -339,14 +341,22 @@ pub(super) fn analyse_segment(
             .max_by(|a, b| a.0.total_cmp(&b.0));
     }
     let mut edge = topple_best.and_then(|best| edge_observation(&topple_stats, best, demo));
-    if let (Some(e), Some(d)) = (&edge, seg.down_ref) {
-        if let Some(w) = edge_off_level(e, &d, alpha) {
-            withheld = Some(format!("edge not taught: {w}"));
-            edge = None;
-            // Nor grouped into a topple of the demonstration.
-            topple_best = None;
-            topple_stats = LineStats::default();
-        }
+    let turned_too_little = edge
+        .as_ref()
+        .and_then(|e| edge_turns_too_little(e, config.robust.edge_tolerance_m));
+    let off_level = edge
+        .as_ref()
+        .zip(seg.down_ref)
+        .and_then(|(e, d)| edge_off_level(e, &d, alpha));
+    // An edge rotation that passed every test but turned too little to locate its edge is
+    // still a contact mode measured from the rest: it shows the rest was on the support.
+    let small_rotation = turned_too_little.is_some() && off_level.is_none();
+    if let Some(w) = turned_too_little.or(off_level) {
+        withheld = Some(format!("edge not taught: {w}"));
+        edge = None;
+        // Nor grouped into a topple of the demonstration.
+        topple_best = None;
+        topple_stats = LineStats::default();
     }
 
     if kind == Kind::Slide && slide_late.is_some() {
@@ -392,12 +402,12 @@ pub(super) fn analyse_segment(
     // The rests around the segment were on the support when a contact mode measured from them
     // leaves the rest before (it leads the segment: its features are taught) or reaches the
     // rest after (it lasts to the segment's end, landing aside).
+    let rotation = edge.is_some() || small_rotation;
     let departs_from_support = seg.rest_before.is_some()
         && seg.rest_before_frames >= MIN_FACE_FRAMES
-        && (face.is_some() || edge.is_some());
+        && (face.is_some() || rotation);
     let arrives_on_support = seg.rest_after.is_some()
-        && ((face.is_some() && slide_end.is_infinite())
-            || (edge.is_some() && topple_end.is_infinite()));
+        && ((face.is_some() && slide_end.is_infinite()) || (rotation && topple_end.is_infinite()));
     let segment = Segment {
         topple_stats,
         topple_best,
@@ -415,6 +425,9 @@ pub(super) fn analyse_segment(
         departs_from_support,
         arrives_on_support,
         withheld,
+        remeasured: None,
+        onset_frame: None,
+        withheld_before_onset: None,
     };
     (segment, warning)
 }

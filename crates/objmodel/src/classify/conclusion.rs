@@ -48,7 +48,7 @@ pub(super) fn conclude(
         .iter()
         .max_by_key(|t| t.edge.frames)
         .and_then(|t| t.edge.paper_line);
-    Classification {
+    let mut c = Classification {
         name: name.to_string(),
         kind: votes.winner().unwrap_or(Kind::General),
         method: Method::Robust,
@@ -63,7 +63,10 @@ pub(super) fn conclude(
         paper_edge,
         gravity_doubted: !warnings.is_empty(),
         warnings,
-    }
+        parts: Vec::new(),
+    };
+    c.fill_parts();
+    c
 }
 
 /// Group the topple segments of a demonstration by edge. The line of a topple is fixed in the
@@ -72,7 +75,7 @@ pub(super) fn conclude(
 /// `χ²(pooled) - χ²(group) - χ²(segment)`, each about its own mean line, is below the χ²₄
 /// quantile at `alpha` (4 = the parameters of a line). A topple that paused half way (or a
 /// quasi-static one slow enough to pass for rest now and then) thus stays one topple.
-pub(super) fn group_topples(segments: &[Segment], alpha: f64, demo: &str) -> Vec<super::Topple> {
+pub(crate) fn group_topples(segments: &[Segment], alpha: f64, demo: &str) -> Vec<super::Topple> {
     let threshold = crate::stats::chi2_threshold(4.0, alpha);
     let own = |s: &LineStats| s.mean().map_or(0.0, |l| s.chi2(&l));
     let mut groups: Vec<(Vec<usize>, LineStats, super::LargestRotation)> = Vec::new();

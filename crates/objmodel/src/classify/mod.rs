@@ -54,6 +54,7 @@ pub(crate) mod frame_model;
 mod msac;
 mod palm;
 mod paper;
+mod part_list;
 mod parts;
 mod rest;
 mod rest_stats;
@@ -66,9 +67,11 @@ mod segments;
 
 pub use analysis::{MIN_EDGE_FRAMES, MIN_FACE_FRAMES};
 pub use analyzer::Analyzer;
+pub(crate) use conclusion::group_topples;
 pub use files::classify_files;
 pub(crate) use files::classify_files_recording;
 pub use palm::{Clocks, DEFAULT_MAX_DT_S};
+pub use part_list::Part;
 
 use crate::edge::EdgeObservation;
 use crate::face::FaceObservation;
@@ -361,6 +364,17 @@ pub struct Segment {
     /// back from it, is one (set by [`crate::learn`], which keeps the frames to test that).
     #[serde(default)]
     pub arrives_on_support: bool,
+    /// When the segment's feature comes from a later part of it, measured again from that
+    /// part's own onset (set by [`crate::learn`], which keeps the frames; see
+    /// [`crate::onset`]): where.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub remeasured: Option<String>,
+    /// The first frame of that later part (its parts start there).
+    #[serde(skip)]
+    pub(crate) onset_frame: Option<usize>,
+    /// Why the part before that onset taught nothing, if the first pass said why.
+    #[serde(skip)]
+    pub(crate) withheld_before_onset: Option<String>,
 }
 
 /// One topple of a demonstration: one or more topple segments about one edge.
@@ -411,6 +425,10 @@ pub struct Classification {
     /// the one given (see the warnings): then the faces rested on are not taught from gravity.
     #[serde(default)]
     pub gravity_doubted: bool,
+    /// The demonstration's parts in time order (rests, and the contact modes within each
+    /// segment), each with what it taught ([`Classification::fill_parts`]).
+    #[serde(default)]
+    pub parts: Vec<Part>,
 }
 
 impl Classification {
@@ -455,6 +473,7 @@ impl Classification {
         self.paper_edge = None;
         self.warnings
             .push(format!("{why}; nothing is learnt from it"));
+        self.fill_parts();
     }
 
     /// The faces the object rested on, from gravity, other than those before and after a
@@ -465,6 +484,34 @@ impl Classification {
         if self.gravity_doubted {
             return Vec::new();
         }
+        self.rests()
+            .into_iter()
+            .filter(|r| r.supported && !r.with_edge && r.frames as f64 >= analysis::MIN_FACE_FRAMES)
+            .filter_map(|r| {
+                r.normal
+                    .map(|n| FaceObservation::from_gravity(&n, &self.name, r.frames))
+            })
+            .collect()
+    }
+
+    /// Per rest (rest k is the one before segment k; the last, the one after the last
+    /// segment): whether it taught the face rested on, from gravity ([`Self::rest_faces`]) or
+    /// beside a topple's edge ([`FaceObservation::from_rest`]).
+    pub fn resting_faces_taught(&self) -> Vec<bool> {
+        self.rests()
+            .into_iter()
+            .map(|r| {
+                r.with_edge
+                    || (!self.gravity_doubted
+                        && r.supported
+                        && r.normal.is_some()
+                        && r.frames as f64 >= analysis::MIN_FACE_FRAMES)
+            })
+            .collect()
+    }
+
+    /// The rests of the demonstration, in order (see [`Self::resting_faces_taught`]).
+    fn rests(&self) -> Vec<RestSummary> {
         // Rest k is the one before segment k; the rest after segment i is rest i + 1 (the one
         // before segment i + 1 when a rest split them).
         let mut rests: Vec<(Option<Vector3<f64>>, u64)> = Vec::new();
@@ -479,12 +526,6 @@ impl Classification {
         // Rest k is on the support when segment k departs from it in a contact mode, or
         // segment k - 1 arrives at it in one: a rest alone could be an object held still.
         let n = self.segments.len();
-        let supported: Vec<bool> = (0..rests.len())
-            .map(|k| {
-                (k < n && self.segments[k].departs_from_support)
-                    || (k >= 1 && self.segments[k - 1].arrives_on_support)
-            })
-            .collect();
         let mut with_edge = vec![false; rests.len()];
         for t in &self.topples {
             if let (Some(&a), Some(&b)) = (t.segments.first(), t.segments.last()) {
@@ -494,16 +535,31 @@ impl Classification {
         }
         rests
             .into_iter()
-            .zip(with_edge)
-            .zip(supported)
-            .filter(|(((_, frames), with_edge), supported)| {
-                *supported && !with_edge && *frames as f64 >= analysis::MIN_FACE_FRAMES
-            })
-            .filter_map(|(((n, frames), _), _)| {
-                n.map(|n| FaceObservation::from_gravity(&n, &self.name, frames))
+            .enumerate()
+            .map(|(k, (normal, frames))| RestSummary {
+                normal,
+                frames,
+                supported: (k < n && self.segments[k].departs_from_support)
+                    || (k >= 1 && self.segments[k - 1].arrives_on_support),
+                with_edge: with_edge[k],
             })
             .collect()
     }
+
+    /// Fill [`Self::parts`] from the labels and what the segments taught.
+    pub fn fill_parts(&mut self) {
+        self.parts = part_list::parts(self);
+    }
+}
+
+/// One rest of a demonstration, as [`Classification::rests`] sees it.
+struct RestSummary {
+    normal: Option<Vector3<f64>>,
+    frames: u64,
+    /// On the support: a contact mode leaves it or reaches it.
+    supported: bool,
+    /// A topple's edge gives its face.
+    with_edge: bool,
 }
 
 /// Classify a demonstration held in memory.

@@ -221,7 +221,7 @@ impl PaperMethod {
         });
         let (t0, t1) = self.t_range.unwrap_or((0.0, 0.0));
         let paper_edge = edge.as_ref().map(|e| e.line);
-        Ok(Classification {
+        let mut c = Classification {
             name: name.to_string(),
             kind,
             method: Method::Paper,
@@ -257,11 +257,17 @@ impl PaperMethod {
                 departs_from_support: false,
                 arrives_on_support: false,
                 withheld: None,
+                remeasured: None,
+                onset_frame: None,
+                withheld_before_onset: None,
             }],
             labels: self.runs,
             paper_edge,
             warnings: Vec::new(),
             gravity_doubted: false,
-        })
+            parts: Vec::new(),
+        };
+        c.fill_parts();
+        Ok(c)
     }
 }

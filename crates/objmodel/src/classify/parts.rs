@@ -29,6 +29,29 @@ pub(super) fn edge_off_level(e: &EdgeObservation, d: &Vector3<f64>, alpha: f64) 
     })
 }
 
+/// Farthest \[m\] the contact's own wander ([`super::RobustConfig::edge_tolerance_m`]) may
+/// move the axis of an edge rotation's largest rotation for the rotation to locate its edge.
+pub const EDGE_LOCATION_M: f64 = 2e-3;
+
+/// Whether an edge rotation turned too little to locate its edge: a rotation by θ whose
+/// contact point wanders by δ (a rounded edge, a soft contact, micro-slip) has its screw axis
+/// moved by up to δ / (2 sin(θ/2)), and that must stay within [`EDGE_LOCATION_M`]: at
+/// δ = 0.3 mm, θ ≥ 8.6°. The noise does not bound this: with precise poses a box lagging 0.4°
+/// behind a tilting palm, creeping 1 mm down it, turns about a line 6 cm below the box, within
+/// the noise of every frame. A topple turns tens of degrees.
+pub(super) fn edge_turns_too_little(e: &EdgeObservation, tolerance_m: f64) -> Option<String> {
+    let shift = tolerance_m / (2.0 * (0.5 * e.max_angle).sin());
+    (shift > EDGE_LOCATION_M).then(|| {
+        format!(
+            "it turns only {:.2}° about its line, and a contact that wanders by {:.1} mm moves \
+             the axis of such a rotation by {:.0} mm",
+            e.max_angle.to_degrees(),
+            tolerance_m * 1e3,
+            shift * 1e3
+        )
+    })
+}
+
 /// Whether a slide's face is not level: the plane of a slide on a level support is level,
 /// so its normal is "down" `d` to within [`SUPPORT_LEVEL_SIGMA_RAD`] and its own covariance
 /// (per axis), χ²₂ at `alpha`.
@@ -129,4 +152,38 @@ pub(super) fn after_other_motion(
             t.unwrap_or(0.0)
         )
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Line;
+    use nalgebra::Matrix3;
+
+    fn edge_turning(angle_deg: f64) -> EdgeObservation {
+        EdgeObservation {
+            demo: "t".into(),
+            line: Line {
+                point: Vector3::new(0.05, 0.0, -0.1),
+                direction: Vector3::y(),
+            },
+            point_cov: Matrix3::identity() * 1e-8,
+            direction_cov: Matrix3::identity() * 1e-6,
+            paper_line: None,
+            frames: 30,
+            max_angle: angle_deg.to_radians(),
+            chi2_per_dof: 1.0,
+        }
+    }
+
+    /// The bound follows from the wander: at 0.3 mm, 2 sin(θ/2) ≥ 0.15, θ ≥ 8.6°; a creep's
+    /// 0.4° fails, a topple's 40° passes, and a contact that wanders less needs less rotation.
+    #[test]
+    fn an_edge_must_turn_far_enough_to_be_located() {
+        assert!(edge_turns_too_little(&edge_turning(0.4), 3e-4).is_some());
+        assert!(edge_turns_too_little(&edge_turning(8.0), 3e-4).is_some());
+        assert!(edge_turns_too_little(&edge_turning(9.0), 3e-4).is_none());
+        assert!(edge_turns_too_little(&edge_turning(40.0), 3e-4).is_none());
+        assert!(edge_turns_too_little(&edge_turning(4.0), 1e-4).is_none());
+    }
 }
