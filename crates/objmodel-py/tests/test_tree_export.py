@@ -51,10 +51,15 @@ def test_export_mjcf_loads_in_mujoco(tmp_path, full_tree, box):
     np.testing.assert_allclose(sorted(m.geom_size[0]), sorted(box.half), atol=1e-4)
     # The centre of mass: the box's centre in the tag frame.
     np.testing.assert_allclose(m.body_ipos[body], np.linalg.inv(box.box_from_tag)[:3, 3], atol=1e-4)
-    # Uniform box: principal moments m (b^2 + c^2) / 3 for half extents b, c.
+    # A homogeneous box: principal moments m (b^2 + c^2) / 3 for half extents b, c. The tree
+    # takes them from the exact falls where those determine them (within the fits' 0.1-0.2%),
+    # from the shape at uniform density otherwise, and says which.
     h = box.half
     want = sorted(0.6 * np.array([h[1] ** 2 + h[2] ** 2, h[0] ** 2 + h[2] ** 2, h[0] ** 2 + h[1] ** 2]) / 3)
-    np.testing.assert_allclose(sorted(m.body_inertia[body]), want, rtol=1e-3)
+    source = full_tree.to_dict()["inertia"]["source"]
+    assert source in ("pendulums", "pendulums_and_uniform_density", "uniform_density")
+    rtol = 1e-3 if source == "uniform_density" else 5e-3
+    np.testing.assert_allclose(sorted(m.body_inertia[body]), want, rtol=rtol)
     # Dropped onto a floor, tag up, it comes to rest on its bottom face: its centre of mass
     # half its height above the floor.
     root = ET.parse(path).getroot()
