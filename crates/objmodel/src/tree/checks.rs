@@ -27,20 +27,8 @@ impl Tree {
                 let Some(f) = self.faces.iter().find(|f| &f.id == fid) else {
                     continue;
                 };
-                // Its direction lies in the face: n·u ≈ 0.
-                let tilt = f.normal.dot(&e.direction).clamp(-1.0, 1.0).asin();
-                let var_dir = e.sigma_direction_rad.powi(2)
-                    + f.sigma_normal_rad.powi(2)
-                    + SYSTEMATIC_DIRECTION_RAD.powi(2);
-                // Its point lies on the face's plane: n·p ≈ d.
-                let (off, var_off) = match (f.offset, f.offset_sigma_m) {
-                    (Some(d), Some(s)) => (
-                        f.normal.dot(&e.point) - d,
-                        e.sigma_point_m.powi(2) + s * s + SYSTEMATIC_POINT_M.powi(2),
-                    ),
-                    _ => (0.0, 1.0),
-                };
-                let chi2 = tilt * tilt / var_dir + off * off / var_off;
+                let plane = f.offset.zip(f.offset_sigma_m);
+                let (chi2, off, tilt) = edge_in_plane(e, &f.normal, f.sigma_normal_rad, plane);
                 if chi2 > limit {
                     out.push(Contradiction {
                         features: vec![e.id.clone(), f.id.clone()],
@@ -70,16 +58,8 @@ impl Tree {
                             .iter()
                             .find(|f| f.id == sf.id)
                             .map_or(crate::face::SUPPORT_LEVEL_SIGMA_RAD, |f| f.sigma_normal_rad);
-                        let tilt = sf.normal.dot(&e.direction).clamp(-1.0, 1.0).asin();
-                        let off = sf.normal.dot(&e.point) - sf.offset;
-                        let chi2 = tilt * tilt
-                            / (e.sigma_direction_rad.powi(2)
-                                + sigma_n.powi(2)
-                                + SYSTEMATIC_DIRECTION_RAD.powi(2))
-                            + off * off
-                                / (e.sigma_point_m.powi(2)
-                                    + sf.offset_sigma_m.powi(2)
-                                    + SYSTEMATIC_POINT_M.powi(2));
+                        let plane = Some((sf.offset, sf.offset_sigma_m));
+                        let (chi2, off, tilt) = edge_in_plane(e, &sf.normal, sigma_n, plane);
                         (chi2, sf.id.as_str(), off, tilt)
                     })
                     .collect();
@@ -137,4 +117,28 @@ impl Tree {
         }
         out
     }
+}
+
+/// χ² (2 dof) of the edge `e` lying in the plane of unit normal `normal` (its σ per axis
+/// `sigma_normal`) and, when known, offset `plane = (d, σ_d)`: its direction along the plane
+/// (n·u ≈ 0) and its point on it (n·p ≈ d), with the fusion's per-demonstration systematic
+/// errors. Also the point's signed distance from the plane \[m\] (0 without an offset) and
+/// the direction's tilt out of it \[rad\].
+fn edge_in_plane(
+    e: &super::Edge,
+    normal: &nalgebra::Vector3<f64>,
+    sigma_normal: f64,
+    plane: Option<(f64, f64)>,
+) -> (f64, f64, f64) {
+    let tilt = normal.dot(&e.direction).clamp(-1.0, 1.0).asin();
+    let var_dir =
+        e.sigma_direction_rad.powi(2) + sigma_normal.powi(2) + SYSTEMATIC_DIRECTION_RAD.powi(2);
+    let (off, var_off) = match plane {
+        Some((d, s)) => (
+            normal.dot(&e.point) - d,
+            e.sigma_point_m.powi(2) + s * s + SYSTEMATIC_POINT_M.powi(2),
+        ),
+        None => (0.0, 1.0),
+    };
+    (tilt * tilt / var_dir + off * off / var_off, off, tilt)
 }
