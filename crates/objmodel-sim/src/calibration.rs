@@ -15,11 +15,10 @@
 //! * `fused`: every demonstration of a box at one noise level learnt together (the tree a user
 //!   gets), which also gives the centre of mass.
 
-use crate::dataset::Manifest;
 use crate::truth::{BoxFeatures, Truth};
 use nalgebra::{Matrix3, Vector3};
 use objmodel::classify::Config;
-use objmodel::learn::{Learner, Source};
+use objmodel::learn::Learner;
 use objmodel::observation::Observation;
 use objmodel::tree::{Edge, Face, Tree};
 use serde::Serialize;
@@ -289,25 +288,12 @@ fn com_z(com: &objmodel::tree::CentreOfMass, err: &Vector3<f64>) -> f64 {
 
 /// Every sample of the dataset in `dir` (with `manifest.json`).
 pub fn samples(dir: &Path, config: &Config) -> anyhow::Result<Vec<Sample>> {
-    let path = dir.join("manifest.json");
-    let text = std::fs::read_to_string(&path).map_err(|e| {
-        anyhow::anyhow!(
-            "{}: {e} (a dataset written by `objmodel dataset`?)",
-            path.display()
-        )
-    })?;
-    let manifest: Manifest =
-        serde_json::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let manifest = crate::eval::read_manifest(dir)?;
     let learner = Learner::new(*config);
     let mut out = Vec::new();
     let mut groups: BTreeMap<(String, String), (Vec<Observation>, Truth)> = BTreeMap::new();
     for entry in &manifest.demos {
-        let truth: Truth = serde_json::from_str(&std::fs::read_to_string(dir.join(&entry.truth))?)?;
-        let palm = entry.palm.as_ref().map(|p| dir.join(p));
-        let observation = learner.observe(&Source::Files {
-            object: &dir.join(&entry.tum),
-            palm: palm.as_deref(),
-        })?;
+        let (truth, observation) = crate::eval::observe(dir, &learner, entry)?;
         let mut tree = Tree::default();
         tree.add(&observation);
         let mut found = Vec::new();

@@ -109,21 +109,42 @@ fn edge_errors(
         .min_by(|a, b| (a.0 + a.1).total_cmp(&(b.0 + b.1)))
 }
 
+/// The manifest of the dataset in `dir`; an error names the file.
+pub(crate) fn read_manifest(dir: &Path) -> anyhow::Result<Manifest> {
+    let path = dir.join("manifest.json");
+    let text = std::fs::read_to_string(&path).map_err(|e| {
+        anyhow::anyhow!(
+            "{}: {e} (a dataset written by `objmodel dataset`?)",
+            path.display()
+        )
+    })?;
+    serde_json::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
+}
+
+/// The truth of the dataset's demonstration `m` (in `dir`), and what `learner` makes of it.
+pub(crate) fn observe(
+    dir: &Path,
+    learner: &Learner,
+    m: &crate::dataset::ManifestEntry,
+) -> anyhow::Result<(Truth, Observation)> {
+    let truth: Truth = serde_json::from_str(&std::fs::read_to_string(dir.join(&m.truth))?)?;
+    let palm = m.palm.as_ref().map(|p| dir.join(p));
+    let observation = learner.observe(&Source::Files {
+        object: &dir.join(&m.tum),
+        palm: palm.as_deref(),
+    })?;
+    Ok((truth, observation))
+}
+
 /// Evaluate the learner on the dataset in `dir` (with `manifest.json`).
 pub fn evaluate(dir: &Path, config: &Config) -> anyhow::Result<Evaluation> {
-    let manifest: Manifest =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("manifest.json"))?)?;
+    let manifest = read_manifest(dir)?;
     let mut demos = Vec::new();
     let mut groups: BTreeMap<(String, String), Vec<(Observation, Truth)>> = BTreeMap::new();
     let learner = Learner::new(*config);
     let mut by_scene: BTreeMap<(String, String, String), (Vec<Observation>, _)> = BTreeMap::new();
     for m in &manifest.demos {
-        let truth: Truth = serde_json::from_str(&std::fs::read_to_string(dir.join(&m.truth))?)?;
-        let palm = m.palm.as_ref().map(|p| dir.join(p));
-        let observation = learner.observe(&Source::Files {
-            object: &dir.join(&m.tum),
-            palm: palm.as_deref(),
-        })?;
+        let (truth, observation) = observe(dir, &learner, m)?;
         let c = &observation.classification;
         let edge = edge_errors(c.edges().map(|e| (e.line.point, e.line.direction)), &truth);
         // Slide and compound scenes (a straight push, then a topple) slide on a known face.
