@@ -9,6 +9,7 @@
 //! are 0; the object balances over its edge at ψ = φ.
 
 mod budget;
+mod palm_stream;
 
 use crate::classify::{Classification, Label};
 use crate::geometry::angle_about;
@@ -143,6 +144,13 @@ fn linear_at(t: &[f64], y: &[f64], at: f64, sigma: f64) -> Option<(f64, f64, f64
     Some((value, se, slope))
 }
 
+/// Whether a pendulum fit with `params` parameters explains its frames within the noise: its
+/// χ² passes at the 1% level (a fall or an onset that is not a free pendulum teaches no φ).
+fn passes_with(f: &pendulum::FallFit, params: usize) -> bool {
+    let dof = f.frames as f64 - params as f64;
+    dof > 0.0 && f.chi2_per_dof <= crate::stats::chi2_threshold(dof, 0.01) / dof
+}
+
 /// Analyse the dynamics of every topple of `c` (the classification of the demonstration whose
 /// frames `recording` kept), with gravity `gravity` in the tracking frame.
 pub fn analyse(
@@ -167,7 +175,8 @@ pub fn analyse(
             }
         }
     }
-    let palm = (!recording.palm.is_empty()).then_some(&recording.palm);
+    let palm = palm_stream::without_flips(&recording.palm, sigma);
+    let palm = (!palm.is_empty()).then_some(&palm);
     let mut out = Vec::new();
     for (ti, top) in c.topples.iter().enumerate() {
         let Some(n) = top.resting_normal_before else {
@@ -292,11 +301,7 @@ pub fn analyse(
             )
         };
         // A fall that is not a free pendulum within the noise teaches no φ.
-        let passes = |f: &pendulum::FallFit| {
-            f.chi2_per_dof
-                <= crate::stats::chi2_threshold(f.frames as f64 - 4.0, 0.01)
-                    / (f.frames as f64 - 4.0)
-        };
+        let passes = |f: &pendulum::FallFit| passes_with(f, 4);
         let fall = match onset_r {
             Some(o) => {
                 let k0 = series.t.partition_point(|&t| t < o.t);
@@ -372,13 +377,17 @@ pub fn analyse(
                 let theta: Vec<f64> = rel[start..=end].iter().map(|x| x - base).collect();
                 let beta = smooth(&series.t, &series.palm, SMOOTH_S);
                 let beta = &beta[start..=end];
+                // θ is the object's angle less the palm's (each with noise σ), against the
+                // pendulum's tolerance; like the fall, the fit must pass its χ² test.
+                let sigma_rel = (2.0 * sigma * sigma + PENDULUM_TOLERANCE_RAD.powi(2)).sqrt();
                 let mut fit = pendulum::fit_on_support(
                     tt,
                     &theta,
                     beta,
-                    sigma,
+                    sigma_rel,
                     phi_onset.unwrap_or(beta[0]),
-                )?;
+                )
+                .filter(|f| passes_with(f, 2))?;
                 // φ is the palm's tilt where the object starts to turn: its offsets (see
                 // `budget`) are one value for every sample.
                 let at = onset_r.map_or(first_moving, |o| o.t);
