@@ -39,6 +39,11 @@ pub struct FaceOnset {
     pub toward: String,
     /// Quasi-static tipping angles of the true and the learnt body \[deg\].
     pub phi_deg: [f64; 2],
+    /// The model's own standard deviation of its φ for this (face, edge) pair \[deg\]: the
+    /// tree's prediction's, propagated from the shape and the CoM's covariance (absent without
+    /// a learnt CoM or a matching prediction).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub phi_sigma_deg: Option<f64>,
     /// Whether the true box slides before it tips (`tan φ > μ`): no claim there.
     pub slides_first: bool,
     /// Onsets in rapier: the true box, the learnt body (from its URDF).
@@ -256,6 +261,7 @@ pub fn measure_box(
                 face: face_name(f),
                 toward: face_name(toward),
                 phi_deg: [phi_t.to_degrees(), phi_l.to_degrees()],
+                phi_sigma_deg: predicted_sigma(tree, &n_l, &e_l).map(f64::to_degrees),
                 slides_first: phi_t.tan() > spec.friction,
                 rapier,
                 mujoco: None,
@@ -305,6 +311,22 @@ pub fn measure_box(
         }
     }
     Ok(claims)
+}
+
+/// The standard deviation \[rad\] of the tree's predicted φ for resting on the face of
+/// outward normal `n` and toppling towards the horizontal `toward`: the prediction whose
+/// resting face is `n` (within 10°) and whose landing face is the one most nearly facing
+/// `toward`.
+fn predicted_sigma(tree: &Tree, n: &Vector3<f64>, toward: &Vector3<f64>) -> Option<f64> {
+    let shape = tree.shape.as_ref()?;
+    let normal = |id: &str| shape.faces.iter().find(|f| f.id == id).map(|f| f.normal);
+    tree.predictions
+        .iter()
+        .filter(|p| p.resting_normal.dot(n) > 10f64.to_radians().cos())
+        .filter_map(|p| Some((p, normal(&p.landing_face)?.dot(toward))))
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .filter(|(_, c)| *c > 0.9)
+        .and_then(|(p, _)| p.phi_sigma)
 }
 
 /// The Python script that runs the experiment in MuJoCo.
