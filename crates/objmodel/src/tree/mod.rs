@@ -5,7 +5,8 @@
 //! Learning is incremental: [`Tree::add`] fuses a classified demonstration into the tree. Each
 //! feature keeps its per-demonstration observations, and its estimate is recomputed from them:
 //!
-//! * an edge is the information-weighted mean line of its observations ([`LineStats`]), with the
+//! * an edge is the information-weighted mean line of its observations
+//!   ([`LineStats`](crate::geometry::LineStats)), with the
 //!   covariance of that mean: the larger of the propagated one and the between-demonstration
 //!   scatter divided by the number of demonstrations;
 //! * a face's normal is the weighted mean of its observations' normals (their signs aligned), its
@@ -20,8 +21,7 @@
 
 use crate::classify::Kind;
 use crate::edge::EdgeObservation;
-use crate::face::{FaceObservation, FaceSource};
-use crate::geometry::{Line, LineStats};
+use crate::face::FaceObservation;
 use crate::noise::NoiseModel;
 use crate::observation::Observation;
 use crate::shape::{LearntFace, Shape};
@@ -29,11 +29,15 @@ use crate::shape::{LearntFace, Shape};
 mod checks;
 mod com;
 mod derived;
+mod edge;
+mod face;
 mod file;
 mod pendulums;
 mod unconfirmed;
 pub use checks::Contradiction;
 pub use com::{com_from_planes, CentreOfMass, ComPlane, UNKNOWN_PHI_SIGMA_RAD};
+pub use edge::Edge;
+pub use face::{Evidence, Face};
 use nalgebra::{Matrix3, Vector3};
 pub use pendulums::{Pendulum, PendulumObservation};
 use serde::{Deserialize, Serialize};
@@ -56,69 +60,6 @@ pub const CONDITION_MIN: f64 = 1e-2;
 /// Resting-face normals closer than this \[rad\] (20°) are one face, for pendulums: faces of a
 /// polyhedron that share an edge differ by far more.
 pub const SAME_FACE_RAD: f64 = 0.349_065_850_398_865_9;
-
-/// An edge of the object.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Edge {
-    /// Identifier, `e0`, `e1`, ...
-    pub id: String,
-    /// Point of the edge line closest to the object-frame origin \[m\].
-    pub point: Vector3<f64>,
-    /// Unit direction of the edge line.
-    pub direction: Vector3<f64>,
-    /// Covariance of `point` \[m²\], rows.
-    pub point_cov: [[f64; 3]; 3],
-    /// Covariance of `direction` \[rad²\], rows.
-    pub direction_cov: [[f64; 3]; 3],
-    /// RMS standard deviation of `point` normal to the line \[m\].
-    pub sigma_point_m: f64,
-    /// RMS standard deviation of `direction` \[rad\].
-    pub sigma_direction_rad: f64,
-    /// Names of the demonstrations that show this edge.
-    pub support: Vec<String>,
-    /// Number of supporting demonstrations.
-    pub n_support: usize,
-    /// Faces adjacent to this edge (ids), from the rests before and after topples.
-    pub faces: Vec<String>,
-    /// Dynamic models (pendulums), one per resting face.
-    pub pendulums: Vec<Pendulum>,
-    /// The per-demonstration observations.
-    pub observations: Vec<EdgeObservation>,
-}
-
-/// A face of the object: the plane `{x : normal·x = offset}`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Face {
-    /// Identifier, `f0`, `f1`, ...
-    pub id: String,
-    /// Unit normal (outward when `sign_known`).
-    pub normal: Vector3<f64>,
-    /// Offset \[m\], or null when the data do not determine it (a slide alone does not).
-    pub offset: Option<f64>,
-    /// Standard deviation of the offset \[m\].
-    pub offset_sigma_m: Option<f64>,
-    /// RMS standard deviation of the normal \[rad\].
-    pub sigma_normal_rad: f64,
-    /// Whether the normal is known to point out of the object.
-    pub sign_known: bool,
-    /// Names of the demonstrations that show this face.
-    pub support: Vec<String>,
-    /// Number of supporting demonstrations.
-    pub n_support: usize,
-    /// How many observations came from slides and from rests.
-    pub evidence: Evidence,
-    /// The per-demonstration observations.
-    pub observations: Vec<FaceObservation>,
-}
-
-/// Counts of face observations by source.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Evidence {
-    /// From slides.
-    pub slide: usize,
-    /// From rests before or after topples.
-    pub rest: usize,
-}
 
 /// How [`Tree::add`] took a demonstration.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -236,181 +177,6 @@ fn rows(m: &Matrix3<f64>) -> [[f64; 3]; 3] {
 
 pub(crate) fn angle(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
     a.cross(b).norm().atan2(a.dot(b))
-}
-
-impl Edge {
-    fn new(id: String, obs: EdgeObservation) -> Self {
-        let mut e = Self {
-            id,
-            point: obs.line.point,
-            direction: obs.line.direction,
-            point_cov: [[0.0; 3]; 3],
-            direction_cov: [[0.0; 3]; 3],
-            sigma_point_m: 0.0,
-            sigma_direction_rad: 0.0,
-            support: Vec::new(),
-            n_support: 0,
-            faces: Vec::new(),
-            pendulums: Vec::new(),
-            observations: vec![obs],
-        };
-        e.refit();
-        e
-    }
-
-    /// The edge as a line.
-    pub fn line(&self) -> Line {
-        Line {
-            point: self.point,
-            direction: self.direction,
-        }
-    }
-
-    /// Recompute the estimate from the observations.
-    fn refit(&mut self) {
-        let first = self.observations[0].line.direction;
-        let mut s = LineStats::default();
-        for o in &self.observations {
-            let w = 1.0 / (o.sigma_point().powi(2) + 1e-12);
-            let a = 1.0 / (o.sigma_direction().powi(2) + 1e-12);
-            s.add(&o.line.point, &o.line.direction, w, a, 0.0);
-        }
-        let line = s
-            .mean()
-            .expect("an edge has at least one observation")
-            .aligned_with(&first);
-        let (cp, cd) = s.covariances(&line);
-        self.point = line.point;
-        self.direction = line.direction;
-        self.point_cov = rows(&cp);
-        self.direction_cov = rows(&cd);
-        self.sigma_point_m = (cp.trace() / 2.0).sqrt();
-        self.sigma_direction_rad = (cd.trace() / 2.0).sqrt();
-        self.support = self.observations.iter().map(|o| o.demo.clone()).collect();
-        self.support.dedup();
-        self.n_support = self.support.len();
-    }
-
-    /// χ² (4 dof) of an observation against this edge.
-    fn match_chi2(&self, o: &EdgeObservation) -> f64 {
-        let u = self.direction;
-        let p = Matrix3::identity() - u * u.transpose();
-        let d = p * (o.line.point - self.point);
-        let var_p =
-            self.sigma_point_m.powi(2) + o.sigma_point().powi(2) + SYSTEMATIC_POINT_M.powi(2);
-        let ang = angle(&u, &o.line.direction);
-        let ang = ang.min(std::f64::consts::PI - ang);
-        let var_d = self.sigma_direction_rad.powi(2)
-            + o.sigma_direction().powi(2)
-            + SYSTEMATIC_DIRECTION_RAD.powi(2);
-        d.norm_squared() / var_p + ang * ang / var_d
-    }
-}
-
-impl Face {
-    fn new(id: String, obs: FaceObservation) -> Self {
-        let mut f = Self {
-            id,
-            normal: obs.normal,
-            offset: None,
-            offset_sigma_m: None,
-            sigma_normal_rad: 0.0,
-            sign_known: obs.sign_known,
-            support: Vec::new(),
-            n_support: 0,
-            evidence: Evidence::default(),
-            observations: vec![obs],
-        };
-        f.refit();
-        f
-    }
-
-    /// Recompute the estimate from the observations.
-    fn refit(&mut self) {
-        // Reference sign: the first observation whose sign is known, else the first.
-        let reference = self
-            .observations
-            .iter()
-            .find(|o| o.sign_known)
-            .unwrap_or(&self.observations[0])
-            .normal;
-        let (mut sum, mut wsum, mut wsum2) = (Vector3::zeros(), 0.0, 0.0);
-        let (mut off, mut off_w) = (0.0, 0.0);
-        let mut evidence = Evidence::default();
-        for o in &self.observations {
-            let w = 1.0 / (o.sigma_normal().powi(2) + 1e-12);
-            let n = if o.normal.dot(&reference) < 0.0 {
-                -o.normal
-            } else {
-                o.normal
-            };
-            sum += n * w;
-            wsum += w;
-            wsum2 += w * w;
-            if let (Some(d), Some(v)) = (o.offset, o.offset_var) {
-                let d = if o.normal.dot(&reference) < 0.0 {
-                    -d
-                } else {
-                    d
-                };
-                let wo = 1.0 / (v + 1e-12);
-                off += d * wo;
-                off_w += wo;
-            }
-            match o.source {
-                FaceSource::Slide => evidence.slide += 1,
-                FaceSource::Rest => evidence.rest += 1,
-            }
-        }
-        let n = sum.normalize();
-        // Scatter of the normals about their mean, per axis, over the effective count.
-        let n_eff = (wsum * wsum / wsum2).max(1.0);
-        let scatter: f64 = self
-            .observations
-            .iter()
-            .map(|o| {
-                let w = 1.0 / (o.sigma_normal().powi(2) + 1e-12);
-                let a = angle(&n, &o.normal);
-                w * a.min(std::f64::consts::PI - a).powi(2)
-            })
-            .sum::<f64>()
-            / wsum;
-        self.normal = n;
-        self.sigma_normal_rad = ((scatter / 2.0) / n_eff + 1.0 / wsum).sqrt();
-        self.sign_known = self.observations.iter().any(|o| o.sign_known);
-        self.offset = (off_w > 0.0).then(|| off / off_w);
-        self.offset_sigma_m = (off_w > 0.0).then(|| (1.0 / off_w).sqrt());
-        self.support = self.observations.iter().map(|o| o.demo.clone()).collect();
-        self.support.sort();
-        self.support.dedup();
-        self.n_support = self.support.len();
-        self.evidence = evidence;
-    }
-
-    /// χ² (2 dof) of an observation's normal against this face, and whether offsets agree.
-    fn match_chi2(&self, o: &FaceObservation) -> f64 {
-        let a = angle(&self.normal, &o.normal);
-        // Signs: when both are known, opposite normals are different faces.
-        let a = if self.sign_known && o.sign_known {
-            a
-        } else {
-            a.min(std::f64::consts::PI - a)
-        };
-        let var = self.sigma_normal_rad.powi(2)
-            + o.sigma_normal().powi(2)
-            + SYSTEMATIC_DIRECTION_RAD.powi(2);
-        let mut chi2 = a * a / var;
-        if let (Some(d0), Some(d1), Some(v1)) = (self.offset, o.offset, o.offset_var) {
-            let d1 = if self.normal.dot(&o.normal) < 0.0 {
-                -d1
-            } else {
-                d1
-            };
-            let v = self.offset_sigma_m.unwrap_or(0.0).powi(2) + v1 + SYSTEMATIC_POINT_M.powi(2);
-            chi2 += (d0 - d1).powi(2) / v;
-        }
-        chi2
-    }
 }
 
 impl Tree {
