@@ -10,7 +10,8 @@
 //!   covariance of that mean: the larger of the propagated one and the between-demonstration
 //!   scatter divided by the number of demonstrations;
 //! * a face's normal is the weighted mean of its observations' normals (their signs aligned), its
-//!   offset the weighted mean of the offsets that are known.
+//!   offset the weighted mean of the offsets that are known, with the mean's sigma widened by
+//!   the Birge ratio `√(χ²/(N-1))` when the offsets scatter beyond their own sigmas.
 //!
 //! An observation joins an existing feature when a χ² test at level [`MATCH_ALPHA`] cannot tell
 //! them apart, with both covariances plus a per-demonstration systematic error
