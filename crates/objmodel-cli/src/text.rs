@@ -115,6 +115,8 @@ pub fn classification(c: &Classification, frames: bool) -> String {
                 Label::General => "general",
                 Label::Landing => "landing",
                 Label::Unlabelled => "unlabelled",
+                Label::Flight => "flight",
+                Label::Impact => "impact",
             };
             s += &format!(
                 "    {:>6}-{:<6} {:>8.3}-{:<8.3} s  {label}\n",

@@ -52,6 +52,7 @@ pub mod error;
 pub mod export;
 pub mod face;
 mod fast;
+pub mod flight;
 pub mod format;
 pub mod friction;
 pub mod geometry;
