@@ -76,7 +76,9 @@ fn measure(n: u64) -> Vec<(&'static str, Counts)> {
                 object: sim.object.clone(),
                 palm: None,
             };
-            let c = learner.classify(&Source::Memory(&demo)).expect("classifies");
+            let c = learner
+                .classify(&Source::Memory(&demo))
+                .expect("classifies");
             let modes = &sim.truth.modes;
             let mode_at = |t: f64| {
                 modes
@@ -86,9 +88,7 @@ fn measure(n: u64) -> Vec<(&'static str, Counts)> {
                     .map_or("", |m| m.mode.as_str())
             };
             let dt = 1.0 / rate;
-            let near_flight = |t: f64| {
-                mode_at(t - dt) == "flight" || mode_at(t + dt) == "flight"
-            };
+            let near_flight = |t: f64| mode_at(t - dt) == "flight" || mode_at(t + dt) == "flight";
             for (i, f) in sim.object.iter().enumerate() {
                 let labelled = c
                     .parts
@@ -160,10 +160,7 @@ fn flights_of_rapier_tosses_agree_with_the_truth() {
     for (name, c) in &levels {
         // Frames called flight that are not are boundary frames (a flight's first or last
         // frame straddles the release or the impact) or few.
-        assert!(
-            c.fp - c.fp_boundary <= (c.tp + c.fp) / 20,
-            "{name}: {c:?}"
-        );
+        assert!(c.fp - c.fp_boundary <= (c.tp + c.fp) / 20, "{name}: {c:?}");
         assert!(c.recall() >= 0.5, "{name}: {c:?}");
     }
 }

@@ -82,11 +82,15 @@ pub struct FlightFit {
 
 /// Weighted least-squares fit of `p + R c = x0 + v0 τ + ½ a τ²` to `frames` (at least 4), with
 /// the prior `c ~ N(0, r_max²)`. `None` if degenerate.
+///
+/// `with_com`: whether to work out `com_determined` (a 6×6 inverse and two eigen
+/// decompositions, for a flight's final fit only; otherwise it is false).
 pub fn fit(
     frames: &[FlightFrame],
     accel: &Vector3<f64>,
     noise: &NoiseModel,
     r_max: f64,
+    with_com: bool,
 ) -> Option<FlightFit> {
     if frames.len() < 4 {
         return None;
@@ -153,17 +157,8 @@ pub fn fit(
             chi2 += e.dot(&(w * e));
         }
         let used = (inv * n).trace();
-        // The data's information on c, with x0 and v0 eliminated (Schur complement).
-        let n_cc = n.fixed_view::<3, 3>(0, 0).into_owned();
-        let n_co = n.fixed_view::<3, 6>(0, 3).into_owned();
-        let n_oo = n.fixed_view::<6, 6>(3, 3).into_owned();
-        let info = n_oo
-            .try_inverse()
-            .map(|i| n_cc - n_co * i * n_co.transpose());
         let cov_c = inv.fixed_view::<3, 3>(0, 0).into_owned();
-        let determined = info
-            .is_some_and(|m| m.symmetric_eigenvalues().iter().all(|&l| l > 100.0 * prior))
-            && cov_c.symmetric_eigenvalues().max() <= COM_SD_MAX_M.powi(2);
+        let determined = with_com && determines_com(&n, &cov_c, prior);
         out = Some(FlightFit {
             com,
             com_cov: cov_c,
@@ -176,6 +171,20 @@ pub fn fit(
         });
     }
     out
+}
+
+/// Whether the data (normal matrix `n`) determine `c`: its information with `x0` and `v0`
+/// eliminated (the Schur complement) exceeds 100 times the prior's in every direction, and
+/// its covariance `cov_c` has standard deviations of at most [`COM_SD_MAX_M`].
+fn determines_com(n: &M9, cov_c: &Matrix3<f64>, prior: f64) -> bool {
+    let n_cc = n.fixed_view::<3, 3>(0, 0).into_owned();
+    let n_co = n.fixed_view::<3, 6>(0, 3).into_owned();
+    let n_oo = n.fixed_view::<6, 6>(3, 3).into_owned();
+    let info = n_oo
+        .try_inverse()
+        .map(|i| n_cc - n_co * i * n_co.transpose());
+    info.is_some_and(|m| m.symmetric_eigenvalues().iter().all(|&l| l > 100.0 * prior))
+        && cov_c.symmetric_eigenvalues().max() <= COM_SD_MAX_M.powi(2)
 }
 
 /// Whether a fit passes its χ² test at `alpha`.

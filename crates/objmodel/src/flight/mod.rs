@@ -74,7 +74,7 @@ pub struct Flight {
 }
 
 /// What the finder needs besides the frames.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct FlightTest {
     /// Gravity, world frame \[m/s²\].
     pub gravity: Vector3<f64>,
@@ -85,17 +85,47 @@ pub struct FlightTest {
     /// Farthest \[m\] the centre of mass may lie from the object's origin (and the prior's
     /// scale).
     pub r_max: f64,
+    /// χ² quantiles computed so far, by (α's bits, degrees of freedom rounded to an integer):
+    /// the scan tests thousands of windows of a few hundred distinct sizes.
+    pub thresholds: std::cell::RefCell<std::collections::HashMap<(u64, u32), f64>>,
 }
 
 impl FlightTest {
+    /// A test with these parameters.
+    pub fn new(gravity: Vector3<f64>, noise: NoiseModel, alpha: f64, r_max: f64) -> Self {
+        Self {
+            gravity,
+            noise,
+            alpha,
+            r_max,
+            thresholds: Default::default(),
+        }
+    }
+
     fn fit(&self, frames: &[FlightFrame], accel: &Vector3<f64>) -> Option<FlightFit> {
-        fit::fit(frames, accel, &self.noise, self.r_max)
+        fit::fit(frames, accel, &self.noise, self.r_max, false)
+    }
+
+    /// The χ² quantile at `alpha` for `dof` degrees of freedom rounded to an integer (at
+    /// least 1), computed once.
+    fn threshold(&self, dof: f64, alpha: f64) -> f64 {
+        let k = dof.round().max(1.0) as u32;
+        *self
+            .thresholds
+            .borrow_mut()
+            .entry((alpha.to_bits(), k))
+            .or_insert_with(|| crate::stats::chi2_threshold(k as f64, alpha))
+    }
+
+    /// Whether a fit passes its χ² test at `alpha`.
+    fn passes(&self, f: &FlightFit, alpha: f64) -> bool {
+        f.chi2 <= self.threshold(f.dof, alpha)
     }
 
     /// Whether the flight model explains `frames`.
     fn explains(&self, frames: &[FlightFrame]) -> Option<FlightFit> {
         self.fit(frames, &self.gravity)
-            .filter(|f| fit::passes(f, self.alpha.max(FLIGHT_FIT_ALPHA)))
+            .filter(|f| self.passes(f, self.alpha.max(FLIGHT_FIT_ALPHA)))
     }
 
     /// Whether `frames`, which the model explains with `f`, are a flight: enough of them, the
@@ -108,8 +138,7 @@ impl FlightTest {
         frames.len() >= MIN_FLIGHT_FRAMES
             && f.com.norm() <= self.r_max
             && self.fit(frames, &Vector3::zeros()).is_some_and(|z| {
-                !fit::passes(&z, self.alpha)
-                    && z.chi2 - f.chi2 > crate::stats::chi2_threshold(3.0, self.alpha)
+                !self.passes(&z, self.alpha) && z.chi2 - f.chi2 > self.threshold(3.0, self.alpha)
             })
     }
 }
@@ -144,7 +173,17 @@ pub fn find_flights(frames: &[FlightFrame], test: &FlightTest) -> Vec<Flight> {
                 }
             }
         }
-        let (start, end, best) = trim(frames, start, end, best, test);
+        let (start, end, mut best) = trim(frames, start, end, best, test);
+        // The final fit works out whether the flight determines its centre of mass.
+        if let Some(f) = fit::fit(
+            &frames[start..end],
+            &test.gravity,
+            &test.noise,
+            test.r_max,
+            true,
+        ) {
+            best = f;
+        }
         out.push(Flight {
             first: start,
             last: end - 1,
@@ -166,7 +205,7 @@ fn trim(
     mut best: FlightFit,
     test: &FlightTest,
 ) -> (usize, usize, FlightFit) {
-    let limit = crate::stats::chi2_threshold(3.0, test.alpha);
+    let limit = test.threshold(3.0, test.alpha);
     while end - start > MIN_FLIGHT_FRAMES {
         let (head, tail) = (
             test.fit(&frames[start + 1..end], &test.gravity),

@@ -29,24 +29,47 @@ pub fn mark_flights(c: &mut Classification, recording: &Recording, config: &Conf
     if c.instrumented || g.norm() == 0.0 || c.parts.is_empty() {
         return;
     }
-    let test = FlightTest {
-        gravity: g.normalize() * crate::pendulum::G,
+    let test = FlightTest::new(
+        g.normalize() * crate::pendulum::G,
         noise,
-        alpha: config.robust.alpha,
-        r_max: MAX_COM_M,
-    };
+        config.robust.alpha,
+        MAX_COM_M,
+    );
+    // Outlier runs, in order, for a binary search.
+    let outliers: Vec<(u64, u64)> = c
+        .labels
+        .iter()
+        .filter(|r| r.label == Label::Outlier)
+        .map(|r| (r.first as u64, r.last as u64))
+        .collect();
     let outlier = |i: u64| {
-        c.labels
-            .iter()
-            .any(|r| r.label == Label::Outlier && (r.first as u64..=r.last as u64).contains(&i))
+        let k = outliers.partition_point(|r| r.1 < i);
+        outliers.get(k).is_some_and(|r| r.0 <= i)
     };
+    // The runs of parts a flight may split (consecutive, in one segment), by frame index:
+    // only their frames are scanned.
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    let mut run_segment = None;
+    for p in c
+        .parts
+        .iter()
+        .filter(|p| splittable(p) && p.segment.is_some())
+    {
+        match runs.last_mut() {
+            Some(r) if run_segment == p.segment && r.1 + 1 == p.first => r.1 = p.last,
+            _ => {
+                runs.push((p.first, p.last));
+                run_segment = p.segment;
+            }
+        }
+    }
     let mut spans: Vec<Span> = Vec::new();
-    for s in &c.segments {
-        let kept: Vec<&RecordedFrame> = recording
-            .object
-            .iter()
-            .filter(|f| f.t >= s.t_start && f.t <= s.t_end && !outlier(f.index))
-            .collect();
+    for &(first, last) in &runs {
+        let objects = &recording.object;
+        let lo = objects.partition_point(|f| (f.index as usize) < first);
+        let hi = objects.partition_point(|f| (f.index as usize) <= last);
+        let run = &objects[lo..hi];
+        let kept: Vec<&RecordedFrame> = run.iter().filter(|f| !outlier(f.index)).collect();
         let frames: Vec<FlightFrame> = kept.iter().map(|&f| f.into()).collect();
         let flights = find_flights(&frames, &test);
         for (k, f) in flights.iter().enumerate() {
@@ -61,18 +84,17 @@ pub fn mark_flights(c: &mut Classification, recording: &Recording, config: &Conf
                 }),
             });
             // The impact: the frames (outliers too: a bounce may look like one) from the one
-            // after the flight to the next flight's start or the segment's end, within
+            // after the flight to the next flight's start or the run's end, within
             // MAX_IMPACT_S of the flight's end.
             let end_t = kept[f.last].t + MAX_IMPACT_S;
             let (after, before) = (
                 kept[f.last].index,
                 flights.get(k + 1).map_or(u64::MAX, |n| kept[n.first].index),
             );
-            let impact: Vec<&RecordedFrame> = recording
-                .object
+            let impact: Vec<&RecordedFrame> = run
                 .iter()
                 .filter(|x| x.index > after && x.index < before)
-                .take_while(|x| x.t <= end_t.min(s.t_end))
+                .take_while(|x| x.t <= end_t)
                 .collect();
             if let (Some(a), Some(b)) = (impact.first(), impact.last()) {
                 spans.push(Span {
@@ -100,7 +122,7 @@ pub fn mark_flights(c: &mut Classification, recording: &Recording, config: &Conf
     let mut out: Vec<Part> = Vec::with_capacity(c.parts.len() + 2 * spans.len());
     let mut last_span: Option<usize> = None;
     for p in std::mem::take(&mut c.parts) {
-        if matches!(p.kind, Label::Rest | Label::Landing) || !p.taught.is_empty() {
+        if !splittable(&p) {
             last_span = None;
             out.push(p);
             continue;
@@ -130,6 +152,12 @@ pub fn mark_flights(c: &mut Classification, recording: &Recording, config: &Conf
         }
     }
     c.parts = out;
+}
+
+/// Whether a flight may split part `p`: it taught nothing, and it is not a rest or a
+/// completed topple's landing.
+fn splittable(p: &Part) -> bool {
+    !matches!(p.kind, Label::Rest | Label::Landing) && p.taught.is_empty()
 }
 
 /// A piece of a part: its kind, first and last frame, and a flight's centre of mass.

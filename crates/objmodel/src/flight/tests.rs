@@ -54,20 +54,15 @@ fn the_fit_recovers_the_centre_of_mass_of_an_exact_flight() {
         sigma_position: 2.5e-4,
         sigma_rotation: 0.15f64.to_radians(),
     };
-    let f = fit::fit(&frames, &g, &noise, 0.5).unwrap();
+    let f = fit::fit(&frames, &g, &noise, 0.5, true).unwrap();
     assert!((f.com - com).norm() < 1e-6, "{:?} {:?}", f.com, f);
     assert!(f.com_determined && fit::passes(&f, 1e-3), "{f:?}");
     assert!(f.chi2 < 1e-6, "{}", f.chi2);
     for wrong in [-g, Vector3::zeros()] {
-        let z = fit::fit(&frames, &wrong, &noise, 0.5).unwrap();
+        let z = fit::fit(&frames, &wrong, &noise, 0.5, false).unwrap();
         assert!(!fit::passes(&z, 1e-3), "{z:?}");
     }
-    let test = FlightTest {
-        gravity: g,
-        noise,
-        alpha: 1e-3,
-        r_max: 0.5,
-    };
+    let test = FlightTest::new(g, noise, 1e-3, 0.5);
     let found = find_flights(&frames, &test);
     assert_eq!(found.len(), 1, "{found:?}");
     assert_eq!((found[0].first, found[0].last), (0, 39));
