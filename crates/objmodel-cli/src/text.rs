@@ -81,7 +81,7 @@ pub fn classification(c: &Classification, frames: bool) -> String {
                 .and_then(|v| v.as_str().map(str::to_string))
                 .unwrap_or_default();
             s += &format!(
-                "    {:.2}-{:.2} s  {kind}{}{}\n",
+                "    {:.2}-{:.2} s  {kind}{}{}{}\n",
                 p.t_start,
                 p.t_end,
                 if p.taught.is_empty() {
@@ -91,7 +91,13 @@ pub fn classification(c: &Classification, frames: bool) -> String {
                 },
                 p.withheld
                     .as_ref()
-                    .map_or(String::new(), |w| format!(" ({w})"))
+                    .map_or(String::new(), |w| format!(" ({w})")),
+                p.com_estimate.as_ref().map_or(String::new(), |e| format!(
+                    ", centre of mass {} ±{:.1} mm (object frame, from {} frames)",
+                    v3(&e.point),
+                    1e3 * e.covariance.symmetric_eigenvalues().max().max(0.0).sqrt(),
+                    e.frames
+                ))
             );
         }
     }
@@ -115,6 +121,8 @@ pub fn classification(c: &Classification, frames: bool) -> String {
                 Label::General => "general",
                 Label::Landing => "landing",
                 Label::Unlabelled => "unlabelled",
+                Label::Flight => "flight",
+                Label::Impact => "impact",
             };
             s += &format!(
                 "    {:>6}-{:<6} {:>8.3}-{:<8.3} s  {label}\n",

@@ -191,6 +191,7 @@ impl Learner {
         crate::onset::remeasure_later_parts(classification, recording, &self.config);
         crate::arrival::confirm_arrivals(classification, recording, &self.config);
         classification.fill_parts();
+        crate::flight::mark_flights(classification, recording, &self.config);
     }
 
     /// Whether the robust method estimated the noise (none given) from frames whose motion

@@ -22,6 +22,8 @@
 //! * [`classify`]: Algorithm 1, the paper-literal version and the robust one.
 //! * [`edge`], [`face`]: Algorithm 2 and eq. 5 estimates with covariances.
 //! * [`recording`]: the frames the dynamics need, kept in bounded memory during the one pass.
+//! * [`flight`]: free flights (the centre of mass falls with gravity) and their impacts, found
+//!   on the kept frames and put into the parts list; they teach no feature.
 //! * [`dynamics`], [`pendulum`]: each topple's angles, onset, φ and pendulum fit.
 //! * [`observation`]: what one demonstration shows (classification and dynamics).
 //! * [`tree`]: the object description tree, its JSON schema and incremental fusion.
@@ -52,6 +54,7 @@ pub mod error;
 pub mod export;
 pub mod face;
 mod fast;
+pub mod flight;
 pub mod format;
 pub mod friction;
 pub mod geometry;

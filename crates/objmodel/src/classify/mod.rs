@@ -240,6 +240,12 @@ pub enum Label {
     /// (Paper method) moving, but neither the axis nor the normal matched the previous frame's
     /// (no vote).
     Unlabelled,
+    /// Free flight: the centre of mass falls with gravity (parts only, see [`crate::flight`];
+    /// no vote).
+    Flight,
+    /// Where a flight breaks: the velocity jumps (a bounce, a landing, a catch) (parts only;
+    /// no vote).
+    Impact,
 }
 
 impl Label {

@@ -14,8 +14,10 @@ use serde::{Deserialize, Serialize};
 /// One part of a demonstration.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Part {
-    /// What the object did: `rest`, `topple`, `slide`, `general` (carried, thrown, bouncing:
-    /// no contact mode the learner can use) or `landing` (after a completed topple).
+    /// What the object did: `rest`, `topple`, `slide`, `general` (carried, rolling, tumbling:
+    /// no contact mode the learner can use), `landing` (after a completed topple), `flight`
+    /// (free fall) or `impact` (where a flight breaks) (flights and impacts: see
+    /// [`crate::flight`]).
     pub kind: Label,
     /// Time of the part's first frame \[s\].
     pub t_start: f64,
@@ -37,6 +39,10 @@ pub struct Part {
     /// Why a part of a contact mode taught nothing, when the learner said why.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub withheld: Option<String>,
+    /// A flight's centre of mass, when the flight turned enough to determine it (object frame;
+    /// not fused into the tree).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub com_estimate: Option<crate::flight::ComEstimate>,
 }
 
 /// The parts of a classification's labels, each with what it taught.
@@ -105,6 +111,7 @@ fn new_part(r: &LabelRun, kind: Label) -> Part {
         segment: r.segment,
         taught: Vec::new(),
         withheld: None,
+        com_estimate: None,
     }
 }
 

@@ -16,15 +16,20 @@
 //! * **compounds** ([`slide_then_topple`], [`topple_then_slide`], [`drop_then_slide`]): a
 //!   push that slides the box and then tips it over its leading edge, a topple whose landing
 //!   slides on, and a box that drops onto the table and slides into its rest, with no rest
-//!   between the parts.
+//!   between the parts;
+//! * **toss** ([`toss`]): a hand lifts the box and throws it; it flies on an exact parabola
+//!   with spin, bounces, flies again, lands and rests (the truth: the flights and the centre
+//!   of mass).
 //!
 //! Tracking noise ([`SynthNoise`]): Gaussian position and orientation noise, dropped frames,
 //! quaternion sign flips, and single-frame tag flips (the orientation jumps by 30-60° about an
 //! axis in the tag plane for one frame, like a planar tag's mirror solution).
 
 mod compound;
+mod toss;
 
 pub use compound::{drop_then_slide, slide_then_topple, topple_then_slide};
+pub use toss::{toss, SynthToss, TOSS_G};
 
 use crate::classify::Kind;
 use crate::geometry::Line;

@@ -1,0 +1,206 @@
+//! Flights and impacts in a classification's parts list: the flights of each motion segment's
+//! kept frames split the parts that taught nothing (general motion, an untaught slide or
+//! topple, frames not yet measurably moving); parts that taught a feature, rests, and a
+//! completed topple's landing (the topple explains it: the box leaves its edge and falls; in
+//! its last tens of milliseconds a fast fall about the edge has a point near the box that
+//! falls with gravity) stay whole. Each flight is followed by its impact: the frames after its last one up to the next
+//! flight, up to [`MAX_IMPACT_S`], and up to a part that stays whole.
+
+use super::{find_flights, ComEstimate, FlightFrame, FlightTest, MAX_COM_M, MAX_IMPACT_S};
+use crate::classify::{Classification, Config, Label, Part};
+use crate::recording::{RecordedFrame, Recording};
+
+/// A flight or impact, by frame index in the object stream.
+#[derive(Clone, Debug)]
+struct Span {
+    kind: Label,
+    first: usize,
+    last: usize,
+    com: Option<ComEstimate>,
+}
+
+/// Find the flights of `c`'s motion segments in the kept frames and put them, with their
+/// impacts, into `c.parts`. Nothing happens without gravity (`--gravity none`: no flight can
+/// be told from a motion), without a noise model, or relative to a palm (the support moves).
+pub fn mark_flights(c: &mut Classification, recording: &Recording, config: &Config) {
+    let (Some(g), Some(noise)) = (config.gravity, c.noise.or(config.robust.noise)) else {
+        return;
+    };
+    if c.instrumented || g.norm() == 0.0 || c.parts.is_empty() {
+        return;
+    }
+    let test = FlightTest::new(
+        g.normalize() * crate::pendulum::G,
+        noise,
+        config.robust.alpha,
+        MAX_COM_M,
+    );
+    // Outlier runs, in order, for a binary search.
+    let outliers: Vec<(u64, u64)> = c
+        .labels
+        .iter()
+        .filter(|r| r.label == Label::Outlier)
+        .map(|r| (r.first as u64, r.last as u64))
+        .collect();
+    let outlier = |i: u64| {
+        let k = outliers.partition_point(|r| r.1 < i);
+        outliers.get(k).is_some_and(|r| r.0 <= i)
+    };
+    // The runs of parts a flight may split (consecutive, in one segment), by frame index:
+    // only their frames are scanned.
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    let mut run_segment = None;
+    for p in c
+        .parts
+        .iter()
+        .filter(|p| splittable(p) && p.segment.is_some())
+    {
+        match runs.last_mut() {
+            Some(r) if run_segment == p.segment && r.1 + 1 == p.first => r.1 = p.last,
+            _ => {
+                runs.push((p.first, p.last));
+                run_segment = p.segment;
+            }
+        }
+    }
+    let mut spans: Vec<Span> = Vec::new();
+    for &(first, last) in &runs {
+        let objects = &recording.object;
+        let lo = objects.partition_point(|f| (f.index as usize) < first);
+        let hi = objects.partition_point(|f| (f.index as usize) <= last);
+        let run = &objects[lo..hi];
+        let kept: Vec<&RecordedFrame> = run.iter().filter(|f| !outlier(f.index)).collect();
+        let frames: Vec<FlightFrame> = kept.iter().map(|&f| f.into()).collect();
+        let flights = find_flights(&frames, &test);
+        for (k, f) in flights.iter().enumerate() {
+            spans.push(Span {
+                kind: Label::Flight,
+                first: kept[f.first].index as usize,
+                last: kept[f.last].index as usize,
+                com: f.fit.com_determined.then(|| ComEstimate {
+                    point: f.fit.com,
+                    covariance: f.fit.com_cov,
+                    frames: f.last + 1 - f.first,
+                }),
+            });
+            // The impact: the frames (outliers too: a bounce may look like one) from the one
+            // after the flight to the next flight's start or the run's end, within
+            // MAX_IMPACT_S of the flight's end.
+            let end_t = kept[f.last].t + MAX_IMPACT_S;
+            let (after, before) = (
+                kept[f.last].index,
+                flights.get(k + 1).map_or(u64::MAX, |n| kept[n.first].index),
+            );
+            let impact: Vec<&RecordedFrame> = run
+                .iter()
+                .filter(|x| x.index > after && x.index < before)
+                .take_while(|x| x.t <= end_t)
+                .collect();
+            if let (Some(a), Some(b)) = (impact.first(), impact.last()) {
+                spans.push(Span {
+                    kind: Label::Impact,
+                    first: a.index as usize,
+                    last: b.index as usize,
+                    com: None,
+                });
+            }
+        }
+    }
+    if spans.is_empty() {
+        return;
+    }
+    let time_of = |i: usize| {
+        let k = recording.object.partition_point(|f| (f.index as usize) < i);
+        recording.object.get(k).map(|f| f.t)
+    };
+    let time_before = |i: usize| {
+        let k = recording
+            .object
+            .partition_point(|f| (f.index as usize) <= i);
+        k.checked_sub(1).map(|k| recording.object[k].t)
+    };
+    let mut out: Vec<Part> = Vec::with_capacity(c.parts.len() + 2 * spans.len());
+    let mut last_span: Option<usize> = None;
+    for p in std::mem::take(&mut c.parts) {
+        if !splittable(&p) {
+            last_span = None;
+            out.push(p);
+            continue;
+        }
+        let mut cur = p.first;
+        for (k, s) in spans
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.last >= p.first && s.first <= p.last)
+        {
+            let (a, b) = (s.first.max(p.first), s.last.min(p.last));
+            if a > cur {
+                let piece = (p.kind, cur, a - 1, None);
+                push_piece(&mut out, &p, piece, false, &time_of, &time_before);
+            }
+            // A span cut by a part boundary continues the piece before.
+            let join = last_span == Some(k) && out.last().is_some_and(|l| l.last + 1 == a);
+            let piece = (s.kind, a, b, s.com.clone());
+            push_piece(&mut out, &p, piece, join, &time_of, &time_before);
+            last_span = Some(k);
+            cur = b + 1;
+        }
+        if cur <= p.last {
+            let piece = (p.kind, cur, p.last, None);
+            push_piece(&mut out, &p, piece, false, &time_of, &time_before);
+            last_span = None;
+        }
+    }
+    c.parts = out;
+}
+
+/// Whether a flight may split part `p`: it taught nothing, and it is not a rest or a
+/// completed topple's landing.
+fn splittable(p: &Part) -> bool {
+    !matches!(p.kind, Label::Rest | Label::Landing) && p.taught.is_empty()
+}
+
+/// A piece of a part: its kind, first and last frame, and a flight's centre of mass.
+type Piece = (Label, usize, usize, Option<ComEstimate>);
+
+/// Append the piece `first..=last` of part `p` as a part of `kind`, or join it to the part
+/// before (`join`: the same flight or impact, cut by a part boundary).
+fn push_piece(
+    out: &mut Vec<Part>,
+    p: &Part,
+    (kind, first, last, com): Piece,
+    join: bool,
+    time_of: &impl Fn(usize) -> Option<f64>,
+    time_before: &impl Fn(usize) -> Option<f64>,
+) {
+    let t_start = if first == p.first {
+        p.t_start
+    } else {
+        time_of(first).unwrap_or(p.t_start)
+    };
+    let t_end = if last == p.last {
+        p.t_end
+    } else {
+        time_before(last).unwrap_or(p.t_end)
+    };
+    let frames = (last + 1 - first) as u64;
+    let split = matches!(kind, Label::Flight | Label::Impact);
+    if let Some(prev) = out.last_mut().filter(|_| join) {
+        prev.last = last;
+        prev.t_end = t_end;
+        prev.frames += frames;
+        return;
+    }
+    out.push(Part {
+        kind,
+        t_start,
+        t_end,
+        first,
+        last,
+        frames: frames.min(p.frames),
+        segment: p.segment,
+        taught: Vec::new(),
+        withheld: if split { None } else { p.withheld.clone() },
+        com_estimate: com,
+    });
+}

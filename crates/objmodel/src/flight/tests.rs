@@ -1,0 +1,213 @@
+use super::*;
+use crate::classify::{Classification, Config, Label, Part};
+use crate::learn::{Learner, Source};
+use crate::synth::{self, SynthBox, SynthNoise, ToppleParams};
+use rand::{rngs::StdRng, Rng, SeedableRng};
+
+/// Motion-capture-like noise: 0.25 mm, 0.15°, 0.5% dropped frames, 2% sign flips.
+const MOCAP: SynthNoise = SynthNoise {
+    sigma_position: 2.5e-4,
+    sigma_rotation: 0.002_617_993_877_991_494_4,
+    drop: 0.005,
+    sign_flip: 0.02,
+    tag_flip: 0.0,
+};
+
+fn classified(demo: &crate::Demonstration, config: Config) -> Classification {
+    Learner::new(config)
+        .classify(&Source::Memory(demo))
+        .expect("classifies")
+}
+
+fn of_kind(c: &Classification, kind: Label) -> Vec<&Part> {
+    c.parts.iter().filter(|p| p.kind == kind).collect()
+}
+
+/// An exact parabola with spin, fitted directly: the centre of mass comes back to rounding,
+/// χ² ≈ 0; with gravity's sign wrong (or none) the same frames fail.
+#[test]
+fn the_fit_recovers_the_centre_of_mass_of_an_exact_flight() {
+    let com = Vector3::new(0.03, -0.02, -0.05);
+    let g = Vector3::new(0.0, 0.0, -crate::pendulum::G);
+    let (x0, v0, w) = (
+        Vector3::new(0.1, 0.2, 0.5),
+        Vector3::new(0.8, -0.3, 1.2),
+        Vector3::new(3.0, -5.0, 2.0),
+    );
+    let w2 = Vector3::new(4.0, 1.0, -1.0);
+    let frames: Vec<FlightFrame> = (0..40)
+        .map(|k| {
+            let t = 10.0 + k as f64 / 120.0;
+            let tau = t - 10.0;
+            // Spin about a body axis that precesses: every component of c shows.
+            let q = crate::se3::so3_exp(&(w * tau)) * crate::se3::so3_exp(&(w2 * tau));
+            let r = q.to_rotation_matrix().into_inner();
+            let centre = x0 + v0 * tau + 0.5 * g * tau * tau;
+            FlightFrame {
+                t,
+                rotation: r,
+                position: centre - r * com,
+            }
+        })
+        .collect();
+    let noise = NoiseModel {
+        sigma_position: 2.5e-4,
+        sigma_rotation: 0.15f64.to_radians(),
+    };
+    let f = fit::fit(&frames, &g, &noise, 0.5, true).unwrap();
+    assert!((f.com - com).norm() < 1e-6, "{:?} {:?}", f.com, f);
+    assert!(f.com_determined && fit::passes(&f, 1e-3), "{f:?}");
+    assert!(f.chi2 < 1e-6, "{}", f.chi2);
+    for wrong in [-g, Vector3::zeros()] {
+        let z = fit::fit(&frames, &wrong, &noise, 0.5, false).unwrap();
+        assert!(!fit::passes(&z, 1e-3), "{z:?}");
+    }
+    let test = FlightTest::new(g, noise, 1e-3, 0.5);
+    let found = find_flights(&frames, &test);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!((found[0].first, found[0].last), (0, 39));
+}
+
+/// Synthetic tosses at three noise levels: at most one flight part in ten lies outside the
+/// true flights (to the boundary slack below), at least 3 in 4 true flights are found whole (both ends within
+/// the slack), an impact or the next flight or rest follows each; the centre of mass a
+/// flight reports is the box's centre within its covariance (χ²₃ at 1e-4) and within 1 cm.
+#[test]
+fn tosses_give_their_flights_impacts_and_centre_of_mass() {
+    let mut rng = StdRng::seed_from_u64(20);
+    let mut worst = [0.0f64; 3];
+    let (mut whole, mut truths, mut coms, mut found, mut outside) = (0, 0, 0, 0, 0);
+    for (level, (noise, rate)) in [
+        (SynthNoise::CLEAN, 120.0),
+        (MOCAP, 200.0),
+        (
+            SynthNoise {
+                tag_flip: 0.0,
+                ..SynthNoise::REAL
+            },
+            60.0,
+        ),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        for seed in 0..6 {
+            let b = SynthBox::random(&mut rng);
+            let t = synth::toss(&b, &noise, rate, 100 * level as u64 + seed);
+            let c = classified(&t.demo, Config::default());
+            // Three frames, and the time a change of acceleration of at least 6 m/s² (the
+            // throw's end is within 4 m/s² of level) takes to show by three sigmas:
+            // ½ Δa t² = 3σ, t = √(6σ / Δa) = √σ.
+            let slack = 3.0 / rate + noise.sigma_position.sqrt() + 1e-6;
+            let flights = of_kind(&c, Label::Flight);
+            for p in &flights {
+                found += 1;
+                if !t
+                    .flights
+                    .iter()
+                    .any(|&(t0, t1)| p.t_start >= t0 - slack && p.t_end <= t1 + slack)
+                {
+                    eprintln!(
+                        "{level} {seed}: flight {:.3}-{:.3} is in no true flight {:?}",
+                        p.t_start, p.t_end, t.flights
+                    );
+                    outside += 1;
+                    continue;
+                }
+                let next = c.parts.iter().find(|q| q.first == p.last + 1);
+                assert!(
+                    next.is_some_and(|q| matches!(
+                        q.kind,
+                        Label::Impact | Label::Rest | Label::Flight
+                    )),
+                    "{level} {seed}: {:#?}",
+                    c.parts
+                );
+                if let Some(e) = &p.com_estimate {
+                    let d = e.point - t.com;
+                    let m = d.dot(&(e.covariance.try_inverse().unwrap() * d));
+                    assert!(m < 21.1 || d.norm() < 1e-6, "{level} {seed}: {d:?} χ² {m}");
+                    assert!(d.norm() < 1e-2, "{level} {seed}: {:.2} mm", d.norm() * 1e3);
+                    worst[level] = worst[level].max(d.norm());
+                    coms += 1;
+                }
+            }
+            truths += t.flights.len();
+            whole += t
+                .flights
+                .iter()
+                .filter(|&&(t0, t1)| {
+                    flights
+                        .iter()
+                        .any(|p| (p.t_start - t0).abs() <= slack && (p.t_end - t1).abs() <= slack)
+                })
+                .count();
+        }
+    }
+    eprintln!(
+        "{whole} of {truths} flights found whole; {outside} of {found} flight parts outside \
+         any; {coms} centres of mass, worst error: clean \
+         {:.2} mm, mocap {:.2} mm, camera {:.2} mm",
+        worst[0] * 1e3,
+        worst[1] * 1e3,
+        worst[2] * 1e3
+    );
+    assert!(4 * whole >= 3 * truths, "{whole} of {truths}");
+    // Known limit: a hand that spins the object up has, for tens of milliseconds, a point
+    // near it that accelerates with gravity (see `MAX_COM_M`); at most one part in ten.
+    assert!(10 * outside <= found, "{outside} of {found}");
+}
+
+/// Without gravity there is no flight.
+#[test]
+fn no_flight_without_gravity() {
+    let b = SynthBox::random(&mut StdRng::seed_from_u64(3));
+    let t = synth::toss(&b, &MOCAP, 200.0, 3);
+    let config = Config {
+        gravity: None,
+        ..Config::default()
+    };
+    let c = classified(&t.demo, config);
+    assert!(of_kind(&c, Label::Flight).is_empty(), "{:#?}", c.parts);
+    assert!(of_kind(&c, Label::Impact).is_empty(), "{:#?}", c.parts);
+}
+
+/// Rests, slides, topples (with a slipping pivot), carried motions and a decelerated drop
+/// are never flights, clean or noisy.
+#[test]
+fn contact_modes_and_carried_motions_are_not_flights() {
+    let mut rng = StdRng::seed_from_u64(7);
+    for k in 0..24u64 {
+        let b = SynthBox::random(&mut rng);
+        let noise = [SynthNoise::CLEAN, MOCAP, SynthNoise::REAL][k as usize % 3];
+        let rate = [30.0, 120.0, 250.0][rng.random_range(0..3)];
+        let demos = [
+            synth::topple(
+                &b,
+                &ToppleParams {
+                    side: rng.random_range(0..4),
+                    slip: rng.random_range(0.0..0.02),
+                    ..ToppleParams::default()
+                },
+                &noise,
+                rate,
+                k,
+            ),
+            synth::slide(&b, &noise, rate, k),
+            synth::general(&b, &noise, rate, k),
+            synth::drop_then_slide(&b, rng.random_range(0..4), 0.05, &noise, rate, k),
+            synth::slide_then_topple(&b, rng.random_range(0..4), 0.04, &noise, rate, k),
+        ];
+        for d in &demos {
+            let c = classified(&d.demo, Config::default());
+            assert!(
+                of_kind(&c, Label::Flight).is_empty(),
+                "{} ({k}, {rate} Hz): {:?} {:?} {:#?}",
+                d.demo.name,
+                c.noise,
+                c.warnings,
+                c.parts
+            );
+        }
+    }
+}
