@@ -19,6 +19,10 @@
 //! any pose of a rotation about a fixed edge is a valid reference for the rest of that
 //! rotation, so a reference a few frames after the real onset costs only angle.
 //!
+//! When nothing moved the object between the rest before the segment and the onset, the rest's
+//! pose (a mean of many frames) is a better reference than one frame: the part is then
+//! measured from the rest instead ([`measured_from_rest`]).
+//!
 //! An instrumented demonstration is measured relative to the palm; here its poses are
 //! expressed in a world where the palm stays at its first pose (`P₀ · palm⁻¹ · object`), which
 //! keeps the motion relative to the palm and the palm's "down" of the first pass.
@@ -54,6 +58,8 @@ struct Remeasured {
     /// The classification of the frames from the reference on (its frame indices are the
     /// first pass's).
     sub: Classification,
+    /// How it was measured, for `Segment::remeasured` (`None`: from the onset).
+    note: Option<String>,
 }
 
 /// Where the first part of segment `k` ends and a later one starts: the start time of the first
@@ -132,18 +138,41 @@ fn remeasure(c: &mut Classification, recording: &Recording, config: &Config, dep
         let up_to_turn = turned
             .and_then(|t| classify_from(c, recording, &config, reference, t + 1e-9))
             .filter(teaches_edge);
+        let span_end = match (&up_to_turn, turned) {
+            (Some(_), Some(t)) => t + 1e-9,
+            _ => t_end,
+        };
         let Some(mut sub) =
             up_to_turn.or_else(|| classify_from(c, recording, &config, reference, t_end))
         else {
             continue;
         };
         remeasure(&mut sub, recording, &config, depth - 1);
+        if let Some((rest, from_rest)) =
+            measured_from_rest(c, recording, &config, k, &sub, span_end)
+        {
+            done.push(Remeasured {
+                segment: k,
+                t_reference: rest.t,
+                i_reference: rest.index,
+                t_onset: c.segments[k].t_start,
+                sub: from_rest,
+                note: Some(format!(
+                    "measured from the rest before it up to {:.2} s (after that, its landing), \
+                     the same line as measured from the onset of its later part at {t_onset:.2} \
+                     s",
+                    span_end.min(c.segments[k].t_end)
+                )),
+            });
+            continue;
+        }
         done.push(Remeasured {
             segment: k,
             t_reference: reference.t,
             i_reference: reference.index,
             t_onset,
             sub,
+            note: None,
         });
     }
     for r in done {
@@ -161,6 +190,28 @@ fn classify_from(
     reference: &RecordedFrame,
     t_end: f64,
 ) -> Option<Classification> {
+    classify_span(c, recording, config, Start::Held(reference), t_end)
+}
+
+/// Where a re-measured span starts: a rest held at one frame's pose, then the frames from
+/// that frame on; or the kept frames from a time on (a rest of the recording itself, whose
+/// mean pose is the reference), the first `skip` of them not re-labelled.
+#[derive(Clone, Copy)]
+enum Start<'a> {
+    Held(&'a RecordedFrame),
+    Frames { t_from: f64, skip: usize },
+}
+
+/// The frames from `start` to `t_end` (exclusive) classified; instrumented ones in the palm's
+/// first pose. Frame indices are mapped back to the first pass's; the held rest's frames (or
+/// the first `skip` frames) and the reference are dropped from the labels.
+fn classify_span(
+    c: &Classification,
+    recording: &Recording,
+    config: &Config,
+    start: Start,
+    t_end: f64,
+) -> Option<Classification> {
     let support = |t: f64| -> Option<Isometry3<f64>> {
         if recording.palm.is_empty() {
             return Some(Isometry3::identity());
@@ -171,10 +222,14 @@ fn classify_from(
     let pose = |f: &RecordedFrame| -> Option<Isometry3<f64>> {
         Some(support(f.t)? * Isometry3::from_parts(Translation3::from(f.position), f.rotation))
     };
+    let t_from = match start {
+        Start::Held(reference) => reference.t,
+        Start::Frames { t_from, .. } => t_from,
+    };
     let frames: Vec<&RecordedFrame> = recording
         .object
         .iter()
-        .filter(|f| f.t >= reference.t && f.t < t_end)
+        .filter(|f| f.t >= t_from && f.t < t_end)
         .collect();
     if frames.len() < 2 * MIN_EDGE_FRAMES as usize {
         return None;
@@ -183,13 +238,18 @@ fn classify_from(
     if dt <= 0.0 {
         return None;
     }
-    let g0 = pose(reference)?;
-    let held = (HELD_REST * config.robust.min_rest_s.max(config.robust.rest_window_s) / dt).ceil()
-        as usize;
-    let mut object: Vec<StampedPose> = (0..held)
-        .map(|i| StampedPose::new(reference.t - (held - i) as f64 * dt, g0))
-        .collect();
-    let mut index: Vec<Option<(u64, f64)>> = vec![None; held];
+    let (mut object, mut index, skip) = match start {
+        Start::Held(reference) => {
+            let g0 = pose(reference)?;
+            let held = (HELD_REST * config.robust.min_rest_s.max(config.robust.rest_window_s) / dt)
+                .ceil() as usize;
+            let object: Vec<StampedPose> = (0..held)
+                .map(|i| StampedPose::new(reference.t - (held - i) as f64 * dt, g0))
+                .collect();
+            (object, vec![None; held], held + 1)
+        }
+        Start::Frames { skip, .. } => (Vec::new(), Vec::new(), skip),
+    };
     for f in frames {
         if let Some(p) = pose(f) {
             object.push(StampedPose::new(f.t, p));
@@ -205,10 +265,10 @@ fn classify_from(
     // Back to the first pass's frame indices, without the held rest and the reference (they
     // keep the first pass's labels).
     sub.labels.retain_mut(|r| {
-        if r.last <= held {
+        if r.last < skip {
             return false;
         }
-        let from = r.first.max(held + 1);
+        let from = r.first.max(skip);
         let (Some(Some((a, ta))), Some(Some((b, tb)))) =
             (index.get(from), index.get(r.last.min(index.len() - 1)))
         else {
@@ -219,6 +279,70 @@ fn classify_from(
         true
     });
     Some(sub)
+}
+
+/// The edge of a part re-measured from its onset (`from_onset`, over the frames before
+/// `span_end`), measured again from the rest before segment `k`, when the rest's pose is a
+/// reference for it: the span from the rest to `span_end` classified as a segment of its
+/// own teaches an edge (every test of a topple measured from a rest) that is the same line
+/// as the edge measured from the onset (the likelihood-ratio test that pools topples, χ²₄ at
+/// the classifier's α). Returns the last frame of the rest and that classification.
+///
+/// From its onset, the part is measured from one frame, whose error is common to all its
+/// frames (it moves each frame's axis by about σ / (2 sin(θ/2))); the rest's pose is the mean
+/// of many. It is a valid reference when nothing moved the object off the rotation between
+/// the rest and the onset, and then the part's frames measured from it are the same line. A
+/// creep or slide before the onset (a box creeping down a tilting palm) moves every frame's
+/// axis, differently at each angle, and the lines differ: the onset's edge stays. On
+/// MuJoCo's instrumented topples, why the first pass split the segment was mostly the landing
+/// (many frames at one pose, whose axes agree with each other), which the span leaves out.
+fn measured_from_rest<'r>(
+    c: &Classification,
+    recording: &'r Recording,
+    config: &Config,
+    k: usize,
+    from_onset: &Classification,
+    span_end: f64,
+) -> Option<(&'r RecordedFrame, Classification)> {
+    let onset_segment = from_onset.segments.first()?;
+    if !teaches_edge(from_onset) || onset_segment.remeasured.is_some() {
+        return None;
+    }
+    let s = &c.segments[k];
+    let t_prev = k
+        .checked_sub(1)
+        .map_or(f64::NEG_INFINITY, |j| c.segments[j].t_end);
+    let rest: Vec<&RecordedFrame> = recording
+        .object
+        .iter()
+        .filter(|f| f.t > t_prev && f.t < s.t_start)
+        .collect();
+    let (first, last) = (rest.first()?, rest.last()?);
+    // A rest the rest test established (the first frames of a file are called rest without
+    // a window before them: `crate::start_rest`).
+    if last.t - first.t < config.robust.rest_window_s {
+        return None;
+    }
+    let sub = classify_span(
+        c,
+        recording,
+        config,
+        Start::Frames {
+            t_from: first.t,
+            skip: rest.len(),
+        },
+        span_end,
+    )?;
+    let rest_segment = sub.segments.first()?;
+    if !teaches_edge(&sub) || rest_segment.remeasured.is_some() {
+        return None;
+    }
+    let (a, b) = (&onset_segment.topple_stats, &rest_segment.topple_stats);
+    let own = |s: &crate::geometry::LineStats| s.mean().map_or(0.0, |l| s.chi2(&l));
+    let mut pooled = *a;
+    pooled.merge(b);
+    let lr = own(&pooled) - own(a) - own(b);
+    (lr < crate::stats::chi2_threshold(4.0, config.robust.alpha)).then_some((*last, sub))
 }
 
 /// Whether a re-measured part teaches an edge: its first segment's, if the edge's frames
@@ -360,12 +484,16 @@ fn adopt(c: &mut Classification, r: Remeasured, recording: &Recording, config: &
     seg.votes = votes;
     seg.kind = votes.winner().unwrap_or(Kind::General);
     // (An edge from a later part of the re-measured part: that part's onset.)
-    let note = first.remeasured.clone().unwrap_or_else(|| {
-        format!(
+    let note = r
+        .note
+        .clone()
+        .or_else(|| first.remeasured.clone())
+        .unwrap_or_else(|| {
+            format!(
             "measured from its onset at {:.2} s (the pose at {:.2} s), after the part before it",
             r.t_onset, r.t_reference
         )
-    });
+        });
     if let Some(e) = &first.edge {
         seg.edge = Some(e.clone());
         seg.topple_stats = first.topple_stats;
