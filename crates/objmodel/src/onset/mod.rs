@@ -21,7 +21,7 @@
 //!
 //! When nothing moved the object between the rest before the segment and the onset, the rest's
 //! pose (a mean of many frames) is a better reference than one frame: the part is then
-//! measured from the rest instead ([`measured_from_rest`]).
+//! measured from the rest instead (`measured_from_rest`).
 //!
 //! An instrumented demonstration is measured relative to the palm; here its poses are
 //! expressed in a world where the palm stays at its first pose (`P₀ · palm⁻¹ · object`), which
