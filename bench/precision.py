@@ -13,6 +13,10 @@ truth's per-interval `modes`: a face that the box rested on for at least 0.05 s,
 for at least 0.1 s moving 5 mm or turning 3 degrees; an edge it toppled about (the edge on the
 support and not slipping) while turning at least 5 degrees. Recall = those features found /
 those features. ("box edges/faces found" counts any of the box's 12 edges and 6 faces.)
+"measurable rolls" (scene table): the edges rolled over long enough to be measured — one
+interval of topple about the edge turning at least 8.6 degrees (what an edge rotation must
+turn to locate its edge) over at least 3 frames at the file's rate — found / shown, and in
+brackets the number of such rolls.
 
 Tables (Markdown on stdout):
 * `box`: per box and noise level, the single-mode scenes of the original dataset (topple,
@@ -39,6 +43,11 @@ CLASSIC = {"topple", "instrumented", "slide", "general", "compound"}
 MIN_REST = 0.05
 MIN_SLIDE_T, MIN_SLIDE_TRAVEL, MIN_SLIDE_TURN = 0.1, 5e-3, 3.0
 MIN_TOPPLE_TURN = 5.0
+# A roll over an edge long enough to be measured: an interval the truth calls a topple about
+# the edge (on the support, not slipping) that turns at least the 8.6 degrees an edge rotation
+# must turn to locate its edge (`classify::parts::edge_turns_too_little`) and holds at least
+# the learner's MIN_EDGE_FRAMES (3) frames at the file's frame rate.
+MIN_ROLL_TURN, MIN_ROLL_FRAMES = 8.6, 3
 
 
 def quat_matrix(q):
@@ -131,6 +140,20 @@ def demonstrated(truths):
     return faces, edges
 
 
+def measurable_rolls(truths, rates):
+    """Ids of the edges the demonstrations rolled over long enough to be measured (see
+    MIN_ROLL_TURN), and how many such rolls there were."""
+    edges, n = set(), 0
+    for t, rate in zip(truths, rates):
+        for m in t.get("modes", []):
+            frames = int((m["t1"] - m["t0"]) * rate + 1e-9)
+            if (m["mode"] == "topple" and m.get("edge") and m["turn_deg"] >= MIN_ROLL_TURN
+                    and frames >= MIN_ROLL_FRAMES):
+                edges.add(m["edge"]["id"])
+                n += 1
+    return edges, n
+
+
 class Data:
     def __init__(self, root, binary):
         self.root, self.bin = root, binary
@@ -213,9 +236,11 @@ def score(data, demos):
     truths = [data.truth(d) for d in demos]
     faces, edges = box_features(truths[0])
     shown_f, shown_e = demonstrated(truths)
+    rolled, n_rolls = measurable_rolls(truths, [d.get("rate_hz") or truths[i].get("rate_hz") or 30.0
+                                                for i, d in enumerate(demos)])
     r = dict(demos=len(demos), edges=len(tree["edges"]), faces=len(tree["faces"]),
              true_e=0, true_f=0, found_e=set(), found_f=set(), wrong=[],
-             shown_e=shown_e, shown_f=shown_f)
+             shown_e=shown_e, shown_f=shown_f, rolled=rolled, n_rolls=n_rolls)
     for e in tree["edges"]:
         k, ang, dist, ok = match_edge(e, edges)
         if ok:
@@ -275,8 +300,8 @@ def main():
 
     if "scene" in tables:
         print("### Per scene kind and noise: each box's demonstrations of the kind learnt together, summed over boxes\n")
-        print("| scene | noise | demos | edges true/learnt | faces true/learnt | precision | shown edges found | shown faces found | recall | wrong features |")
-        print("|---|---|---|---|---|---|---|---|---|---|")
+        print("| scene | noise | demos | edges true/learnt | faces true/learnt | precision | shown edges found | shown faces found | recall | measurable rolls: edges found (rolls) | wrong features |")
+        print("|---|---|---|---|---|---|---|---|---|---|---|")
         groups = by(lambda d: (d["scene"], d["noise"], d["box"]), lambda d: True)
         cells = defaultdict(list)
         for (scene, noise, box), ds in groups.items():
@@ -290,12 +315,13 @@ def main():
                 r = score(data, ds)
                 t.update(dict(demos=r["demos"], te=r["true_e"], e=r["edges"], tf=r["true_f"], f=r["faces"],
                               se=len(r["shown_e"]), sf=len(r["shown_f"]),
-                              fe=len(r["shown_e"] & r["found_e"]), ff=len(r["shown_f"] & r["found_f"])))
+                              fe=len(r["shown_e"] & r["found_e"]), ff=len(r["shown_f"] & r["found_f"]),
+                              re=len(r["rolled"]), rf=len(r["rolled"] & r["found_e"]), rn=r["n_rolls"]))
                 wrong += [w[2] for w in r["wrong"]]
                 wrong_all += [(f"{box} {noise} {scene}", w) for w in r["wrong"]]
             kinds = Counter("edge" if w.startswith("edge") else "face" for w in wrong)
             wsum = ", ".join(f"{v} {k}s" for k, v in kinds.items()) or "-"
-            print(f"| {scene} | {noise} | {t['demos']} | {t['te']}/{t['e']} | {t['tf']}/{t['f']} | {pct(t['te'] + t['tf'], t['e'] + t['f'])} | {t['fe']}/{t['se']} | {t['ff']}/{t['sf']} | {pct(t['fe'] + t['ff'], t['se'] + t['sf'])} | {wsum} |")
+            print(f"| {scene} | {noise} | {t['demos']} | {t['te']}/{t['e']} | {t['tf']}/{t['f']} | {pct(t['te'] + t['tf'], t['e'] + t['f'])} | {t['fe']}/{t['se']} | {t['ff']}/{t['sf']} | {pct(t['fe'] + t['ff'], t['se'] + t['sf'])} | {t['rf']}/{t['re']} ({t['rn']}) | {wsum} |")
         print()
 
     if "all" in tables:

@@ -71,6 +71,7 @@ pub mod screw;
 pub mod se3;
 pub mod shape;
 pub mod skill;
+pub mod start_rest;
 pub mod stats;
 pub mod synth;
 #[cfg(test)]

@@ -19,15 +19,20 @@
 //! any pose of a rotation about a fixed edge is a valid reference for the rest of that
 //! rotation, so a reference a few frames after the real onset costs only angle.
 //!
+//! When nothing moved the object between the rest before the segment and the onset, the rest's
+//! pose (a mean of many frames) is a better reference than one frame: the part is then
+//! measured from the rest instead (`measured_from_rest`).
+//!
 //! An instrumented demonstration is measured relative to the palm; here its poses are
 //! expressed in a world where the palm stays at its first pose (`P₀ · palm⁻¹ · object`), which
 //! keeps the motion relative to the palm and the palm's "down" of the first pass.
 
-use crate::classify::{classify, Classification, Config, Kind, Label, LabelRun, Votes};
+mod span;
+
+use crate::classify::{Classification, Config, Kind, Label, LabelRun, Votes};
 use crate::classify::{MIN_EDGE_FRAMES, MIN_FACE_FRAMES};
 use crate::recording::{RecordedFrame, Recording};
-use crate::trajectory::{Demonstration, StampedPose};
-use nalgebra::{Isometry3, Translation3};
+use span::{classify_from, classify_span, largest_turn, Start};
 
 /// How many times a later part may itself be split at a later part of its own.
 pub const MAX_DEPTH: usize = 3;
@@ -54,6 +59,8 @@ struct Remeasured {
     /// The classification of the frames from the reference on (its frame indices are the
     /// first pass's).
     sub: Classification,
+    /// How it was measured, for `Segment::remeasured` (`None`: from the onset).
+    note: Option<String>,
 }
 
 /// Where the first part of segment `k` ends and a later one starts: the start time of the first
@@ -132,18 +139,41 @@ fn remeasure(c: &mut Classification, recording: &Recording, config: &Config, dep
         let up_to_turn = turned
             .and_then(|t| classify_from(c, recording, &config, reference, t + 1e-9))
             .filter(teaches_edge);
+        let span_end = match (&up_to_turn, turned) {
+            (Some(_), Some(t)) => t + 1e-9,
+            _ => t_end,
+        };
         let Some(mut sub) =
             up_to_turn.or_else(|| classify_from(c, recording, &config, reference, t_end))
         else {
             continue;
         };
         remeasure(&mut sub, recording, &config, depth - 1);
+        if let Some((rest, from_rest)) =
+            measured_from_rest(c, recording, &config, k, &sub, span_end)
+        {
+            done.push(Remeasured {
+                segment: k,
+                t_reference: rest.t,
+                i_reference: rest.index,
+                t_onset: c.segments[k].t_start,
+                sub: from_rest,
+                note: Some(format!(
+                    "measured from the rest before it up to {:.2} s (after that, its landing), \
+                     the same line as measured from the onset of its later part at {t_onset:.2} \
+                     s",
+                    span_end.min(c.segments[k].t_end)
+                )),
+            });
+            continue;
+        }
         done.push(Remeasured {
             segment: k,
             t_reference: reference.t,
             i_reference: reference.index,
             t_onset,
             sub,
+            note: None,
         });
     }
     for r in done {
@@ -151,74 +181,68 @@ fn remeasure(c: &mut Classification, recording: &Recording, config: &Config, dep
     }
 }
 
-/// The frames from `reference` to `t_end` (exclusive), after a rest held at the reference
-/// pose, classified; instrumented ones in the palm's first pose. Frame indices are mapped back
-/// to the first pass's; the held rest's frames are dropped from the labels.
-fn classify_from(
+/// The edge of a part re-measured from its onset (`from_onset`, over the frames before
+/// `span_end`), measured again from the rest before segment `k`, when the rest's pose is a
+/// reference for it: the span from the rest to `span_end` classified as a segment of its
+/// own teaches an edge (every test of a topple measured from a rest) that is the same line
+/// as the edge measured from the onset (the likelihood-ratio test that pools topples, χ²₄ at
+/// the classifier's α). Returns the last frame of the rest and that classification.
+///
+/// From its onset, the part is measured from one frame, whose error is common to all its
+/// frames (it moves each frame's axis by about σ / (2 sin(θ/2))); the rest's pose is the mean
+/// of many. It is a valid reference when nothing moved the object off the rotation between
+/// the rest and the onset, and then the part's frames measured from it are the same line. A
+/// creep or slide before the onset (a box creeping down a tilting palm) moves every frame's
+/// axis, differently at each angle, and the lines differ: the onset's edge stays. On
+/// MuJoCo's instrumented topples, why the first pass split the segment was mostly the landing
+/// (many frames at one pose, whose axes agree with each other), which the span leaves out.
+fn measured_from_rest<'r>(
     c: &Classification,
-    recording: &Recording,
+    recording: &'r Recording,
     config: &Config,
-    reference: &RecordedFrame,
-    t_end: f64,
-) -> Option<Classification> {
-    let support = |t: f64| -> Option<Isometry3<f64>> {
-        if recording.palm.is_empty() {
-            return Some(Isometry3::identity());
-        }
-        let p0 = recording.palm.first()?.pose;
-        Some(p0 * pose_at(&recording.palm, t)?.inverse())
-    };
-    let pose = |f: &RecordedFrame| -> Option<Isometry3<f64>> {
-        Some(support(f.t)? * Isometry3::from_parts(Translation3::from(f.position), f.rotation))
-    };
-    let frames: Vec<&RecordedFrame> = recording
+    k: usize,
+    from_onset: &Classification,
+    span_end: f64,
+) -> Option<(&'r RecordedFrame, Classification)> {
+    let onset_segment = from_onset.segments.first()?;
+    if !teaches_edge(from_onset) || onset_segment.remeasured.is_some() {
+        return None;
+    }
+    let s = &c.segments[k];
+    let t_prev = k
+        .checked_sub(1)
+        .map_or(f64::NEG_INFINITY, |j| c.segments[j].t_end);
+    let rest: Vec<&RecordedFrame> = recording
         .object
         .iter()
-        .filter(|f| f.t >= reference.t && f.t < t_end)
+        .filter(|f| f.t > t_prev && f.t < s.t_start)
         .collect();
-    if frames.len() < 2 * MIN_EDGE_FRAMES as usize {
+    let (first, last) = (rest.first()?, rest.last()?);
+    // A rest the rest test established (the first frames of a file are called rest without
+    // a window before them: `crate::start_rest`).
+    if last.t - first.t < config.robust.rest_window_s {
         return None;
     }
-    let dt = (frames.last()?.t - frames[0].t) / (frames.len() - 1) as f64;
-    if dt <= 0.0 {
+    let sub = classify_span(
+        c,
+        recording,
+        config,
+        Start::Frames {
+            t_from: first.t,
+            skip: rest.len(),
+        },
+        span_end,
+    )?;
+    let rest_segment = sub.segments.first()?;
+    if !teaches_edge(&sub) || rest_segment.remeasured.is_some() {
         return None;
     }
-    let g0 = pose(reference)?;
-    let held = (HELD_REST * config.robust.min_rest_s.max(config.robust.rest_window_s) / dt).ceil()
-        as usize;
-    let mut object: Vec<StampedPose> = (0..held)
-        .map(|i| StampedPose::new(reference.t - (held - i) as f64 * dt, g0))
-        .collect();
-    let mut index: Vec<Option<(u64, f64)>> = vec![None; held];
-    for f in frames {
-        if let Some(p) = pose(f) {
-            object.push(StampedPose::new(f.t, p));
-            index.push(Some((f.index, f.t)));
-        }
-    }
-    let demo = Demonstration {
-        name: c.name.clone(),
-        object,
-        palm: None,
-    };
-    let mut sub = classify(&demo, config).ok()?;
-    // Back to the first pass's frame indices, without the held rest and the reference (they
-    // keep the first pass's labels).
-    sub.labels.retain_mut(|r| {
-        if r.last <= held {
-            return false;
-        }
-        let from = r.first.max(held + 1);
-        let (Some(Some((a, ta))), Some(Some((b, tb)))) =
-            (index.get(from), index.get(r.last.min(index.len() - 1)))
-        else {
-            return false;
-        };
-        r.frames -= (from - r.first) as u64;
-        (r.first, r.last, r.t_start, r.t_end) = (*a as usize, *b as usize, *ta, *tb);
-        true
-    });
-    Some(sub)
+    let (a, b) = (&onset_segment.topple_stats, &rest_segment.topple_stats);
+    let own = |s: &crate::geometry::LineStats| s.mean().map_or(0.0, |l| s.chi2(&l));
+    let mut pooled = *a;
+    pooled.merge(b);
+    let lr = own(&pooled) - own(a) - own(b);
+    (lr < crate::stats::chi2_threshold(4.0, config.robust.alpha)).then_some((*last, sub))
 }
 
 /// Whether a re-measured part teaches an edge: its first segment's, if the edge's frames
@@ -233,54 +257,6 @@ fn teaches_edge(sub: &Classification) -> bool {
             s.remeasured.is_some() || e.max_angle >= CARRIED_FRACTION * s.max_angle
         })
     })
-}
-
-/// The time of the kept frame in `[reference, t_end)` turned farthest from the reference.
-fn largest_turn(recording: &Recording, reference: &RecordedFrame, t_end: f64) -> Option<f64> {
-    let (q0, palm0) = (reference.rotation, palm_rotation(recording, reference.t));
-    recording
-        .object
-        .iter()
-        .filter(|f| f.t > reference.t && f.t < t_end)
-        .map(|f| {
-            // Relative to the palm when there is one.
-            let rel = match (palm0, palm_rotation(recording, f.t)) {
-                (Some(p0), Some(p)) => (p0.inverse() * q0).inverse() * (p.inverse() * f.rotation),
-                _ => q0.inverse() * f.rotation,
-            };
-            (rel.angle(), f.t)
-        })
-        .max_by(|a, b| a.0.total_cmp(&b.0))
-        .map(|(_, t)| t)
-}
-
-fn palm_rotation(recording: &Recording, t: f64) -> Option<nalgebra::UnitQuaternion<f64>> {
-    if recording.palm.is_empty() {
-        return None;
-    }
-    pose_at(&recording.palm, t).map(|p| p.rotation)
-}
-
-/// `world_from_palm` at time `t`, interpolated between the kept palm poses.
-fn pose_at(palm: &[StampedPose], t: f64) -> Option<Isometry3<f64>> {
-    let i = palm.partition_point(|p| p.t < t);
-    if i < palm.len() && (palm[i].t - t).abs() < 1e-9 {
-        return Some(palm[i].pose);
-    }
-    if i == 0 || i >= palm.len() {
-        return None;
-    }
-    let (a, b) = (&palm[i - 1], &palm[i]);
-    let s = (t - a.t) / (b.t - a.t);
-    Some(Isometry3::from_parts(
-        Translation3::from(
-            a.pose
-                .translation
-                .vector
-                .lerp(&b.pose.translation.vector, s),
-        ),
-        a.pose.rotation.slerp(&b.pose.rotation, s),
-    ))
 }
 
 /// Add what a re-measured part teaches to segment `r.segment`: its first segment's edge or
@@ -360,12 +336,16 @@ fn adopt(c: &mut Classification, r: Remeasured, recording: &Recording, config: &
     seg.votes = votes;
     seg.kind = votes.winner().unwrap_or(Kind::General);
     // (An edge from a later part of the re-measured part: that part's onset.)
-    let note = first.remeasured.clone().unwrap_or_else(|| {
-        format!(
+    let note = r
+        .note
+        .clone()
+        .or_else(|| first.remeasured.clone())
+        .unwrap_or_else(|| {
+            format!(
             "measured from its onset at {:.2} s (the pose at {:.2} s), after the part before it",
             r.t_onset, r.t_reference
         )
-    });
+        });
     if let Some(e) = &first.edge {
         seg.edge = Some(e.clone());
         seg.topple_stats = first.topple_stats;

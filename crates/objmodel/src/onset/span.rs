@@ -1,0 +1,163 @@
+//! The frames of a span of a demonstration classified again as a demonstration of their own:
+//! from a rest held at one frame's pose, or from a rest of the recording itself; and the
+//! palm's pose between its kept poses (an instrumented demonstration is re-measured in a
+//! world where the palm stays at its first pose, `P₀ · palm⁻¹ · object`).
+
+use super::{HELD_REST, MIN_EDGE_FRAMES};
+use crate::classify::{classify, Classification, Config};
+use crate::recording::{RecordedFrame, Recording};
+use crate::trajectory::{Demonstration, StampedPose};
+use nalgebra::{Isometry3, Translation3};
+
+/// The frames from `reference` to `t_end` (exclusive), after a rest held at the reference
+/// pose, classified; instrumented ones in the palm's first pose. Frame indices are mapped back
+/// to the first pass's; the held rest's frames are dropped from the labels.
+pub(super) fn classify_from(
+    c: &Classification,
+    recording: &Recording,
+    config: &Config,
+    reference: &RecordedFrame,
+    t_end: f64,
+) -> Option<Classification> {
+    classify_span(c, recording, config, Start::Held(reference), t_end)
+}
+
+/// Where a re-measured span starts: a rest held at one frame's pose, then the frames from
+/// that frame on; or the kept frames from a time on (a rest of the recording itself, whose
+/// mean pose is the reference), the first `skip` of them not re-labelled.
+#[derive(Clone, Copy)]
+pub(super) enum Start<'a> {
+    Held(&'a RecordedFrame),
+    Frames { t_from: f64, skip: usize },
+}
+
+/// The frames from `start` to `t_end` (exclusive) classified; instrumented ones in the palm's
+/// first pose. Frame indices are mapped back to the first pass's; the held rest's frames (or
+/// the first `skip` frames) and the reference are dropped from the labels.
+pub(super) fn classify_span(
+    c: &Classification,
+    recording: &Recording,
+    config: &Config,
+    start: Start,
+    t_end: f64,
+) -> Option<Classification> {
+    let support = |t: f64| -> Option<Isometry3<f64>> {
+        if recording.palm.is_empty() {
+            return Some(Isometry3::identity());
+        }
+        let p0 = recording.palm.first()?.pose;
+        Some(p0 * pose_at(&recording.palm, t)?.inverse())
+    };
+    let pose = |f: &RecordedFrame| -> Option<Isometry3<f64>> {
+        Some(support(f.t)? * Isometry3::from_parts(Translation3::from(f.position), f.rotation))
+    };
+    let t_from = match start {
+        Start::Held(reference) => reference.t,
+        Start::Frames { t_from, .. } => t_from,
+    };
+    let frames: Vec<&RecordedFrame> = recording
+        .object
+        .iter()
+        .filter(|f| f.t >= t_from && f.t < t_end)
+        .collect();
+    if frames.len() < 2 * MIN_EDGE_FRAMES as usize {
+        return None;
+    }
+    let dt = (frames.last()?.t - frames[0].t) / (frames.len() - 1) as f64;
+    if dt <= 0.0 {
+        return None;
+    }
+    let (mut object, mut index, skip) = match start {
+        Start::Held(reference) => {
+            let g0 = pose(reference)?;
+            let held = (HELD_REST * config.robust.min_rest_s.max(config.robust.rest_window_s) / dt)
+                .ceil() as usize;
+            let object: Vec<StampedPose> = (0..held)
+                .map(|i| StampedPose::new(reference.t - (held - i) as f64 * dt, g0))
+                .collect();
+            (object, vec![None; held], held + 1)
+        }
+        Start::Frames { skip, .. } => (Vec::new(), Vec::new(), skip),
+    };
+    for f in frames {
+        if let Some(p) = pose(f) {
+            object.push(StampedPose::new(f.t, p));
+            index.push(Some((f.index, f.t)));
+        }
+    }
+    let demo = Demonstration {
+        name: c.name.clone(),
+        object,
+        palm: None,
+    };
+    let mut sub = classify(&demo, config).ok()?;
+    // Back to the first pass's frame indices, without the held rest and the reference (they
+    // keep the first pass's labels).
+    sub.labels.retain_mut(|r| {
+        if r.last < skip {
+            return false;
+        }
+        let from = r.first.max(skip);
+        let (Some(Some((a, ta))), Some(Some((b, tb)))) =
+            (index.get(from), index.get(r.last.min(index.len() - 1)))
+        else {
+            return false;
+        };
+        r.frames -= (from - r.first) as u64;
+        (r.first, r.last, r.t_start, r.t_end) = (*a as usize, *b as usize, *ta, *tb);
+        true
+    });
+    Some(sub)
+}
+
+/// The time of the kept frame in `[reference, t_end)` turned farthest from the reference.
+pub(super) fn largest_turn(
+    recording: &Recording,
+    reference: &RecordedFrame,
+    t_end: f64,
+) -> Option<f64> {
+    let (q0, palm0) = (reference.rotation, palm_rotation(recording, reference.t));
+    recording
+        .object
+        .iter()
+        .filter(|f| f.t > reference.t && f.t < t_end)
+        .map(|f| {
+            // Relative to the palm when there is one.
+            let rel = match (palm0, palm_rotation(recording, f.t)) {
+                (Some(p0), Some(p)) => (p0.inverse() * q0).inverse() * (p.inverse() * f.rotation),
+                _ => q0.inverse() * f.rotation,
+            };
+            (rel.angle(), f.t)
+        })
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, t)| t)
+}
+
+fn palm_rotation(recording: &Recording, t: f64) -> Option<nalgebra::UnitQuaternion<f64>> {
+    if recording.palm.is_empty() {
+        return None;
+    }
+    pose_at(&recording.palm, t).map(|p| p.rotation)
+}
+
+/// `world_from_palm` at time `t`, interpolated between the kept palm poses.
+fn pose_at(palm: &[StampedPose], t: f64) -> Option<Isometry3<f64>> {
+    let i = palm.partition_point(|p| p.t < t);
+    if i < palm.len() && (palm[i].t - t).abs() < 1e-9 {
+        return Some(palm[i].pose);
+    }
+    if i == 0 || i >= palm.len() {
+        return None;
+    }
+    let (a, b) = (&palm[i - 1], &palm[i]);
+    let s = (t - a.t) / (b.t - a.t);
+    Some(Isometry3::from_parts(
+        Translation3::from(
+            a.pose
+                .translation
+                .vector
+                .lerp(&b.pose.translation.vector, s),
+        ),
+        a.pose.rotation.slerp(&b.pose.rotation, s),
+    ))
+}
