@@ -42,7 +42,7 @@ pub const MAX_DEPTH: usize = 3;
 const HELD_REST: f64 = 1.25;
 
 /// Fraction of the largest rotation of the re-measured frames that the frames of a
-/// re-measured edge must reach (see [`adopt`]).
+/// re-measured edge must reach (see `adopt`).
 pub const CARRIED_FRACTION: f64 = 0.5;
 
 /// A part of a segment measured again from its onset: where, and what the classifier said of
