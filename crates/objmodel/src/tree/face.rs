@@ -68,7 +68,8 @@ impl Face {
             .unwrap_or(&self.observations[0])
             .normal;
         let (mut sum, mut wsum, mut wsum2) = (Vector3::zeros(), 0.0, 0.0);
-        let (mut off, mut off_w) = (0.0, 0.0);
+        // The known offsets, signed as the reference normal, with their weights.
+        let mut offsets: Vec<(f64, f64)> = Vec::new();
         let mut evidence = Evidence::default();
         for o in &self.observations {
             let w = 1.0 / (o.sigma_normal().powi(2) + 1e-12);
@@ -86,9 +87,7 @@ impl Face {
                 } else {
                     d
                 };
-                let wo = 1.0 / (v + 1e-12);
-                off += d * wo;
-                off_w += wo;
+                offsets.push((d, 1.0 / (v + 1e-12)));
             }
             match o.source {
                 FaceSource::Slide => evidence.slide += 1,
@@ -111,40 +110,17 @@ impl Face {
         self.normal = n;
         self.sigma_normal_rad = ((scatter / 2.0) / n_eff + 1.0 / wsum).sqrt();
         self.sign_known = self.observations.iter().any(|o| o.sign_known);
-        self.offset = (off_w > 0.0).then(|| off / off_w);
+        let off_w: f64 = offsets.iter().map(|(_, w)| w).sum();
+        self.offset =
+            (off_w > 0.0).then(|| offsets.iter().map(|(d, w)| d * w).sum::<f64>() / off_w);
         self.offset_sigma_m = self
             .offset
-            .map(|mean| (self.offset_birge(mean) / off_w).sqrt());
+            .map(|mean| (birge_ratio(&offsets, mean) / off_w).sqrt());
         self.support = self.observations.iter().map(|o| o.demo.clone()).collect();
         self.support.sort();
         self.support.dedup();
         self.n_support = self.support.len();
         self.evidence = evidence;
-    }
-
-    /// The Birge ratio of the known offsets about their weighted `mean`: `χ² / (N - 1)` when
-    /// that exceeds 1, else 1. Offsets that scatter beyond their own sigmas (a systematic
-    /// error that differs between demonstrations, or two different faces within the match
-    /// gate) widen the mean's sigma by it; it never shrinks below the propagated one.
-    fn offset_birge(&self, mean: f64) -> f64 {
-        let reference = self.normal;
-        let terms: Vec<f64> = self
-            .observations
-            .iter()
-            .filter_map(|o| {
-                let (d, v) = (o.offset?, o.offset_var?);
-                let d = if o.normal.dot(&reference) < 0.0 {
-                    -d
-                } else {
-                    d
-                };
-                Some((d - mean).powi(2) / (v + 1e-12))
-            })
-            .collect();
-        if terms.len() < 2 {
-            return 1.0;
-        }
-        (terms.iter().sum::<f64>() / (terms.len() - 1) as f64).max(1.0)
     }
 
     /// χ² (2 dof) of an observation's normal against this face, and whether offsets agree.
@@ -171,6 +147,18 @@ impl Face {
         }
         chi2
     }
+}
+
+/// The Birge ratio of weighted values `(value, weight)` about their weighted `mean`:
+/// `χ² / (N - 1)` when that exceeds 1, else 1. Offsets that scatter beyond their own sigmas (a
+/// systematic error that differs between demonstrations, or two different faces within the
+/// match gate) widen the mean's sigma by it; it never shrinks below the propagated one.
+fn birge_ratio(values: &[(f64, f64)], mean: f64) -> f64 {
+    if values.len() < 2 {
+        return 1.0;
+    }
+    let chi2: f64 = values.iter().map(|(d, w)| (d - mean).powi(2) * w).sum();
+    (chi2 / (values.len() - 1) as f64).max(1.0)
 }
 
 #[cfg(test)]
