@@ -31,6 +31,9 @@ use std::path::Path;
 pub enum Quantity {
     /// A pendulum's φ (1-D).
     Phi,
+    /// A pendulum's φ that the tree itself reports contradicted by the other pendulums (left
+    /// out of its CoM: `Pendulum::com_conflict`), apart: the tree does not vouch for its σ.
+    PhiContradicted,
     /// An edge's position normal to it (2-D).
     EdgePoint,
     /// An edge's direction (2-D).
@@ -53,7 +56,7 @@ impl Quantity {
     /// Degrees of freedom of the error.
     pub fn dof(self) -> usize {
         match self {
-            Quantity::Phi | Quantity::FaceOffset => 1,
+            Quantity::Phi | Quantity::PhiContradicted | Quantity::FaceOffset => 1,
             Quantity::Com => 3,
             _ => 2,
         }
@@ -72,6 +75,7 @@ impl Quantity {
     pub fn as_str(self) -> &'static str {
         match self {
             Quantity::Phi => "phi",
+            Quantity::PhiContradicted => "phi (contradicted: left out)",
             Quantity::EdgePoint => "edge position",
             Quantity::EdgeDirection => "edge direction",
             Quantity::FaceNormal => "face normal (slides)",
@@ -241,7 +245,7 @@ fn face_samples(f: &Face, truth: &BoxFeatures, out: &mut Vec<(Quantity, f64, f64
 
 /// φ of the true box for a learnt pendulum: the CoM's angle from the vertical through the
 /// nearest true edge, resting on the true face nearest the learnt resting face.
-fn true_phi(edge: &Edge, rest: &Vector3<f64>, truth: &Truth) -> Option<f64> {
+pub fn true_phi(edge: &Edge, rest: &Vector3<f64>, truth: &Truth) -> Option<f64> {
     let (tp, td) = nearest_edge(edge, &truth.features)?;
     let n = truth
         .features
@@ -262,7 +266,12 @@ fn tree_samples(tree: &Tree, truth: &Truth, out: &mut Vec<(Quantity, f64, f64)>)
                 continue;
             };
             if let Some(t) = true_phi(e, &p.resting_face_normal, truth) {
-                out.push((Quantity::Phi, (phi - t).abs(), z1(phi - t, sigma)));
+                let q = if p.com_conflict.is_some() {
+                    Quantity::PhiContradicted
+                } else {
+                    Quantity::Phi
+                };
+                out.push((q, (phi - t).abs(), z1(phi - t, sigma)));
             }
         }
     }

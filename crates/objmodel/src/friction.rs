@@ -102,6 +102,7 @@ mod tests {
                 observation("palm1", Some(0.40), 0.01),
                 observation("palm2", Some(0.50), 0.02),
             ],
+            com_conflict: None,
         });
         tree.edges.push(e);
         let f = evidence(&tree).unwrap();

@@ -107,7 +107,8 @@ fn moments(tree: &Tree, com: &Vector3<f64>) -> Vec<(Vector3<f64>, f64)> {
         let u = e.direction;
         let r = com - e.point;
         let l = (r - u * u.dot(&r)).norm();
-        for p in &e.pendulums {
+        // A pendulum the others contradict teaches no inertia either.
+        for p in e.pendulums.iter().filter(|p| p.com_conflict.is_none()) {
             for o in &p.observations {
                 if let Some(rho) = o.inertia_ratio_m {
                     let q = rho * l - l * l;

@@ -33,6 +33,7 @@ fn tree_with_edges(edges: &[(Vector3<f64>, Vector3<f64>, f64)]) -> Tree {
                 inertia_ratio_m: Some(*ratio),
                 onset_t: None,
             }],
+            com_conflict: None,
         });
         tree.edges.push(e);
     }

@@ -63,6 +63,10 @@ pub struct ObservedPendulum {
     pub l_p: Option<f64>,
     /// (observed - predicted) φ over the two sigmas combined.
     pub phi_z: Option<f64>,
+    /// Whether the other pendulums contradict the observed one (it is left out of the CoM:
+    /// `Pendulum::com_conflict`); the prediction is then the one to use.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub contradicted: bool,
 }
 
 /// The pendulums of every (face, edge) pair of `shape` for the centre of mass `com`.

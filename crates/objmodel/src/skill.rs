@@ -84,7 +84,8 @@ pub fn plan(tree: &Tree, req: &PlanRequest) -> Result<Plan> {
     let down_obj = rot.inverse() * g;
     let mut candidates = Vec::new();
     for e in &tree.edges {
-        for p in &e.pendulums {
+        // A pendulum the others contradict is not planned with: its prediction is, below.
+        for p in e.pendulums.iter().filter(|p| p.com_conflict.is_none()) {
             let Some(phi) = p.phi else { continue };
             if p.resting_face_normal.angle(&down_obj) > SAME_FACE_RAD {
                 continue;
@@ -124,8 +125,12 @@ pub fn plan(tree: &Tree, req: &PlanRequest) -> Result<Plan> {
             });
         }
     }
-    // Edges of the face no one demonstrated: the pendulums the shape and the CoM predict.
-    for q in tree.predictions.iter().filter(|q| q.observed.is_none()) {
+    // Edges of the face no one demonstrated (or whose observed pendulum the others contradict):
+    // the pendulums the shape and the CoM predict.
+    let unobserved = |q: &&crate::prediction::PredictedPendulum| {
+        q.observed.as_ref().is_none_or(|o| o.contradicted)
+    };
+    for q in tree.predictions.iter().filter(unobserved) {
         if q.resting_normal.angle(&down_obj) > SAME_FACE_RAD || q.phi <= 0.0 {
             continue;
         }
@@ -197,6 +202,7 @@ mod tests {
             inertia_ratio_m: None,
             support: vec![],
             observations: vec![],
+            com_conflict: None,
         });
         t
     }
@@ -293,18 +299,22 @@ mod tests {
                 phi_sigma: None,
                 l_p: None,
                 phi_z: None,
+                contradicted: false,
             })
         });
-        assert!(plan(
-            &t,
-            &PlanRequest {
-                palm_from_object: pose,
-                towards: None,
-                gravity_in_palm: -Vector3::z(),
-                margin: None,
-            },
-        )
-        .is_err());
+        let request = PlanRequest {
+            palm_from_object: pose,
+            towards: None,
+            gravity_in_palm: -Vector3::z(),
+            margin: None,
+        };
+        assert!(plan(&t, &request).is_err());
+        // An observed pendulum the others contradict gives way to the prediction again.
+        t.predictions.iter_mut().for_each(|q| {
+            q.observed.as_mut().unwrap().contradicted = true;
+        });
+        let p = plan(&t, &request).unwrap();
+        assert!(p.predicted && (p.phi - phi).abs() < 1e-12);
     }
 
     #[test]

@@ -167,6 +167,7 @@ pub fn observed_beside(tree: &Tree, predicted: &mut [PredictedPendulum]) {
                     phi_sigma: obs.phi_sigma,
                     l_p: obs.l_p,
                     phi_z: (var > 0.0).then(|| (phi - q.phi) / var.sqrt()),
+                    contradicted: obs.com_conflict.is_some(),
                 });
             }
         }

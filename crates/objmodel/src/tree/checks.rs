@@ -3,7 +3,8 @@
 //! faces: the edges of another object are not), and the centre of mass inside the shape. A
 //! check that fails beyond the features' uncertainty (a χ² test at [`MATCH_ALPHA`] with the
 //! same per-demonstration systematic errors as the fusion) is a [`Contradiction`]: it says
-//! which features disagree and by how much, so that neither is trusted silently.
+//! which features disagree and by how much, so that neither is trusted silently. A pendulum
+//! the others contradict is one too (left out of the CoM: `tree/com_conflicts.rs`).
 
 use super::{Tree, MATCH_ALPHA, SYSTEMATIC_DIRECTION_RAD, SYSTEMATIC_POINT_M};
 use serde::{Deserialize, Serialize};
@@ -100,6 +101,62 @@ impl Tree {
                             ),
                         });
                     }
+                }
+            }
+        }
+        // A pendulum the others contradict (left out of the CoM: `tree/com_conflicts.rs`).
+        for e in &self.edges {
+            for p in &e.pendulums {
+                let (Some(c), Some(phi)) = (&p.com_conflict, p.phi) else {
+                    continue;
+                };
+                out.push(Contradiction {
+                    features: vec![e.id.clone(), "com".into()],
+                    what: format!(
+                        "the pendulum of edge {} has φ {:.1}° ± {:.1}°, where the centre of mass \
+                         of the other pendulums puts it at {:.1}° ± {:.1}° ({:.1} σ): left out \
+                         of the centre of mass, the inertia and the plans",
+                        e.id,
+                        phi.to_degrees(),
+                        p.phi_sigma.unwrap_or(0.0).to_degrees(),
+                        c.phi_others.to_degrees(),
+                        c.phi_others_sigma.to_degrees(),
+                        c.z.abs()
+                    ),
+                });
+            }
+        }
+        // Pendulums that disagree beyond their σ when none of them can be singled out (each
+        // one is needed to fix the CoM, or leaving out any one leaves the rest disagreeing as
+        // much): the CoM's covariance is widened by the reduced χ², and the user is told.
+        if let Some(com) = &self.com {
+            let dof = com.pendulums.saturating_sub(3);
+            if let Some(c) = com.chi2_per_dof.filter(|_| dof > 0) {
+                let chi2 = c * dof as f64;
+                let limit = crate::stats::chi2_threshold(dof as f64, MATCH_ALPHA);
+                if chi2 > limit {
+                    let mut features: Vec<String> = self
+                        .edges
+                        .iter()
+                        .filter(|e| {
+                            e.pendulums
+                                .iter()
+                                .any(|p| p.phi.is_some() && p.com_conflict.is_none())
+                        })
+                        .map(|e| e.id.clone())
+                        .collect();
+                    features.push("com".into());
+                    out.push(Contradiction {
+                        features,
+                        what: format!(
+                            "the {} pendulums of the centre of mass disagree beyond their \
+                             uncertainty (χ² {chi2:.1} over {dof} degrees of freedom > \
+                             {limit:.1}), and no one of them can be singled out: the centre of \
+                             mass's covariance is widened by {c:.1}; demonstrate topples about \
+                             other edges to tell which is wrong",
+                            com.pendulums
+                        ),
+                    });
                 }
             }
         }

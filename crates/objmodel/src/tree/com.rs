@@ -20,8 +20,12 @@
 //! exceeds 1 (the planes disagree more than their sigmas say; it is never shrunk below the
 //! propagated one). Three planes always meet in a point (χ² is 0): their covariance is the
 //! propagated one alone.
+//!
+//! The tree's CoM is that of the planes the others do not contradict
+//! ([`super::com_without_conflicts`]): a plane beyond its uncertainty from the CoM of the
+//! others is left out, not averaged in.
 
-use super::{Tree, CONDITION_MIN, SAME_FACE_RAD};
+use super::{com_without_conflicts, ComConflict, Tree, CONDITION_MIN, SAME_FACE_RAD};
 use nalgebra::{Matrix3, SymmetricEigen, Vector3};
 use serde::{Deserialize, Serialize};
 
@@ -148,12 +152,24 @@ impl ComPlane {
     }
 }
 
+/// A pendulum left out of the CoM: its place (edge index, pendulum index in that edge) and
+/// what the others say of it.
+pub type LeftOutPendulum = ((usize, usize), ComConflict);
+
 impl Tree {
     /// The planes of the pendulums with a φ, from the fused edges and the resting faces.
     pub fn com_planes(&self) -> Vec<ComPlane> {
+        self.com_planes_owned()
+            .into_iter()
+            .map(|(p, _)| p)
+            .collect()
+    }
+
+    /// [`Tree::com_planes`], each with its pendulum's place: (edge index, pendulum index).
+    fn com_planes_owned(&self) -> Vec<(ComPlane, (usize, usize))> {
         let mut planes = Vec::new();
-        for e in &self.edges {
-            for p in &e.pendulums {
+        for (ei, e) in self.edges.iter().enumerate() {
+            for (pi, p) in e.pendulums.iter().enumerate() {
                 let Some(phi) = p.phi else { continue };
                 // The fused edge's direction, turned the way this pendulum toppled.
                 let axis = if e.direction.dot(&p.toppling_axis) < 0.0 {
@@ -169,7 +185,7 @@ impl Tree {
                     .next()
                     .unwrap_or(0.0);
                 let m = |r: &[[f64; 3]; 3]| Matrix3::from_fn(|i, j| r[i][j]);
-                planes.push(ComPlane {
+                let plane = ComPlane {
                     phi,
                     phi_sigma: p.phi_sigma.unwrap_or(UNKNOWN_PHI_SIGMA_RAD),
                     point: e.point,
@@ -178,16 +194,37 @@ impl Tree {
                     axis_cov: m(&e.direction_cov),
                     normal: p.resting_face_normal,
                     normal_sigma,
-                });
+                };
+                planes.push((plane, (ei, pi)));
             }
         }
         planes
     }
 
-    /// The CoM from the pendulums (see [`CentreOfMass`]); `None` with fewer than three
-    /// independent planes.
-    pub fn centre_of_mass(&self) -> Option<CentreOfMass> {
-        com_from_planes(&self.com_planes())
+    /// The CoM from the pendulums that agree (see [`CentreOfMass`] and
+    /// [`super::com_without_conflicts`]), and the places of those left out, with what the
+    /// others say of them; `None` with fewer than three independent planes.
+    pub fn centre_of_mass(&self) -> Option<(CentreOfMass, Vec<LeftOutPendulum>)> {
+        let owned = self.com_planes_owned();
+        let planes: Vec<ComPlane> = owned.iter().map(|(p, _)| p.clone()).collect();
+        let (com, left_out) = com_without_conflicts(&planes)?;
+        Some((
+            com,
+            left_out.into_iter().map(|(i, c)| (owned[i].1, c)).collect(),
+        ))
+    }
+
+    /// Set `com` and every pendulum's `com_conflict` from [`Tree::centre_of_mass`].
+    pub(super) fn refit_centre_of_mass(&mut self) {
+        for p in self.edges.iter_mut().flat_map(|e| e.pendulums.iter_mut()) {
+            p.com_conflict = None;
+        }
+        self.com = self.centre_of_mass().map(|(com, left_out)| {
+            for ((ei, pi), c) in left_out {
+                self.edges[ei].pendulums[pi].com_conflict = Some(c);
+            }
+            com
+        });
     }
 }
 

@@ -29,6 +29,7 @@ use crate::shape::{LearntFace, Shape};
 
 mod checks;
 mod com;
+mod com_conflicts;
 mod derived;
 mod edge;
 mod face;
@@ -37,6 +38,7 @@ mod pendulums;
 mod unconfirmed;
 pub use checks::Contradiction;
 pub use com::{com_from_planes, CentreOfMass, ComPlane, UNKNOWN_PHI_SIGMA_RAD};
+pub use com_conflicts::{com_without_conflicts, ComConflict};
 pub use edge::Edge;
 pub use face::{Evidence, Face};
 use nalgebra::{Matrix3, Vector3};
@@ -347,7 +349,7 @@ impl Tree {
     /// Recompute what depends on all the features: the centre of mass, the shape and the
     /// contradictions between them.
     fn refit_whole(&mut self) {
-        self.com = self.centre_of_mass();
+        self.refit_centre_of_mass();
         self.shape = self.reconstruct_shape().ok();
         self.contradictions = self.contradictions();
         self.refit_mass_properties();

@@ -30,6 +30,11 @@ pub struct Pendulum {
     pub support: Vec<String>,
     /// Per-demonstration estimates.
     pub observations: Vec<PendulumObservation>,
+    /// What the other pendulums say of this one when they contradict it beyond its
+    /// uncertainty (`tree/com_conflicts.rs`): it is then left out of the centre of mass, the
+    /// inertia and the plans. Absent when it agrees.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub com_conflict: Option<super::ComConflict>,
 }
 
 /// One demonstration's pendulum estimate.
@@ -143,6 +148,7 @@ impl Tree {
                     inertia_ratio_m: None,
                     support: Vec::new(),
                     observations: vec![obs],
+                    com_conflict: None,
                 };
                 p.refit();
                 edge.pendulums.push(p);
