@@ -3,6 +3,10 @@
 //! A thin front end: argument parsing and printing. The work is done by the `objmodel`
 //! library (learning) and `objmodel-sim` (simulation).
 
+// The argument structs' doc comments are the command-line help (clap), read in a terminal:
+// their units in brackets ("Window [s]") are text, not links to items.
+#![allow(rustdoc::broken_intra_doc_links)]
+
 mod bag;
 mod calibrate;
 mod classify;
