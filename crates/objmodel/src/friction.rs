@@ -6,10 +6,11 @@
 //! Resting on a slope of angle θ needs `μ ≥ tan θ`, so each such demonstration gives the
 //! **lower bound** `μ > tan(φ_onset - 2 σ_φ)` (2 σ below the measured tilt, so that a noisy
 //! onset does not claim a bound it has not shown); the largest over the demonstrations is
-//! kept. An **estimate** would need the tilt at which the object starts to slide instead
-//! (`μ ≈ tan θ_slide`): the classification does not detect a slide on a tilting palm yet, so
-//! there is none; a bound is a bound, not a value.
+//! kept. An **estimate** needs an instrumented demonstration whose object slid down the
+//! tilting palm instead: the Coulomb slide fitted to it ([`crate::dynamics::palm_slide`])
+//! gives μ with its σ, and the estimate is their weighted mean over such demonstrations.
 
+use crate::dynamics::PalmSlide;
 use crate::tree::Tree;
 use serde::{Deserialize, Serialize};
 
@@ -18,6 +19,12 @@ use serde::{Deserialize, Serialize};
 pub struct FrictionEvidence {
     /// μ the data determine (a slide on a tilting palm), when they do.
     pub estimate: Option<f64>,
+    /// Its standard deviation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub estimate_sigma: Option<f64>,
+    /// The demonstrations that slid on the palm.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub estimate_from: Vec<String>,
     /// μ is above this: the object held on the palm, without sliding, up to the tilt where it
     /// toppled.
     pub lower_bound: Option<f64>,
@@ -45,17 +52,71 @@ pub fn evidence(tree: &Tree) -> Option<FrictionEvidence> {
             }
         }
     }
-    let (mu, demo) = best?;
-    Some(FrictionEvidence {
-        estimate: None,
-        lower_bound: Some(mu),
-        bound_from: Some(demo.to_string()),
-        note: format!(
+    let slides: Vec<(&str, &PalmSlide)> = tree
+        .demos
+        .iter()
+        .filter_map(|d| d.palm_slide.as_ref().map(|s| (d.name.as_str(), s)))
+        .collect();
+    let estimate = estimate(&slides);
+    if best.is_none() && estimate.is_none() {
+        return None;
+    }
+    let mut notes = Vec::new();
+    if let Some((mu, sigma)) = estimate {
+        notes.push(format!(
+            "estimate: {} slid on the tilting palm; μ = {mu:.3} ± {sigma:.3} (the Coulomb \
+             slide fitted to each, weighted mean)",
+            if slides.len() == 1 {
+                format!("'{}'", slides[0].0)
+            } else {
+                format!("{} demonstrations", slides.len())
+            }
+        ));
+    }
+    match best {
+        Some((mu, demo)) => notes.push(format!(
             "lower bound: '{demo}' held on the tilting palm without sliding up to its topple \
-             onset, so μ > tan(onset tilt - 2σ) = {mu:.2}; no demonstration slid on a tilting \
-             palm, so no estimate"
-        ),
+             onset, so μ > tan(onset tilt - 2σ) = {mu:.2}"
+        )),
+        None => notes.push("no instrumented topple bounds it".into()),
+    }
+    if estimate.is_none() {
+        notes.push("no demonstration slid on a tilting palm, so no estimate".into());
+    }
+    Some(FrictionEvidence {
+        estimate: estimate.map(|e| e.0),
+        estimate_sigma: estimate.map(|e| e.1),
+        estimate_from: slides.iter().map(|(d, _)| d.to_string()).collect(),
+        lower_bound: best.map(|b| b.0),
+        bound_from: best.map(|b| b.1.to_string()),
+        note: notes.join("; "),
     })
+}
+
+/// The inverse-variance weighted mean of the slides' μ and its σ (at least the slides'
+/// scatter over their number, when they scatter more than their σ say).
+fn estimate(slides: &[(&str, &PalmSlide)]) -> Option<(f64, f64)> {
+    if slides.is_empty() {
+        return None;
+    }
+    let w: Vec<f64> = slides
+        .iter()
+        .map(|(_, s)| 1.0 / s.mu_sigma.max(1e-9).powi(2))
+        .collect();
+    let sw: f64 = w.iter().sum();
+    let mu = slides
+        .iter()
+        .zip(&w)
+        .map(|((_, s), w)| s.mu * w)
+        .sum::<f64>()
+        / sw;
+    let n = slides.len() as f64;
+    let scatter = if n > 1.0 {
+        slides.iter().map(|(_, s)| (s.mu - mu).powi(2)).sum::<f64>() / (n - 1.0) / n
+    } else {
+        0.0
+    };
+    Some((mu, (1.0 / sw).max(scatter).sqrt()))
 }
 
 #[cfg(test)]
@@ -111,5 +172,42 @@ mod tests {
         assert!(f.estimate.is_none());
         tree.edges[0].pendulums[0].observations.drain(1..);
         assert!(evidence(&tree).is_none());
+    }
+
+    /// Slides on the palm give the estimate: their inverse-variance weighted mean, its σ at
+    /// least their scatter over their number.
+    #[test]
+    fn slides_on_the_palm_give_the_estimate() {
+        let slide = |mu: f64, mu_sigma: f64| PalmSlide {
+            mu,
+            mu_sigma,
+            slide_tilt: mu.atan(),
+            max_tilt: 0.4,
+            distance_m: 0.03,
+            frames: 100,
+            chi2_per_dof: 1.0,
+        };
+        let mut tree = Tree::default();
+        for (name, s) in [("a", slide(0.30, 0.01)), ("b", slide(0.32, 0.02))] {
+            tree.demos.push(crate::tree::DemoRecord {
+                name: name.into(),
+                kind: crate::classify::Kind::Slide,
+                frames: 100,
+                outliers: 0,
+                instrumented: true,
+                noise: None,
+                fingerprint: None,
+                palm_slide: Some(s),
+            });
+        }
+        let f = evidence(&tree).unwrap();
+        let (w1, w2) = (1e4, 2.5e3);
+        let mean = (0.30 * w1 + 0.32 * w2) / (w1 + w2);
+        assert!((f.estimate.unwrap() - mean).abs() < 1e-12);
+        let scatter = (((0.30 - mean).powi(2) + (0.32 - mean).powi(2)) / 2.0).sqrt();
+        let sigma = (1.0 / (w1 + w2)).sqrt().max(scatter);
+        assert!((f.estimate_sigma.unwrap() - sigma).abs() < 1e-12);
+        assert_eq!(f.estimate_from, vec!["a", "b"]);
+        assert!(f.lower_bound.is_none());
     }
 }

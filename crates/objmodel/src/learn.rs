@@ -347,10 +347,14 @@ impl Learner {
                 ),
             }
         }
+        let palm_slide = gravity
+            .filter(|_| !recording.palm.is_empty())
+            .and_then(|g| crate::dynamics::palm_slide(&recording, &classification, &g));
         Observation {
             classification,
             dynamics,
             fingerprint,
+            palm_slide,
         }
     }
 

@@ -20,6 +20,10 @@ pub struct Observation {
     /// orientation; every frame up to [`crate::recording::DEFAULT_CAPACITY`] per stream, an
     /// even subset beyond: see [`crate::recording::Recording::fingerprint`]). `None` if unknown.
     pub fingerprint: Option<String>,
+    /// The friction a slide on the tilting palm showed (instrumented demonstrations whose
+    /// object slid instead of toppling; [`crate::dynamics::palm_slide`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub palm_slide: Option<crate::dynamics::PalmSlide>,
 }
 
 impl Observation {
@@ -36,6 +40,7 @@ impl Observation {
             classification,
             dynamics: Vec::new(),
             fingerprint: None,
+            palm_slide: None,
         }
     }
 }

@@ -74,11 +74,69 @@ pub fn run(spec: &BoxSpec, p: &PhysicsParams, rng: &mut StdRng) -> Result<SceneO
     run_with(spec, mu, &tilt, p, rng)
 }
 
+/// A slide on the tilting palm: the palm's friction `mu` is too low for the box to topple
+/// towards a random downhill edge (`μ <= tan φ / 1.15`), so the box starts to slide down the
+/// palm when the tilt reaches `atan μ`; the hand levels the palm (at 4 times the rate it tilted it) once it slid 3 cm. The
+/// script's notes hold the tilt where it started to move (`slide_tilt`, 0.1 mm).
+pub fn run_slide(
+    spec: &BoxSpec,
+    mu: f64,
+    p: &PhysicsParams,
+    rng: &mut StdRng,
+) -> Result<SceneOutput> {
+    let mut options = Vec::new();
+    for axis in 0..2 {
+        for sign in [1.0, -1.0] {
+            let (d, hc) = edge_lever(spec, axis, sign);
+            if 1.15 * mu <= d / hc {
+                options.push((axis, sign));
+            }
+        }
+    }
+    if options.is_empty() {
+        return Err(SimError::InvalidSpec(format!(
+            "box '{}' would topple on a palm of friction {mu} before it slides",
+            spec.name
+        )));
+    }
+    let (axis, sign) = options[rng.random_range(0..options.len())];
+    let tilt = Tilt {
+        axis,
+        sign,
+        rate: rng.random_range(2f64..5.0).to_radians(),
+        pivot: [rng.random_range(-0.03..0.03), rng.random_range(-0.03..0.03)],
+        max_tilt: 60f64.to_radians(),
+    };
+    run_until(spec, mu, &tilt, Goal::Slide(0.03), p, rng)
+}
+
 /// Run the scene with a given tilt and friction `mu` (the validation tests call this).
 pub fn run_with(
     spec: &BoxSpec,
     mu: f64,
     tilt: &Tilt,
+    p: &PhysicsParams,
+    rng: &mut StdRng,
+) -> Result<SceneOutput> {
+    run_until(spec, mu, tilt, Goal::Topple, p, rng)
+}
+
+/// What the tilting hand waits for before it levels the palm again.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Goal {
+    /// The box toppled: it is well past its balance.
+    Topple,
+    /// The box slid this far \[m\] down the palm (a palm too slippery for it to topple:
+    /// `μ < tan φ`; the tilt where it starts to slide is `atan μ`).
+    Slide(f64),
+}
+
+/// Run the scene until `goal`, with friction `mu` between the box and the palm.
+pub fn run_until(
+    spec: &BoxSpec,
+    mu: f64,
+    tilt: &Tilt,
+    goal: Goal,
     p: &PhysicsParams,
     rng: &mut StdRng,
 ) -> Result<SceneOutput> {
@@ -88,9 +146,15 @@ pub fn run_with(
         Translation3::new(0.0, 0.0, 0.25),
         UnitQuaternion::from_axis_angle(&Vector3::z_axis(), plate_yaw),
     );
+    // Contacts take the smaller friction: the box's `mu` on a grippy palm (a topple), or a
+    // slippery palm's `mu` (a slide).
+    let plate_mu = match goal {
+        Goal::Topple => mu.max(1.0),
+        Goal::Slide(_) => mu,
+    };
     let plate = run
         .world
-        .add_plate(PLATE_HALF, mu.max(1.0), &world_from_plate0);
+        .add_plate(PLATE_HALF, plate_mu, &world_from_plate0);
     run.plate = Some(plate);
     let box_yaw = facing_yaw(spec, rng) - plate_yaw;
     let mut plate_from_box = resting_pose(spec, box_yaw, rng);
@@ -124,6 +188,13 @@ pub fn run_with(
     let mut t_local = 0.0;
     let mut toppled_at = None;
     let mut past = false;
+    let box_on_plate = |run: &Run| {
+        (run.world.pose(plate).inverse() * run.world.pose(run.boxb))
+            .translation
+            .vector
+    };
+    let start_on_plate = box_on_plate(&run);
+    let mut slide_start: Option<f64> = None;
     let (d, hc) = edge_lever(spec, tilt.axis, tilt.sign);
     let phi = d.atan2(hc);
     loop {
@@ -131,10 +202,25 @@ pub fn run_with(
         let rate = tilt.rate * (t_local / ramp).min(1.0);
         if !past {
             theta += rate * run.world.dt;
-            // Once the box is well past its balance, the hand levels the palm to catch it.
-            past = run.tilt(&down) > phi + 10f64.to_radians();
+            past = match goal {
+                // Once the box is well past its balance, the hand levels the palm to catch it.
+                Goal::Topple => run.tilt(&down) > phi + 10f64.to_radians(),
+                // Once it slid far enough, the hand levels the palm to stop it.
+                Goal::Slide(distance) => {
+                    let moved = (box_on_plate(&run) - start_on_plate).norm();
+                    if moved > 1e-4 && slide_start.is_none() {
+                        slide_start = Some(theta);
+                    }
+                    moved > distance
+                }
+            };
         } else {
-            theta = (theta - LEVEL_RATE * run.world.dt).max(0.0);
+            // A slide is stopped gently: the palm levelled at 4 times the rate it was tilted.
+            let level_rate = match goal {
+                Goal::Topple => LEVEL_RATE,
+                Goal::Slide(_) => 4.0 * tilt.rate,
+            };
+            theta = (theta - level_rate * run.world.dt).max(0.0);
         }
         if theta > tilt.max_tilt {
             return Err(SimError::Scene(
@@ -143,6 +229,9 @@ pub fn run_with(
         }
         run.world.set_kinematic(plate, &plate_at(theta));
         run.step()?;
+        if past && theta == 0.0 && matches!(goal, Goal::Slide(_)) && run.box_at_rest() {
+            break;
+        }
         if toppled_at.is_none() && run.tilt(&down) > 45f64.to_radians() {
             toppled_at = Some(run.world.t);
         }
@@ -168,7 +257,10 @@ pub fn run_with(
             ("downhill_sign".into(), tilt.sign),
             ("tilt_rate".into(), tilt.rate),
             ("final_tilt".into(), theta),
-        ],
+        ]
+        .into_iter()
+        .chain(slide_start.map(|s| ("slide_tilt".into(), s)))
+        .collect(),
         ..Default::default()
     };
     Ok(run.finish(script))

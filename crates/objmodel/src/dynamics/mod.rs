@@ -10,6 +10,7 @@
 
 mod budget;
 mod fall;
+mod palm_slide;
 mod palm_stream;
 mod regression;
 mod series;
@@ -22,6 +23,7 @@ use budget::Budget;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
+pub use palm_slide::{measure as palm_slide, PalmSlide};
 pub use series::AngleSeries;
 
 /// Largest relative rotation \[rad\] (15°) kept in the onset window: enough of the start of the

@@ -111,6 +111,10 @@ pub struct DemoRecord {
     /// Fingerprint of its poses ([`Observation::fingerprint`]); absent in older files.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fingerprint: Option<String>,
+    /// The friction it showed by sliding on the tilting palm, if it did
+    /// ([`crate::dynamics::palm_slide`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub palm_slide: Option<crate::dynamics::PalmSlide>,
 }
 
 /// The object description tree.
@@ -225,6 +229,7 @@ impl Tree {
             instrumented: c.instrumented,
             noise: c.noise,
             fingerprint: observation.fingerprint.clone(),
+            palm_slide: observation.palm_slide.clone(),
         });
         let slides = c.segments.iter().filter_map(|s| s.face.as_ref());
         for f in slides.chain(c.rest_faces().iter()) {
