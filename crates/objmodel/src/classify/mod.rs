@@ -55,7 +55,7 @@ mod msac;
 mod palm;
 mod paper;
 mod part_list;
-mod parts;
+pub(crate) mod parts;
 mod rest;
 mod rest_stats;
 mod rest_sums;
