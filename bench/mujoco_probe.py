@@ -24,6 +24,8 @@ atan(half length / half height) (topples).
     OBJMODEL=target/release/objmodel python3 bench/mujoco_probe.py 20
     NOISE=0 python3 bench/mujoco_probe.py      (exact poses: what is the physics, what the noise)
     KINDS=instrumented python3 bench/mujoco_probe.py 20    (only some kinds; comma-separated)
+    SEED=12 python3 bench/mujoco_probe.py 20    (another random stream; default 11)
+    EXACT_TOO=1 ...    (also write the tag's exact poses as NAME.exact.tum, for diagnosis)
 
 Needs numpy, scipy and mujoco (pip install mujoco). Writes into $PROBE_DIR (default
 /tmp/objmodel-mujoco). Not a test: the numbers are for reading (see the notes on issue 3).
@@ -203,6 +205,10 @@ def tag_track(poses, rng):
     return np.array(out), box_from_tag_t, box_from_tag_r
 
 
+def truth_kind_topple(kind):
+    return kind in ("topple", "instrumented")
+
+
 def write(path, a):
     with open(path, "w") as f:
         f.write("# timestamp tx ty tz qx qy qz qw  (MuJoCo probe)\n")
@@ -213,10 +219,10 @@ def write(path, a):
 def main():
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 10
     os.makedirs(DIR, exist_ok=True)
-    rng = np.random.default_rng(11)
+    rng = np.random.default_rng(int(os.environ.get("SEED", "11")))
     kinds = os.environ.get("KINDS", "topple,instrumented,straight-slide,turning-slide").split(",")
     for kind in kinds:
-        ok, total, skipped, edge_errs, face_errs, phi_errs = 0, 0, 0, [], [], []
+        ok, total, skipped, edge_errs, face_errs, phi_errs, withheld = 0, 0, 0, [], [], [], 0
         while total < n:
             palm = None
             if kind == "instrumented":
@@ -232,6 +238,11 @@ def main():
             track, bt_t, bt_r = tag_track(poses, rng)
             path = f"{DIR}/{kind}_{total}.tum"
             write(path, track)
+            if os.environ.get("EXACT_TOO"):
+                # The tag's exact poses beside the tracked ones, for diagnosis (no random draws).
+                exact = [[row[0], *(row[1:4] + R.from_quat(row[4:8]).apply(bt_t)),
+                          *(R.from_quat(row[4:8]) * bt_r).as_quat()] for row in poses]
+                write(path[:-4] + ".exact.tum", exact)
             if palm is not None:
                 # The palm's pose from the arm's kinematics: small noise, no tag flips.
                 noisy = palm.copy()
@@ -268,9 +279,15 @@ def main():
                     d = np.array(e["direction"])
                     ang = math.degrees(math.atan2(np.linalg.norm(np.cross(d, u)), abs(d @ u)))
                     off = np.array(e["point"]) - p
-                    edge_errs.append((ang, np.linalg.norm(off - u * (off @ u)) * 1e3))
+                    edge_errs.append((ang, np.linalg.norm(off - u * (off @ u)) * 1e3,
+                                      e.get("sigma_point_m", float("nan")) * 1e3))
                     if os.environ.get("VERBOSE"):
-                        print(f"  {path}: edge {edge_errs[-1][0]:.2f} deg, {edge_errs[-1][1]:.1f} mm")
+                        print(f"  {path}: edge {edge_errs[-1][0]:.2f} deg, {edge_errs[-1][1]:.2f} mm"
+                              f" (sigma {edge_errs[-1][2]:.2f} mm)")
+                else:
+                    withheld += 1
+                    if os.environ.get("VERBOSE"):
+                        print(f"  {path}: no edge learnt")
             if truth["kind"] == "slide" and c["kind"] == "slide":
                 faces = [s["face"] for s in c["segments"] if s.get("face")]
                 if faces:
@@ -282,6 +299,12 @@ def main():
             e = np.array(edge_errs)
             row["edge (median, max)"] = "%.2f°/%.1f mm, %.2f°/%.1f mm" % (
                 np.median(e[:, 0]), np.median(e[:, 1]), e[:, 0].max(), e[:, 1].max())
+            row["edges within 2 mm"] = f"{int((e[:, 1] <= 2.0).sum())}/{len(e)}"
+            # Offset error in units of the stated point sigma (an honest sigma keeps it small).
+            row["edge offset / sigma (median, max)"] = "%.1f, %.1f" % (
+                np.median(e[:, 1] / e[:, 2]), (e[:, 1] / e[:, 2]).max())
+        if truth_kind_topple(kind):
+            row["topples with no edge learnt"] = withheld
         if phi_errs:
             row["phi (median, max)"] = "%.2f°, %.2f°" % (np.median(phi_errs), max(phi_errs))
         if face_errs:

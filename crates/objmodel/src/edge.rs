@@ -45,6 +45,15 @@ impl EdgeObservation {
         (self.point_cov.trace() / 2.0).max(0.0).sqrt()
     }
 
+    /// Add a per-axis variance \[m²\] normal to the line to the point's covariance (an error
+    /// common to all the frames, which their scatter does not show).
+    pub fn add_systematic_point_var(&mut self, var: f64) {
+        if var > 0.0 {
+            let u = self.line.direction;
+            self.point_cov += (nalgebra::Matrix3::identity() - u * u.transpose()) * var;
+        }
+    }
+
     /// RMS standard deviation \[rad\] of the direction, per axis normal to the line.
     pub fn sigma_direction(&self) -> f64 {
         (self.direction_cov.trace() / 2.0).max(0.0).sqrt()

@@ -166,3 +166,155 @@ fn a_file_that_starts_moving_is_not_known_to_start_from_a_rest() {
         assert!(why.contains("not known to start from a rest"), "{why}");
     }
 }
+
+/// A precise tracker (exact poses, and 0.1 mm / 0.05°) on a soft, sticky palm contact
+/// (`synth::instrumented_creep_topple`: the box lags the tilting palm, creeps 1.5 mm down it in
+/// three stick-slip steps, falls, and its edge slips 3 mm on the palm past 45°): the topple is
+/// classified right, and every edge it teaches is the box's edge within 2 mm, with a σ that
+/// covers its error (within 3σ per axis, RMS), or is withheld. Before the creep was tested
+/// (`onset::creep`) the first pass measured these topples from the rest before the creep, and
+/// at 0.1 mm / 0.05° their edges were 2.2-2.7 mm off at σ 0.6-0.7 mm.
+#[test]
+fn a_precise_palm_topple_with_a_creep_and_a_slip_is_within_2_mm_or_withheld() {
+    let learner = Learner::new(Config::default());
+    let precise = SynthNoise {
+        sigma_position: 1e-4,
+        sigma_rotation: 0.05f64.to_radians(),
+        ..SynthNoise::CLEAN
+    };
+    let (mut taught, mut total) = (0, 0);
+    for noise in [SynthNoise::CLEAN, precise] {
+        for seed in 0..10u64 {
+            let mut rng = StdRng::seed_from_u64(9100 + seed);
+            let b = SynthBox::random(&mut rng);
+            let side = rng.random_range(0..4);
+            let tilt_rate = rng.random_range(10.0..25.0f64).to_radians();
+            let d = synth::instrumented_creep_topple(
+                &b,
+                side,
+                tilt_rate,
+                &synth::CreepSlip::default(),
+                &noise,
+                30.0,
+                seed,
+            );
+            let c = learner.classify(&Source::Memory(&d.demo)).unwrap();
+            assert_eq!(c.kind, objmodel::classify::Kind::Topple, "{:?}", c.parts);
+            let truth = d.truth.edge.unwrap();
+            total += 1;
+            for e in c.edges() {
+                taught += 1;
+                let dist = truth.distance_to(&e.line.point);
+                assert!(dist < 2e-3, "{}: {:.2} mm", d.demo.name, dist * 1e3);
+                assert!(
+                    dist < 3.0 * std::f64::consts::SQRT_2 * e.sigma_point(),
+                    "{}: {:.2} mm against σ {:.2} mm",
+                    d.demo.name,
+                    dist * 1e3,
+                    e.sigma_point() * 1e3
+                );
+            }
+        }
+    }
+    // Not bought by withholding: most of them teach their edge (19 of 20 when written).
+    assert!(taught * 4 >= total * 3, "{taught} of {total} taught");
+}
+
+/// The edges a MuJoCo instrumented topple (`bench/mujoco_probe.py`) teaches, each as its
+/// distance from the probe's truth and its σ (RMS per axis) \[mm\], and the kind classified.
+fn mujoco_palm_edges(name: &str) -> (objmodel::classify::Kind, Vec<(f64, f64)>) {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let truth: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join(format!("{name}.truth.json"))).unwrap(),
+    )
+    .unwrap();
+    let v = |k: &str| {
+        let a = truth["edge"][k].as_array().unwrap();
+        Vector3::new(
+            a[0].as_f64().unwrap(),
+            a[1].as_f64().unwrap(),
+            a[2].as_f64().unwrap(),
+        )
+    };
+    let truth = objmodel::geometry::Line::through(v("point"), v("direction"));
+    let c = Learner::new(Config::default())
+        .classify(&Source::Files {
+            object: &dir.join(format!("{name}.tum")),
+            palm: Some(&dir.join(format!("{name}.palm.tum"))),
+        })
+        .unwrap();
+    let edges = c
+        .edges()
+        .map(|e| {
+            (
+                truth.distance_to(&e.line.point) * 1e3,
+                e.sigma_point() * 1e3,
+            )
+        })
+        .collect();
+    (c.kind, edges)
+}
+
+/// At 0.3 mm / 0.15° the creep of a MuJoCo box down the tilting palm (1.3 mm, before the
+/// tilt reached the tipping angle) is within every rest window's noise: the first pass
+/// measured the topple from the rest before it, and its edge was 5.6 mm off (σ 2.5 mm). The
+/// edge's pivot moved (`onset::creep`); measured from after the creep the fall teaches no
+/// edge, and none is taught.
+#[test]
+fn a_palm_topple_after_a_creep_at_0_3_mm_teaches_no_edge_from_before_it() {
+    let (kind, edges) = mujoco_palm_edges("mujoco_palm_creep_0.3mm_7");
+    assert_eq!(kind, objmodel::classify::Kind::Topple);
+    for (dist, sigma) in edges {
+        assert!(dist < 2.0, "{dist:.2} mm (σ {sigma:.2} mm)");
+    }
+}
+
+/// The same at 0.3 mm in another scene, whose creep comes in steps that the first pass
+/// labelled topple with the fall: its edge was 13.9 mm off (σ 3.6 mm). Measured from after the
+/// creep it is within 3 mm (2.5 mm, the soft contact's slip past 45° included), and its σ
+/// covers that.
+#[test]
+fn a_palm_topple_after_creep_steps_at_0_3_mm_is_measured_from_after_them() {
+    let (kind, edges) = mujoco_palm_edges("mujoco_palm_creep_0.3mm_15");
+    assert_eq!(kind, objmodel::classify::Kind::Topple);
+    assert_eq!(edges.len(), 1, "{edges:?}");
+    let (dist, sigma) = edges[0];
+    assert!(dist < 3.0, "{dist:.2} mm (σ {sigma:.2} mm)");
+    assert!(
+        dist < 3.0 * std::f64::consts::SQRT_2 * sigma,
+        "{dist:.2} mm, σ {sigma:.2} mm"
+    );
+}
+
+/// A direct topple on exact poses whose edge slips 2 mm on the table past 30° (the slip grows
+/// with the square of the angle, so no single frame departs from the line beyond the contact's
+/// tolerance): the edge's σ holds the split-half lack of fit, and covers its error (within 3σ
+/// per axis, RMS). With the frames' scatter alone its σ was 0.11-0.19 mm for errors of
+/// 0.3-0.5 mm (up to 4.4σ).
+#[test]
+fn a_slipping_edge_s_sigma_covers_its_error() {
+    let learner = Learner::new(Config::default());
+    for seed in 0..10u64 {
+        let mut rng = StdRng::seed_from_u64(9300 + seed);
+        let b = SynthBox::random(&mut rng);
+        let p = synth::ToppleParams {
+            side: rng.random_range(0..4),
+            slip_from: 30f64.to_radians(),
+            slip: 2e-3,
+            ..Default::default()
+        };
+        let d = synth::topple(&b, &p, &SynthNoise::CLEAN, 30.0, seed);
+        let c = learner.classify(&Source::Memory(&d.demo)).unwrap();
+        let truth = d.truth.edge.unwrap();
+        for e in c.edges() {
+            let dist = truth.distance_to(&e.line.point);
+            assert!(
+                dist < 3.0 * std::f64::consts::SQRT_2 * e.sigma_point(),
+                "{}: {:.2} mm against σ {:.2} mm",
+                d.demo.name,
+                dist * 1e3,
+                e.sigma_point() * 1e3
+            );
+        }
+    }
+}

@@ -55,7 +55,7 @@ mod msac;
 mod palm;
 mod paper;
 mod part_list;
-mod parts;
+pub(crate) mod parts;
 mod rest;
 mod rest_stats;
 mod rest_sums;
@@ -332,6 +332,10 @@ pub struct Segment {
     /// Largest rotation among them.
     #[serde(skip)]
     pub(crate) topple_best: Option<LargestRotation>,
+    /// Per-axis variance \[m²\] of the edge point beyond the frames' noise (the split-half
+    /// lack of fit of a pivot that moved), added to the edge's point covariance.
+    #[serde(skip)]
+    pub(crate) topple_systematic_var: f64,
     /// Time of the first moving frame \[s\].
     pub t_start: f64,
     /// Time of the last moving frame \[s\].

@@ -243,6 +243,7 @@ impl PaperMethod {
             segments: vec![Segment {
                 topple_stats: Default::default(),
                 topple_best: None,
+                topple_systematic_var: 0.0,
                 t_start: t0,
                 t_end: t1,
                 kind,

@@ -27,6 +27,8 @@
 //! expressed in a world where the palm stays at its first pose (`P₀ · palm⁻¹ · object`), which
 //! keeps the motion relative to the palm and the palm's "down" of the first pass.
 
+mod after_creep;
+pub mod creep;
 mod span;
 
 use crate::classify::{Classification, Config, Kind, Label, LabelRun, Votes};
@@ -101,6 +103,7 @@ pub fn remeasure_later_parts(c: &mut Classification, recording: &Recording, conf
         return;
     }
     remeasure(c, recording, config, MAX_DEPTH);
+    after_creep::remeasure_after_creep(c, recording, config);
 }
 
 fn remeasure(c: &mut Classification, recording: &Recording, config: &Config, depth: usize) {
@@ -245,6 +248,13 @@ fn measured_from_rest<'r>(
     (lr < crate::stats::chi2_threshold(4.0, config.robust.alpha)).then_some((*last, sub))
 }
 
+/// Whether the first pass labelled a kept frame an outlier.
+fn is_outlier(c: &Classification, f: &RecordedFrame) -> bool {
+    c.labels
+        .iter()
+        .any(|r| r.label == Label::Outlier && (r.first as u64..=r.last as u64).contains(&f.index))
+}
+
 /// Whether a re-measured part teaches an edge: its first segment's, if the edge's frames
 /// carry the rotation. A topple measured from its onset carries the rotation of the frames
 /// from there on (it is followed by its landing, or by a rest): an "edge" whose frames turn by
@@ -349,6 +359,7 @@ fn adopt(c: &mut Classification, r: Remeasured, recording: &Recording, config: &
     if let Some(e) = &first.edge {
         seg.edge = Some(e.clone());
         seg.topple_stats = first.topple_stats;
+        seg.topple_systematic_var = first.topple_systematic_var;
         seg.topple_best = first.topple_best;
     } else if let Some(f) = &first.face {
         seg.face = Some(f.clone());

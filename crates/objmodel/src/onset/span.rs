@@ -41,16 +41,7 @@ pub(super) fn classify_span(
     start: Start,
     t_end: f64,
 ) -> Option<Classification> {
-    let support = |t: f64| -> Option<Isometry3<f64>> {
-        if recording.palm.is_empty() {
-            return Some(Isometry3::identity());
-        }
-        let p0 = recording.palm.first()?.pose;
-        Some(p0 * pose_at(&recording.palm, t)?.inverse())
-    };
-    let pose = |f: &RecordedFrame| -> Option<Isometry3<f64>> {
-        Some(support(f.t)? * Isometry3::from_parts(Translation3::from(f.position), f.rotation))
-    };
+    let pose = |f: &RecordedFrame| support_pose(recording, f);
     let t_from = match start {
         Start::Held(reference) => reference.t,
         Start::Frames { t_from, .. } => t_from,
@@ -108,6 +99,63 @@ pub(super) fn classify_span(
         true
     });
     Some(sub)
+}
+
+/// A kept frame's pose in the support's frame: in the world, or, instrumented, in a world
+/// where the palm stays at its first pose (`P₀ · palm⁻¹ · object`); `None` outside the palm's
+/// poses.
+pub(super) fn support_pose(recording: &Recording, f: &RecordedFrame) -> Option<Isometry3<f64>> {
+    let object = Isometry3::from_parts(Translation3::from(f.position), f.rotation);
+    if recording.palm.is_empty() {
+        return Some(object);
+    }
+    let p0 = recording.palm.first()?.pose;
+    Some(p0 * pose_at(&recording.palm, f.t)?.inverse() * object)
+}
+
+/// A frame standing for the mean pose of `frames` (in the support's frame: their positions'
+/// mean, their orientations' normalised quaternion sum), at the last one's time and index: a
+/// reference with the noise of their mean, not of one frame.
+pub(super) fn mean_frame(
+    recording: &Recording,
+    frames: &[&RecordedFrame],
+) -> Option<RecordedFrame> {
+    let last = frames.last()?;
+    let poses: Vec<Isometry3<f64>> = frames
+        .iter()
+        .filter_map(|f| support_pose(recording, f))
+        .collect();
+    let first = poses.first()?;
+    let n = poses.len() as f64;
+    let position = poses
+        .iter()
+        .map(|p| p.translation.vector)
+        .sum::<nalgebra::Vector3<f64>>()
+        / n;
+    let q0 = first.rotation.coords;
+    let sum: nalgebra::Vector4<f64> = poses
+        .iter()
+        .map(|p| {
+            let q = p.rotation.coords;
+            if q.dot(&q0) < 0.0 {
+                -q
+            } else {
+                q
+            }
+        })
+        .sum();
+    let rotation = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::from(sum));
+    let mean = Isometry3::from_parts(Translation3::from(position), rotation);
+    // Back to the frame's own world: `support_pose` is `S(t) · object`.
+    let support = support_pose(recording, last)?
+        * Isometry3::from_parts(Translation3::from(last.position), last.rotation).inverse();
+    let object = support.inverse() * mean;
+    Some(RecordedFrame {
+        index: last.index,
+        t: last.t,
+        rotation: object.rotation,
+        position: object.translation.vector,
+    })
 }
 
 /// The time of the kept frame in `[reference, t_end)` turned farthest from the reference.

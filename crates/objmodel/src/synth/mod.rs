@@ -26,9 +26,11 @@
 //! axis in the tag plane for one frame, like a planar tag's mirror solution).
 
 mod compound;
+mod creep;
 mod toss;
 
 pub use compound::{drop_then_slide, slide_then_topple, topple_then_slide};
+pub use creep::{instrumented_creep_topple, CreepSlip};
 pub use toss::{toss, SynthToss, TOSS_G};
 
 use crate::classify::Kind;
