@@ -123,6 +123,7 @@ pub fn classification(c: &Classification, frames: bool) -> String {
                 Label::Unlabelled => "unlabelled",
                 Label::Flight => "flight",
                 Label::Impact => "impact",
+                Label::Roll => "roll",
             };
             s += &format!(
                 "    {:>6}-{:<6} {:>8.3}-{:<8.3} s  {label}\n",
