@@ -16,7 +16,9 @@
 //!    end frame then tested against the fit of the others, χ²₅ at the tests' `alpha`), over at
 //!    least [`crate::classify::MIN_EDGE_FRAMES`] frames;
 //! 2. turns far enough about the line to locate it against the contact's own wander (as a
-//!    topple must: [`crate::classify::parts::edge_turns_too_little`]);
+//!    topple must: [`crate::classify::parts::edge_turns_too_little`]), about a line within
+//!    `r_palm` of the object's origin (as a topple's edge must be: a hand swinging the object
+//!    about its wrist turns it about a fixed line off the object);
 //! 3. turns about a level line, when gravity is known (an edge rolled over lies in the face on
 //!    the level support: `direction_off_level`, χ²₁ at `alpha`);
 //! 4. the free-flight model does not explain (χ² at `alpha`), or explains only with a centre of
@@ -110,6 +112,9 @@ pub struct RollTest<'a> {
     pub flight: Option<&'a FlightTest>,
     /// How far \[m\] the contact may wander: it sets the turn a roll needs.
     pub tolerance_m: f64,
+    /// Farthest \[m\] an edge of the object may lie from its origin
+    /// ([`crate::classify::PaperThresholds::r_palm`], as for a topple's edge).
+    pub r_max: f64,
     /// The object's centre of mass (object frame) and its covariance, when the
     /// demonstration's flights determined it.
     pub com: Option<(Vector3<f64>, nalgebra::Matrix3<f64>)>,
@@ -129,8 +134,9 @@ pub struct Candidate {
     pub rejected: Option<String>,
     /// Why it teaches nothing although it is a roll, if it does not.
     pub withheld: Option<String>,
-    /// Whether it was rejected by the physics (its line not level, or the flight model
-    /// explains it) rather than by the fixed-line model or its turn.
+    /// Whether it was rejected although it has enough frames and turned far enough (by its χ²
+    /// at `alpha`, its line's place, level or the flight model), rather than for too few
+    /// frames or too little turn: its frames are then not looked at again.
     pub physics: bool,
 }
 
@@ -197,8 +203,9 @@ pub fn find_rolls(frames: &[FlightFrame], test: &RollTest) -> Vec<Candidate> {
         let (first, end, fit) = trim(frames, first, end, best, test);
         let c = judge(&frames[first..end], fit, test, min_turn);
         if c.rejected.is_some() {
-            // A window the physics rejects (not level, or a flight) is not looked at again
-            // from a later start: its frames would have as many more chances to pass.
+            // A window rejected although it turned far enough over enough frames (not level,
+            // a flight, ...) is not looked at again from a later start: its frames would have
+            // as many more chances to pass.
             i = if c.physics { end } else { i + 1 };
             continue;
         }
@@ -346,6 +353,13 @@ fn judge(frames: &[FlightFrame], fit: RollFit, test: &RollTest, min_turn: f64) -
     let edge = fit.edge("");
     c.rejected = if fit.frames < MIN_ROLL_FRAMES || !test.passes(&fit, test.alpha) {
         Some("the fixed-line model does not explain it".into())
+    } else if fit.object_line.point.norm() > test.r_max {
+        Some(format!(
+            "its line is {:.0} mm from the object's origin, farther than an edge of the object \
+             may be ({:.0} mm)",
+            fit.object_line.point.norm() * 1e3,
+            test.r_max * 1e3
+        ))
     } else if fit.turn.abs() < min_turn {
         crate::classify::parts::edge_turns_too_little(&edge, test.tolerance_m)
             .or_else(|| Some("it turns too little".into()))

@@ -48,6 +48,7 @@ pub fn mark_rolls(c: &mut Classification, recording: &Recording, config: &Config
         down,
         flight: flight.as_ref(),
         tolerance_m: robust.edge_tolerance_m,
+        r_max: config.paper.r_palm,
         com: known_com(&c.parts),
     };
     let outliers: Vec<(u64, u64)> = c
