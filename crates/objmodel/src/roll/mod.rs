@@ -16,7 +16,7 @@
 //!    end frame then tested against the fit of the others, χ²₅ at the tests' `alpha`), over at
 //!    least [`crate::classify::MIN_EDGE_FRAMES`] frames;
 //! 2. turns far enough about the line to locate it against the contact's own wander (as a
-//!    topple must: [`crate::classify::parts::edge_turns_too_little`]), about a line within
+//!    topple must: `classify::parts::edge_turns_too_little`), about a line within
 //!    `r_palm` of the object's origin (as a topple's edge must be: a hand swinging the object
 //!    about its wrist turns it about a fixed line off the object);
 //! 3. turns about a level line, when gravity is known (an edge rolled over lies in the face on
