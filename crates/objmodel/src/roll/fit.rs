@@ -51,6 +51,11 @@ type Params = (Vector3<f64>, Vector3<f64>, Vector3<f64>, Vector3<f64>);
 /// within rounding; the rest guard against a poor start).
 const ITERATIONS: usize = 6;
 
+/// A Gauss-Newton step smaller than this in every parameter (\[m\] or \[rad\]) ends the fit:
+/// 0.1 µm and 0.1 µrad, far below the smallest noise the tests assume
+/// ([`crate::noise::MIN_SIGMA_POSITION_M`], [`crate::noise::MIN_SIGMA_ROTATION_RAD`]).
+const CONVERGED: f64 = 1e-7;
+
 /// The per-frame noise and the contact's tolerance, as the fit uses them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RollNoise {
@@ -124,7 +129,7 @@ fn basis_matrix(u: &Vector3<f64>) -> SMatrix<f64, 3, 2> {
 }
 
 /// The pose of a frame as an isometry.
-fn pose(f: &FlightFrame) -> Isometry3<f64> {
+pub(super) fn pose(f: &FlightFrame) -> Isometry3<f64> {
     let r = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(f.rotation));
     Isometry3::from_parts(Translation3::from(f.position), r)
 }
@@ -223,7 +228,7 @@ pub fn fit(frames: &[FlightFrame], n: &RollNoise) -> Option<RollFit> {
         c_w += step.fixed_rows::<3>(3);
         u_o = (u_o + bo * Vector2::new(step[6], step[7])).normalize();
         u_w = (u_w + bw * Vector2::new(step[8], step[9])).normalize();
-        if step.norm() < 1e-12 {
+        if step.amax() < CONVERGED {
             // One more pass at the minimum gives its χ² and covariance.
             let (bo, bw) = (basis_matrix(&u_o), basis_matrix(&u_w));
             let mut nm = M10::zeros();

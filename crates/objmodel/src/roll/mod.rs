@@ -171,6 +171,33 @@ impl RollTest<'_> {
     }
 }
 
+/// Whether the motion from frame `a` to frame `b` is a rotation without translation along its
+/// axis, as a roll's is (Algorithm 1's pitch test, made statistical): the screw of
+/// `world_from_object_b · world_from_object_a⁻¹` advances by `d = pitch · θ` along its axis,
+/// which under the roll model is the two frames' noise only, of variance
+/// `2 (σ_p² + σ_r² ρ²)` (ρ the object origin's distance from the axis, the lever arm of a
+/// rotation error); `d²` over it is χ²₁, tested at `alpha`. A necessary condition of the
+/// fixed-line model that costs one screw, tested before the model's fit (most windows of a
+/// general motion fail it).
+fn no_pitch(a: &FlightFrame, b: &FlightFrame, test: &RollTest) -> bool {
+    let rel = fit::pose(b) * fit::pose(a).inverse();
+    let Some(s) =
+        crate::screw::Screw::from_twist(&crate::se3::Twist::log(&rel)).filter(|s| s.is_rotation())
+    else {
+        return false;
+    };
+    let u = s.direction.into_inner();
+    let mut r = a.position - s.point;
+    r -= u * u.dot(&r);
+    let n = &test.noise.noise;
+    let var = 2.0
+        * (n.sigma_position.powi(2)
+            + test.noise.tolerance_m.powi(2)
+            + n.sigma_rotation.powi(2) * r.norm_squared());
+    let d = s.pitch * s.magnitude;
+    d * d <= var * crate::stats::chi2_threshold(1.0, test.alpha)
+}
+
 /// The angle \[rad\] between two frames' orientations.
 fn angle_between(a: &FlightFrame, b: &FlightFrame) -> f64 {
     let c = ((b.rotation * a.rotation.transpose()).trace() - 1.0) * 0.5;
@@ -194,6 +221,10 @@ pub fn find_rolls(frames: &[FlightFrame], test: &RollTest) -> Vec<Candidate> {
             i += 1;
             continue;
         };
+        if !no_pitch(&frames[i], &frames[j], test) {
+            i += 1;
+            continue;
+        }
         let Some(best) = test.explains(&frames[i..=j]) else {
             i += 1;
             continue;
