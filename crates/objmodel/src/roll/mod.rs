@@ -12,9 +12,11 @@
 //!
 //! A roll is a window of frames, in a part that taught nothing and is not a flight or an impact
 //! ([`mark_rolls`]), that:
-//! 1. the fixed-line model explains (χ² at [`ROLL_FIT_ALPHA`] while the window is grown, each
-//!    end frame then tested against the fit of the others, χ²₅ at the tests' `alpha`), over at
-//!    least [`crate::classify::MIN_EDGE_FRAMES`] frames;
+//! 1. the fixed-line model explains: its end frames' screw does not advance along its axis
+//!    (`no_pitch`, χ²₁ at the tests' `alpha`), the model passes χ² at [`ROLL_FIT_ALPHA`] while
+//!    the window is grown, the window is cut where its line changes (`split_at_change`, χ²₉)
+//!    and its end frames are dropped while the fit of the others rejects them (χ²₅ at
+//!    `alpha`), and it then passes χ² at `alpha` over at least [`MIN_ROLL_FRAMES`] frames;
 //! 2. turns far enough about the line to locate it against the contact's own wander (as a
 //!    topple must: `classify::parts::edge_turns_too_little`), about a line within
 //!    `r_palm` of the object's origin (as a topple's edge must be: a hand swinging the object
