@@ -73,6 +73,22 @@ pub fn classification(c: &Classification, frames: bool) -> String {
             s += &format!("    {w}\n");
         }
     }
+    for r in &c.rolls {
+        let e = &r.edge;
+        s += &format!(
+            "  roll {:.2}-{:.2} s, {:.1} deg: edge point {} m, direction {}, ±{:.2} mm, ±{:.2} deg \
+             ({} frames){}\n",
+            r.t_start,
+            r.t_end,
+            r.turn.to_degrees(),
+            v3(&e.line.point),
+            v3(&e.line.direction),
+            e.sigma_point() * 1e3,
+            e.sigma_direction().to_degrees(),
+            e.frames,
+            if r.taught { ", taught" } else { "" }
+        );
+    }
     if c.parts.len() > 1 {
         s += "  parts:\n";
         for p in &c.parts {
@@ -123,6 +139,7 @@ pub fn classification(c: &Classification, frames: bool) -> String {
                 Label::Unlabelled => "unlabelled",
                 Label::Flight => "flight",
                 Label::Impact => "impact",
+                Label::Roll => "roll",
             };
             s += &format!(
                 "    {:>6}-{:<6} {:>8.3}-{:<8.3} s  {label}\n",

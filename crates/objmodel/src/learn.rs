@@ -179,9 +179,10 @@ impl Learner {
     /// not be measured ([`Learner::noise_unmeasurable`]), and the rests that a motion reached
     /// are tested against that motion measured back from them ([`crate::arrival`]).
     fn check(&self, classification: &mut Classification, recording: &Recording) {
-        if !has_long_rest(classification, recording, self.config.robust.rest_window_s)
-            && self.noise_unmeasurable(recording)
-        {
+        let unmeasurable =
+            !has_long_rest(classification, recording, self.config.robust.rest_window_s)
+                && self.noise_unmeasurable(recording);
+        if unmeasurable {
             classification.withhold_all(
                 "the tracking noise cannot be estimated from this demonstration: the motion \
                  between its frames exceeds the noise (a fast motion at this frame rate); give \
@@ -201,6 +202,11 @@ impl Learner {
         crate::arrival::confirm_arrivals(classification, recording, &self.config);
         classification.fill_parts();
         crate::flight::mark_flights(classification, recording, &self.config);
+        // A roll is measured without a reference pose, so it does not depend on the rest a
+        // demonstration starts with; it does on the noise.
+        if !unmeasurable {
+            crate::roll::mark_rolls(classification, recording, &self.config);
+        }
     }
 
     /// Whether the robust method estimated the noise (none given) from frames whose motion

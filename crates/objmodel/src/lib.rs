@@ -67,6 +67,7 @@ pub mod onset;
 pub mod pendulum;
 pub mod prediction;
 pub mod recording;
+pub mod roll;
 pub mod screw;
 pub mod se3;
 pub mod shape;

@@ -64,6 +64,7 @@ pub(super) fn conclude(
         gravity_doubted: !warnings.is_empty(),
         warnings,
         parts: Vec::new(),
+        rolls: Vec::new(),
     };
     c.fill_parts();
     c

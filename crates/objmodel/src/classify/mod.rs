@@ -246,6 +246,9 @@ pub enum Label {
     /// Where a flight breaks: the velocity jumps (a bounce, a landing, a catch) (parts only;
     /// no vote).
     Impact,
+    /// A rotation about a fixed edge inside a motion, measured without a rest (parts only, see
+    /// [`crate::roll`]; no vote).
+    Roll,
 }
 
 impl Label {
@@ -439,6 +442,10 @@ pub struct Classification {
     /// segment), each with what it taught ([`Classification::fill_parts`]).
     #[serde(default)]
     pub parts: Vec<Part>,
+    /// The rolls over an edge found inside its motions ([`crate::roll`]), each with its edge
+    /// and whether it taught it.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub rolls: Vec<crate::roll::Roll>,
 }
 
 impl Classification {

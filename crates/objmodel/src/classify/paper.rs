@@ -267,6 +267,7 @@ impl PaperMethod {
             warnings: Vec::new(),
             gravity_doubted: false,
             parts: Vec::new(),
+            rolls: Vec::new(),
         };
         c.fill_parts();
         Ok(c)

@@ -16,8 +16,9 @@ use serde::{Deserialize, Serialize};
 pub struct Part {
     /// What the object did: `rest`, `topple`, `slide`, `general` (carried, rolling, tumbling:
     /// no contact mode the learner can use), `landing` (after a completed topple), `flight`
-    /// (free fall) or `impact` (where a flight breaks) (flights and impacts: see
-    /// [`crate::flight`]).
+    /// (free fall), `impact` (where a flight breaks) (flights and impacts: see
+    /// [`crate::flight`]) or `roll` (a rotation about a fixed edge inside a motion, measured
+    /// without a rest: see [`crate::roll`]).
     pub kind: Label,
     /// Time of the part's first frame \[s\].
     pub t_start: f64,
@@ -32,8 +33,8 @@ pub struct Part {
     /// The motion segment it belongs to (a rest: the segment before it; `None` before the
     /// first motion).
     pub segment: Option<usize>,
-    /// What it taught: `"edge"`, `"face"` (a slide's plane), `"resting face"` (a rest on the
-    /// support, with gravity).
+    /// What it taught: `"edge"` (a topple's or a roll's), `"face"` (a slide's plane),
+    /// `"resting face"` (a rest on the support, with gravity).
     #[serde(default)]
     pub taught: Vec<String>,
     /// Why a part of a contact mode taught nothing, when the learner said why.

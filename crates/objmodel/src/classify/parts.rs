@@ -16,8 +16,19 @@ use nalgebra::Vector3;
 /// (The segment's fits only bound the tilt by [`super::RobustConfig::max_axis_tilt_rad`], a
 /// search bound; a thrown box's flight from a hand passed it with an "edge" 20° from level.)
 pub(super) fn edge_off_level(e: &EdgeObservation, d: &Vector3<f64>, alpha: f64) -> Option<String> {
-    let sin_tilt = e.line.direction.dot(d).clamp(-1.0, 1.0);
-    let var = d.dot(&(e.direction_cov * d)) + SUPPORT_LEVEL_SIGMA_RAD.powi(2);
+    direction_off_level(&e.line.direction, &e.direction_cov, d, alpha)
+}
+
+/// [`edge_off_level`] for a direction `u` of covariance `cov` (a roll's edge in the world,
+/// [`crate::roll`]).
+pub(crate) fn direction_off_level(
+    u: &Vector3<f64>,
+    cov: &nalgebra::Matrix3<f64>,
+    d: &Vector3<f64>,
+    alpha: f64,
+) -> Option<String> {
+    let sin_tilt = u.dot(d).clamp(-1.0, 1.0);
+    let var = d.dot(&(cov * d)) + SUPPORT_LEVEL_SIGMA_RAD.powi(2);
     let tilt = sin_tilt.asin();
     (tilt * tilt / var > crate::stats::chi2_threshold(1.0, alpha)).then(|| {
         format!(
@@ -39,7 +50,7 @@ pub const EDGE_LOCATION_M: f64 = 2e-3;
 /// δ = 0.3 mm, θ ≥ 8.6°. The noise does not bound this: with precise poses a box lagging 0.4°
 /// behind a tilting palm, creeping 1 mm down it, turns about a line 6 cm below the box, within
 /// the noise of every frame. A topple turns tens of degrees.
-pub(super) fn edge_turns_too_little(e: &EdgeObservation, tolerance_m: f64) -> Option<String> {
+pub(crate) fn edge_turns_too_little(e: &EdgeObservation, tolerance_m: f64) -> Option<String> {
     let shift = tolerance_m / (2.0 * (0.5 * e.max_angle).sin());
     (shift > EDGE_LOCATION_M).then(|| {
         format!(

@@ -20,6 +20,7 @@ mod parts;
 
 pub use fit::{FlightFit, FlightFrame, FLIGHT_TOLERANCE_M};
 pub use parts::mark_flights;
+pub(crate) use parts::{split_parts, Span};
 
 use crate::noise::NoiseModel;
 use nalgebra::{Matrix3, Vector3};
@@ -120,6 +121,13 @@ impl FlightTest {
     /// Whether a fit passes its χ² test at `alpha`.
     fn passes(&self, f: &FlightFit, alpha: f64) -> bool {
         f.chi2 <= self.threshold(f.dof, alpha)
+    }
+
+    /// The flight model's fit to `frames` if it explains them at the significance level
+    /// `alpha`.
+    pub(crate) fn explains_at(&self, frames: &[FlightFrame], alpha: f64) -> Option<FlightFit> {
+        self.fit(frames, &self.gravity)
+            .filter(|f| self.passes(f, alpha))
     }
 
     /// Whether the flight model explains `frames`.

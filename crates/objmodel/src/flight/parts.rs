@@ -10,13 +10,15 @@ use super::{find_flights, ComEstimate, FlightFrame, FlightTest, MAX_COM_M, MAX_I
 use crate::classify::{Classification, Config, Label, Part};
 use crate::recording::{RecordedFrame, Recording};
 
-/// A flight or impact, by frame index in the object stream.
+/// A flight, an impact or a roll, by frame index in the object stream, and what it taught.
 #[derive(Clone, Debug)]
-struct Span {
-    kind: Label,
-    first: usize,
-    last: usize,
-    com: Option<ComEstimate>,
+pub(crate) struct Span {
+    pub kind: Label,
+    pub first: usize,
+    pub last: usize,
+    pub com: Option<ComEstimate>,
+    pub taught: Vec<String>,
+    pub withheld: Option<String>,
 }
 
 /// Find the flights of `c`'s motion segments in the kept frames and put them, with their
@@ -82,6 +84,8 @@ pub fn mark_flights(c: &mut Classification, recording: &Recording, config: &Conf
                     covariance: f.fit.com_cov,
                     frames: f.last + 1 - f.first,
                 }),
+                taught: Vec::new(),
+                withheld: None,
             });
             // The impact: the frames (outliers too: a bounce may look like one) from the one
             // after the flight to the next flight's start or the run's end, within
@@ -102,10 +106,23 @@ pub fn mark_flights(c: &mut Classification, recording: &Recording, config: &Conf
                     first: a.index as usize,
                     last: b.index as usize,
                     com: None,
+                    taught: Vec::new(),
+                    withheld: None,
                 });
             }
         }
     }
+    split_parts(c, recording, &spans, splittable);
+}
+
+/// Put `spans` (in time order, each within a run of parts that `splittable` admits) into
+/// `c.parts`, splitting the parts they fall in; parts `splittable` refuses stay whole.
+pub(crate) fn split_parts(
+    c: &mut Classification,
+    recording: &Recording,
+    spans: &[Span],
+    splittable: impl Fn(&Part) -> bool,
+) {
     if spans.is_empty() {
         return;
     }
@@ -136,18 +153,18 @@ pub fn mark_flights(c: &mut Classification, recording: &Recording, config: &Conf
             let (a, b) = (s.first.max(p.first), s.last.min(p.last));
             if a > cur {
                 let piece = (p.kind, cur, a - 1, None);
-                push_piece(&mut out, &p, piece, false, &time_of, &time_before);
+                push_piece(&mut out, &p, piece, None, false, &time_of, &time_before);
             }
             // A span cut by a part boundary continues the piece before.
             let join = last_span == Some(k) && out.last().is_some_and(|l| l.last + 1 == a);
             let piece = (s.kind, a, b, s.com.clone());
-            push_piece(&mut out, &p, piece, join, &time_of, &time_before);
+            push_piece(&mut out, &p, piece, Some(s), join, &time_of, &time_before);
             last_span = Some(k);
             cur = b + 1;
         }
         if cur <= p.last {
             let piece = (p.kind, cur, p.last, None);
-            push_piece(&mut out, &p, piece, false, &time_of, &time_before);
+            push_piece(&mut out, &p, piece, None, false, &time_of, &time_before);
             last_span = None;
         }
     }
@@ -163,12 +180,14 @@ fn splittable(p: &Part) -> bool {
 /// A piece of a part: its kind, first and last frame, and a flight's centre of mass.
 type Piece = (Label, usize, usize, Option<ComEstimate>);
 
-/// Append the piece `first..=last` of part `p` as a part of `kind`, or join it to the part
-/// before (`join`: the same flight or impact, cut by a part boundary).
+/// Append the piece `first..=last` of part `p` as a part of `kind` (of the span `span`, or a
+/// remnant of `p`), or join it to the part before (`join`: the same span, cut by a part
+/// boundary).
 fn push_piece(
     out: &mut Vec<Part>,
     p: &Part,
     (kind, first, last, com): Piece,
+    span: Option<&Span>,
     join: bool,
     time_of: &impl Fn(usize) -> Option<f64>,
     time_before: &impl Fn(usize) -> Option<f64>,
@@ -184,7 +203,6 @@ fn push_piece(
         time_before(last).unwrap_or(p.t_end)
     };
     let frames = (last + 1 - first) as u64;
-    let split = matches!(kind, Label::Flight | Label::Impact);
     if let Some(prev) = out.last_mut().filter(|_| join) {
         prev.last = last;
         prev.t_end = t_end;
@@ -199,8 +217,11 @@ fn push_piece(
         last,
         frames: frames.min(p.frames),
         segment: p.segment,
-        taught: Vec::new(),
-        withheld: if split { None } else { p.withheld.clone() },
+        taught: span.map(|s| s.taught.clone()).unwrap_or_default(),
+        withheld: match span {
+            Some(s) => s.withheld.clone(),
+            None => p.withheld.clone(),
+        },
         com_estimate: com,
     });
 }

@@ -189,7 +189,7 @@ pub(crate) fn angle(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
 impl Tree {
     /// Fuse an analysed demonstration into the tree, geometry and pendulums in one step: each
     /// topple's edge, the faces it rested on before and after, and the pendulum of its
-    /// dynamics on that edge.
+    /// dynamics on that edge; each taught roll's edge ([`crate::roll`]).
     ///
     /// A demonstration is identified by its poses ([`Observation::fingerprint`]), not its
     /// name: the same poses again (under any name) replace the earlier ones, so adding a
@@ -261,6 +261,13 @@ impl Tree {
                     edge.faces.push(fid);
                 }
             }
+        }
+        // The rolls' edges (no pendulum: a roll's angles are not measured from a rest).
+        for r in c.rolls.iter().filter(|r| r.taught) {
+            self.add_edge(EdgeObservation {
+                demo: name.clone(),
+                ..r.edge.clone()
+            });
         }
         self.refit_whole();
         Added {

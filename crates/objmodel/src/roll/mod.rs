@@ -1,0 +1,434 @@
+//! Rolls: where an object turns about one of its edges in the middle of a motion (a tossed box
+//! that lands on an edge and rolls over it onto a face), found and measured without a rest to
+//! measure them from.
+//!
+//! A segment's edge is measured from the rest before the segment ([`crate::classify`]); a toss
+//! has no such rest (it starts in the hand), and measured back from the rest after it, a roll's
+//! edge is off by the 1-5 mm the box slides after the roll. A rotation about a fixed edge
+//! needs no reference: between any two of its frames the relative motion is a rotation about
+//! the same world line, and the edge is that line in the object frame ([`fit`]: a point and a
+//! direction fixed in the object whose images stay fixed in the world, fitted to all the frames
+//! at once, with its χ² under the noise model and its covariance).
+//!
+//! A roll is a window of frames, in a part that taught nothing and is not a flight or an impact
+//! ([`mark_rolls`]), that:
+//! 1. the fixed-line model explains: its end frames' screw does not advance along its axis
+//!    (`no_pitch`, χ²₁ at the tests' `alpha`), the model passes χ² at [`ROLL_FIT_ALPHA`] while
+//!    the window is grown, the window is cut where its line changes (`split_at_change`, χ²₉)
+//!    and its end frames are dropped while the fit of the others rejects them (χ²₅ at
+//!    `alpha`), and it then passes χ² at `alpha` over at least [`MIN_ROLL_FRAMES`] frames;
+//! 2. turns far enough about the line to locate it against the contact's own wander (as a
+//!    topple must: `classify::parts::edge_turns_too_little`), about a line within
+//!    `r_palm` of the object's origin (as a topple's edge must be: a hand swinging the object
+//!    about its wrist turns it about a fixed line off the object);
+//! 3. turns about a level line, when gravity is known (an edge rolled over lies in the face on
+//!    the level support: `direction_off_level`, χ²₁ at `alpha`);
+//! 4. the free-flight model does not explain (χ² at `alpha`), or explains only with a centre of
+//!    mass that the demonstration's flights rule out: a spinning object in flight turns about a
+//!    moving axis, which over a short window can pass for a fixed one.
+//!
+//! Such a window is a `roll` part. It teaches its edge when the edge is located well enough to
+//! be a feature: within 5 mm and 3° of its estimate but with probability `alpha`
+//! ([`max_sigmas`]); otherwise the part says why it taught nothing.
+
+mod fit;
+mod parts;
+
+pub use fit::{fit, frame_chi2, RollFit, RollNoise};
+pub use parts::mark_rolls;
+
+use crate::edge::EdgeObservation;
+use crate::flight::{FlightFrame, FlightTest};
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+/// Significance level at which the fixed-line model must explain a window while the window is
+/// grown (the same reasoning as [`crate::flight::FLIGHT_FIT_ALPHA`]: the grown window ends
+/// where the model only just passes; at 1% a slip at its end is cut sooner).
+pub const ROLL_FIT_ALPHA: f64 = 0.01;
+
+/// How far \[m\] a taught edge may be from the object's edge: the 5 mm within which an edge
+/// is the object's (`bench/precision.py`).
+pub const EDGE_MATCH_M: f64 = 5e-3;
+
+/// How far \[rad\] a taught edge's direction may be from the object's edge's: 3°.
+pub const EDGE_MATCH_RAD: f64 = 3.0 * std::f64::consts::PI / 180.0;
+
+/// The largest standard deviations (point \[m\], direction \[rad\], per axis normal to the
+/// edge) of a roll's edge for the roll to teach it: a 2-D normal error exceeds `r` with
+/// probability `exp(−r² / 2σ²)`, so the edge is within [`EDGE_MATCH_M`] and
+/// [`EDGE_MATCH_RAD`] of its estimate but with probability `alpha` when
+/// `σ ≤ r / √(2 ln(1/α))` (at α = 10⁻³: 1.3 mm and 0.8°).
+pub fn max_sigmas(alpha: f64) -> (f64, f64) {
+    let k = (2.0 * (1.0 / alpha).ln()).sqrt();
+    (EDGE_MATCH_M / k, EDGE_MATCH_RAD / k)
+}
+
+/// Fewest frames of a roll: the free-flight model, which a roll must reject (a spinning
+/// object in flight turns about a moving axis that over a few frames passes for a fixed
+/// one: on 500 simulated tosses a 3-frame "roll" in a flight taught an edge 50 mm off), is
+/// testable from [`crate::flight::MIN_FLIGHT_FRAMES`] frames on.
+pub const MIN_ROLL_FRAMES: usize = crate::flight::MIN_FLIGHT_FRAMES;
+
+/// Most frames a roll's first window may need to turn far enough to locate its edge: a bound
+/// on the search's work (a window is grown from every frame), not on the data: 256 frames are
+/// a second at 250 Hz and 8 s at 30 Hz, far longer than a roll of a tossed object; a slower
+/// rotation about an edge is a topple, measured from the rest before it.
+pub const MAX_TURN_SEARCH_FRAMES: usize = 256;
+
+/// One roll of a demonstration.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Roll {
+    /// Index of its first frame in the object stream.
+    pub first: usize,
+    /// Index of its last frame.
+    pub last: usize,
+    /// Time of its first frame \[s\].
+    pub t_start: f64,
+    /// Time of its last frame \[s\].
+    pub t_end: f64,
+    /// The edge it turned about, object frame, with its covariance.
+    pub edge: EdgeObservation,
+    /// The angle it turned about the edge \[rad\].
+    pub turn: f64,
+    /// χ² of the fixed-line fit and its degrees of freedom.
+    pub chi2: f64,
+    /// Degrees of freedom of that χ².
+    pub dof: f64,
+    /// Whether its edge is taught (enters the tree).
+    pub taught: bool,
+    /// Why it taught nothing, when it did not.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub withheld: Option<String>,
+}
+
+/// What the finder needs besides the frames.
+pub struct RollTest<'a> {
+    /// The noise and the contact's tolerance.
+    pub noise: RollNoise,
+    /// Significance level of the tests.
+    pub alpha: f64,
+    /// Unit "down" in the world, when known.
+    pub down: Option<Vector3<f64>>,
+    /// The flight model, when gravity is known.
+    pub flight: Option<&'a FlightTest>,
+    /// How far \[m\] the contact may wander: it sets the turn a roll needs.
+    pub tolerance_m: f64,
+    /// Farthest \[m\] an edge of the object may lie from its origin
+    /// ([`crate::classify::PaperThresholds::r_palm`], as for a topple's edge).
+    pub r_max: f64,
+    /// The object's centre of mass (object frame) and its covariance, when the
+    /// demonstration's flights determined it.
+    pub com: Option<(Vector3<f64>, nalgebra::Matrix3<f64>)>,
+}
+
+/// A window of frames that the fixed-line model explains and that turned far enough, with
+/// what the other tests said (`None`: it passed them all).
+#[derive(Clone, Debug)]
+pub struct Candidate {
+    /// First frame (index in the slice).
+    pub first: usize,
+    /// Last frame.
+    pub last: usize,
+    /// The fit.
+    pub fit: RollFit,
+    /// Why it is not a roll, if it is not (such windows are not returned).
+    pub rejected: Option<String>,
+    /// Why it teaches nothing although it is a roll, if it does not.
+    pub withheld: Option<String>,
+    /// Whether it was rejected although it has enough frames and turned far enough (by its χ²
+    /// at `alpha`, its line's place, level or the flight model), rather than for too few
+    /// frames or too little turn: its frames are then not looked at again.
+    pub physics: bool,
+}
+
+impl RollTest<'_> {
+    fn passes(&self, f: &RollFit, alpha: f64) -> bool {
+        f.dof >= 1.0 && f.chi2 <= crate::stats::chi2_threshold(f.dof, alpha)
+    }
+
+    /// The fit of `frames` if the model explains them at [`ROLL_FIT_ALPHA`].
+    fn explains(&self, frames: &[FlightFrame]) -> Option<RollFit> {
+        fit(frames, &self.noise).filter(|f| self.passes(f, ROLL_FIT_ALPHA.max(self.alpha)))
+    }
+
+    /// Whether the centre of mass the demonstration's flights determined rules out a flight
+    /// fitted to a window: the flight needs another point of the object to fall with gravity
+    /// (χ²₃ at `alpha` on their difference, under both covariances). A roll's frames pass the
+    /// flight model over a short window with a point near its centre of acceleration, which
+    /// is not the centre of mass; without a known centre of mass nothing is ruled out.
+    fn com_rules_out(&self, f: &crate::flight::FlightFit) -> bool {
+        self.com.is_some_and(|(c, cov)| {
+            let d = f.com - c;
+            (f.com_cov + cov)
+                .try_inverse()
+                .is_some_and(|w| d.dot(&(w * d)) > crate::stats::chi2_threshold(3.0, self.alpha))
+        })
+    }
+
+    /// The smallest turn \[rad\] that locates an edge against the contact's wander.
+    fn min_turn(&self) -> f64 {
+        let s = (self.tolerance_m / (2.0 * crate::classify::parts::EDGE_LOCATION_M)).min(1.0);
+        2.0 * s.asin()
+    }
+}
+
+/// Whether the motion from frame `a` to frame `b` is a rotation without translation along its
+/// axis, as a roll's is (Algorithm 1's pitch test, made statistical): the screw of
+/// `world_from_object_b · world_from_object_a⁻¹` advances by `d = pitch · θ` along its axis,
+/// which under the roll model is the two frames' noise only, of variance
+/// `2 (σ_p² + σ_r² ρ²)` (ρ the object origin's distance from the axis, the lever arm of a
+/// rotation error); `d²` over it is χ²₁, tested at `alpha`. A necessary condition of the
+/// fixed-line model that costs one screw, tested before the model's fit (most windows of a
+/// general motion fail it).
+fn no_pitch(a: &FlightFrame, b: &FlightFrame, test: &RollTest) -> bool {
+    let rel = fit::pose(b) * fit::pose(a).inverse();
+    let Some(s) =
+        crate::screw::Screw::from_twist(&crate::se3::Twist::log(&rel)).filter(|s| s.is_rotation())
+    else {
+        return false;
+    };
+    let u = s.direction.into_inner();
+    let mut r = a.position - s.point;
+    r -= u * u.dot(&r);
+    let n = &test.noise.noise;
+    let var = 2.0
+        * (n.sigma_position.powi(2)
+            + test.noise.tolerance_m.powi(2)
+            + n.sigma_rotation.powi(2) * r.norm_squared());
+    let d = s.pitch * s.magnitude;
+    d * d <= var * crate::stats::chi2_threshold(1.0, test.alpha)
+}
+
+/// The angle \[rad\] between two frames' orientations.
+fn angle_between(a: &FlightFrame, b: &FlightFrame) -> f64 {
+    let c = ((b.rotation * a.rotation.transpose()).trace() - 1.0) * 0.5;
+    c.clamp(-1.0, 1.0).acos()
+}
+
+/// The rolls in `frames` (time order, outliers removed), in order (see the module
+/// documentation).
+pub fn find_rolls(frames: &[FlightFrame], test: &RollTest) -> Vec<Candidate> {
+    let min_frames = MIN_ROLL_FRAMES;
+    let min_turn = test.min_turn();
+    let n = frames.len();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i + min_frames <= n {
+        // The first window from i that turns far enough.
+        let limit = n.min(i + MAX_TURN_SEARCH_FRAMES);
+        let Some(j) = (i + min_frames - 1..limit)
+            .find(|&j| angle_between(&frames[i], &frames[j]) >= min_turn)
+        else {
+            i += 1;
+            continue;
+        };
+        if !no_pitch(&frames[i], &frames[j], test) {
+            i += 1;
+            continue;
+        }
+        let Some(best) = test.explains(&frames[i..=j]) else {
+            i += 1;
+            continue;
+        };
+        let (end, best) = longest(frames, i, j + 1, best, test);
+        let (first, end, best) = split_at_change(frames, i, end, best, test);
+        let (first, end, fit) = trim(frames, first, end, best, test);
+        let c = judge(&frames[first..end], fit, test, min_turn);
+        if c.rejected.is_some() {
+            // A window rejected although it turned far enough over enough frames (not level,
+            // a flight, ...) is not looked at again from a later start: its frames would have
+            // as many more chances to pass.
+            i = if c.physics { end } else { i + 1 };
+            continue;
+        }
+        out.push(Candidate {
+            first,
+            last: end - 1,
+            ..c
+        });
+        i = end;
+    }
+    out
+}
+
+/// The end (exclusive) of the longest window from `i`, at least to `end`, that the model
+/// explains, and its fit: grown by doubling steps, then bisected.
+fn longest(
+    frames: &[FlightFrame],
+    i: usize,
+    end: usize,
+    mut best: RollFit,
+    test: &RollTest,
+) -> (usize, RollFit) {
+    let n = frames.len();
+    let (mut good, mut step) = (end, (end - i).max(2));
+    let mut bad = None;
+    while good < n {
+        let j = (good + step).min(n);
+        match test.explains(&frames[i..j]) {
+            Some(f) => {
+                (good, best) = (j, f);
+                step *= 2;
+            }
+            None => {
+                bad = Some(j);
+                break;
+            }
+        }
+    }
+    if let Some(mut hi) = bad {
+        while hi - good > 1 {
+            let mid = (good + hi) / 2;
+            match test.explains(&frames[i..mid]) {
+                Some(f) => (good, best) = (mid, f),
+                None => hi = mid,
+            }
+        }
+    }
+    (good, best)
+}
+
+/// A window cut where the line changes: for every cut that leaves at least
+/// [`MIN_SIDE_FRAMES`] frames on each side (every `stride`-th of them, at most
+/// [`MAX_CUTS`]), the two sides are fitted apart, and `χ²_whole − χ²_before − χ²_after`, χ²₉
+/// under one line (the second line's nine parameters), is compared with its quantile at
+/// `alpha` over the number of cuts tried (Bonferroni). When the largest is significant, the
+/// side that turned more is kept and tested again. A grown window is explained as a whole at
+/// [`ROLL_FIT_ALPHA`], but the roll's frames and a slip or a bounce beside it may each fit
+/// a line of their own, and the whole's χ² dilutes their difference.
+fn split_at_change(
+    frames: &[FlightFrame],
+    mut start: usize,
+    mut end: usize,
+    mut best: RollFit,
+    test: &RollTest,
+) -> (usize, usize, RollFit) {
+    loop {
+        let n = end - start;
+        if n < 2 * MIN_SIDE_FRAMES {
+            break;
+        }
+        let cuts = n + 1 - 2 * MIN_SIDE_FRAMES;
+        let stride = cuts.div_ceil(MAX_CUTS);
+        let tried = cuts.div_ceil(stride);
+        let limit = crate::stats::chi2_threshold(9.0, test.alpha / tried as f64);
+        let mut top: Option<(f64, usize, RollFit, RollFit)> = None;
+        for k in (start + MIN_SIDE_FRAMES..=end - MIN_SIDE_FRAMES).step_by(stride) {
+            let (Some(a), Some(b)) = (
+                fit(&frames[start..k], &test.noise),
+                fit(&frames[k..end], &test.noise),
+            ) else {
+                continue;
+            };
+            let lr = best.chi2 - a.chi2 - b.chi2;
+            if lr > limit && top.as_ref().is_none_or(|t| lr > t.0) {
+                top = Some((lr, k, a, b));
+            }
+        }
+        let Some((_, k, a, b)) = top else {
+            break;
+        };
+        if a.turn.abs() >= b.turn.abs() {
+            (end, best) = (k, a);
+        } else {
+            (start, best) = (k, b);
+        }
+    }
+    (start, end, best)
+}
+
+/// Fewest frames on each side of a change-point cut: a line needs three frames to be tested
+/// ([`crate::classify::MIN_EDGE_FRAMES`]).
+const MIN_SIDE_FRAMES: usize = 3;
+
+/// Most cuts a change-point scan fits (a bound on its work; the cuts are spread evenly).
+const MAX_CUTS: usize = 32;
+
+/// A window's ends trimmed: while its first (last) frame is not explained by the fit of the
+/// others (χ²₅ at `alpha`), it is left out; a window grown to the longest the model explains
+/// takes in frames of the slip or bounce around the roll whose deviations the whole window's
+/// χ² dilutes.
+fn trim(
+    frames: &[FlightFrame],
+    mut start: usize,
+    mut end: usize,
+    mut best: RollFit,
+    test: &RollTest,
+) -> (usize, usize, RollFit) {
+    let limit = crate::stats::chi2_threshold(5.0, test.alpha);
+    let min_frames = MIN_ROLL_FRAMES;
+    while end - start > min_frames {
+        let head = fit(&frames[start + 1..end], &test.noise);
+        let tail = fit(&frames[start..end - 1], &test.noise);
+        let bad_head = head.filter(|f| frame_chi2(f, &frames[start], &test.noise) > limit);
+        let bad_tail = tail.filter(|f| frame_chi2(f, &frames[end - 1], &test.noise) > limit);
+        match (bad_head, bad_tail) {
+            (Some(f), _) => (start, best) = (start + 1, f),
+            (None, Some(f)) => (end, best) = (end - 1, f),
+            (None, None) => break,
+        }
+    }
+    (start, end, best)
+}
+
+/// The tests after the model: the turn, the level line, the flight alternative, and whether the
+/// edge is located well enough to be taught.
+fn judge(frames: &[FlightFrame], fit: RollFit, test: &RollTest, min_turn: f64) -> Candidate {
+    let mut c = Candidate {
+        first: 0,
+        last: 0,
+        fit,
+        rejected: None,
+        withheld: None,
+        physics: false,
+    };
+    let edge = fit.edge("");
+    c.rejected = if fit.frames < MIN_ROLL_FRAMES || !test.passes(&fit, test.alpha) {
+        Some("the fixed-line model does not explain it".into())
+    } else if fit.object_line.point.norm() > test.r_max {
+        Some(format!(
+            "its line is {:.0} mm from the object's origin, farther than an edge of the object \
+             may be ({:.0} mm)",
+            fit.object_line.point.norm() * 1e3,
+            test.r_max * 1e3
+        ))
+    } else if fit.turn.abs() < min_turn {
+        crate::classify::parts::edge_turns_too_little(&edge, test.tolerance_m)
+            .or_else(|| Some("it turns too little".into()))
+    } else if let Some(w) = test.down.and_then(|d| {
+        crate::classify::parts::direction_off_level(
+            &fit.world_line.direction,
+            &fit.world_direction_cov,
+            &d,
+            test.alpha,
+        )
+    }) {
+        Some(w)
+    } else if test
+        .flight
+        .and_then(|f| f.explains_at(frames, test.alpha))
+        .is_some_and(|f| !test.com_rules_out(&f))
+    {
+        Some("the free-flight model explains it too".into())
+    } else {
+        None
+    };
+    c.physics = c.rejected.is_some() && fit.frames >= MIN_ROLL_FRAMES && fit.turn.abs() >= min_turn;
+    let (sp, sd) = (edge.sigma_point(), edge.sigma_direction());
+    let (max_sp, max_sd) = max_sigmas(test.alpha);
+    if sp > max_sp || sd > max_sd {
+        c.withheld = Some(format!(
+            "edge not taught: it is located to ±{:.1} mm and ±{:.1}° only (a roll teaches \
+             within ±{:.1} mm and ±{:.1}°)",
+            sp * 1e3,
+            sd.to_degrees(),
+            max_sp * 1e3,
+            max_sd.to_degrees()
+        ));
+    }
+    c
+}
+
+#[cfg(test)]
+mod tests;

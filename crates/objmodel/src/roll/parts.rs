@@ -1,0 +1,130 @@
+//! Rolls in a classification: found in the kept frames of each run of parts that taught
+//! nothing (not rests, landings, flights or impacts), put into `c.rolls` and, as `roll` parts,
+//! into `c.parts`.
+
+use super::{find_rolls, Roll, RollNoise, RollTest};
+use crate::classify::{Classification, Config, Label, Part};
+use crate::flight::{FlightFrame, FlightTest, Span, MAX_COM_M};
+use crate::recording::{RecordedFrame, Recording};
+use nalgebra::{Matrix3, Vector3};
+
+/// Whether a part's frames may hold a roll: it taught nothing and is a motion that no other
+/// model explains (not a rest, a completed topple's landing, a flight or an impact).
+fn scanned(p: &Part) -> bool {
+    !matches!(
+        p.kind,
+        Label::Rest | Label::Landing | Label::Flight | Label::Impact | Label::Roll
+    ) && p.taught.is_empty()
+        && p.segment.is_some()
+}
+
+/// Find the rolls of `c`'s motions in the kept frames ([`super::find_rolls`]) and put them
+/// into `c.rolls` and `c.parts`. Nothing happens without a noise model, relative to a palm
+/// (the support moves with it), or when the kept frames are thinned (a roll lasts a few tens of
+/// frames).
+pub fn mark_rolls(c: &mut Classification, recording: &Recording, config: &Config) {
+    let Some(noise) = c.noise.or(config.robust.noise) else {
+        return;
+    };
+    if c.instrumented || c.parts.is_empty() || recording.object_stride > 1 {
+        return;
+    }
+    let robust = &config.robust;
+    let down = config.gravity.and_then(|g| g.try_normalize(1e-12));
+    let flight =
+        down.map(|d| FlightTest::new(d * crate::pendulum::G, noise, robust.alpha, MAX_COM_M));
+    // The χ² is the tracking noise's alone: a contact's own wander is what the turn a roll
+    // needs covers (`tolerance_m` below). Added per frame to the noise, the wander hid a box
+    // pivoting on a vertex and a slipping edge: on 500 simulated tosses at motion-capture
+    // noise, with the classifier's 0.3 mm and 0.5° added, seven rolls taught edges 6-17 mm or
+    // 3-45° off; without them, none (and 24 of 47 measurable rolls were found).
+    let test = RollTest {
+        noise: RollNoise {
+            noise,
+            tolerance_m: 0.0,
+            tolerance_rad: 0.0,
+        },
+        alpha: robust.alpha,
+        down,
+        flight: flight.as_ref(),
+        tolerance_m: robust.edge_tolerance_m,
+        r_max: config.paper.r_palm,
+        com: known_com(&c.parts),
+    };
+    let outliers: Vec<(u64, u64)> = c
+        .labels
+        .iter()
+        .filter(|r| r.label == Label::Outlier)
+        .map(|r| (r.first as u64, r.last as u64))
+        .collect();
+    let outlier = |i: u64| {
+        let k = outliers.partition_point(|r| r.1 < i);
+        outliers.get(k).is_some_and(|r| r.0 <= i)
+    };
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    let mut run_segment = None;
+    for p in c.parts.iter().filter(|p| scanned(p)) {
+        match runs.last_mut() {
+            Some(r) if run_segment == p.segment && r.1 + 1 == p.first => r.1 = p.last,
+            _ => {
+                runs.push((p.first, p.last));
+                run_segment = p.segment;
+            }
+        }
+    }
+    let mut spans: Vec<Span> = Vec::new();
+    for &(first, last) in &runs {
+        let objects = &recording.object;
+        let lo = objects.partition_point(|f| (f.index as usize) < first);
+        let hi = objects.partition_point(|f| (f.index as usize) <= last);
+        let kept: Vec<&RecordedFrame> = objects[lo..hi]
+            .iter()
+            .filter(|f| !outlier(f.index))
+            .collect();
+        let frames: Vec<FlightFrame> = kept.iter().map(|&f| f.into()).collect();
+        for r in find_rolls(&frames, &test) {
+            let (a, b) = (kept[r.first], kept[r.last]);
+            let taught = r.withheld.is_none();
+            c.rolls.push(Roll {
+                first: a.index as usize,
+                last: b.index as usize,
+                t_start: a.t,
+                t_end: b.t,
+                edge: r.fit.edge(&c.name),
+                turn: r.fit.turn.abs(),
+                chi2: r.fit.chi2,
+                dof: r.fit.dof,
+                taught,
+                withheld: r.withheld.clone(),
+            });
+            spans.push(Span {
+                kind: Label::Roll,
+                first: a.index as usize,
+                last: b.index as usize,
+                com: None,
+                taught: if taught {
+                    vec!["edge".to_string()]
+                } else {
+                    Vec::new()
+                },
+                withheld: r.withheld,
+            });
+        }
+    }
+    crate::flight::split_parts(c, recording, &spans, scanned);
+}
+
+/// The centre of mass that the flights among `parts` determined (their estimates fused by
+/// their information), if any did.
+fn known_com(parts: &[Part]) -> Option<(Vector3<f64>, Matrix3<f64>)> {
+    let (mut info, mut sum) = (Matrix3::zeros(), Vector3::zeros());
+    for e in parts.iter().filter_map(|p| p.com_estimate.as_ref()) {
+        let Some(w) = e.covariance.try_inverse() else {
+            continue;
+        };
+        info += w;
+        sum += w * e.point;
+    }
+    let cov = info.try_inverse()?;
+    Some((cov * sum, cov))
+}
