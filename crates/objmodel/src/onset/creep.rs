@@ -18,7 +18,7 @@
 //! tracking noise at the edge (`σ_p² + σ_r² |e|²`) and, for a frame turned by θ from the rest,
 //! the edge's own error moved by the chord `2 sin(θ/2)`; the onset's frame also carries the
 //! settling of a contact as the load moves onto the edge
-//! ([`crate::classify::REFERENCE_SETTLING_M`]). The contact's wander during a rotation (the
+//! (`classify::frame_model::REFERENCE_SETTLING_M`). The contact's wander during a rotation (the
 //! edge tolerance) is not in it: the question is whether a rest is still, and a rest that moves
 //! by more than its noise is not one.
 
