@@ -121,6 +121,10 @@ pub fn measure(recording: &Recording, c: &Classification, g: &Vector3<f64>) -> O
     };
     let best_kinetic = |mu_s: f64| golden_min(&|mu_k| sse(mu_s, mu_k), 0.0, mu_s, 1e-7);
     let max_tilt = theta.iter().cloned().fold(0.0, f64::max);
+    // A palm turned past 80° is not a slope a slide on it can be measured on.
+    if max_tilt <= 0.0 || max_tilt >= 80f64.to_radians() {
+        return None;
+    }
     let mu = golden_min(
         &|mu_s| sse(mu_s, best_kinetic(mu_s)),
         0.0,
