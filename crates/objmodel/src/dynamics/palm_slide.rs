@@ -66,7 +66,7 @@ pub struct PalmSlide {
     pub slide_tilt: f64,
     /// The largest slope the palm reached \[rad\].
     pub max_tilt: f64,
-    /// How far it slid \[m\].
+    /// How far it slid over the frames fitted (up to the steepest slope) \[m\].
     pub distance_m: f64,
     /// Frames fitted.
     pub frames: usize,
