@@ -46,66 +46,66 @@ pub struct Tilt {
 /// Run the instrumented-topple scene with a random tilt.
 pub fn run(spec: &BoxSpec, p: &PhysicsParams, rng: &mut StdRng) -> Result<SceneOutput> {
     let mu = spec.friction;
-    let mut options = Vec::new();
-    for axis in 0..2 {
-        for sign in [1.0, -1.0] {
-            let (d, hc) = edge_lever(spec, axis, sign);
-            if mu >= 1.15 * d / hc && d.atan2(hc) <= MAX_PHI {
-                options.push((axis, sign));
-            }
-        }
-    }
-    if options.is_empty() {
+    let topples = |d: f64, hc: f64| mu >= 1.15 * d / hc && d.atan2(hc) <= MAX_PHI;
+    let Some(tilt) = random_tilt(spec, topples, 80f64.to_radians(), rng) else {
         return Err(SimError::InvalidSpec(format!(
             "box '{}' ({:?} m) would slide on a tilted palm before toppling with friction {mu}: \
              every edge needs friction above 1.15 tan(phi), and a box whose tipping angle is above \
              33 deg tumbles down the palm",
             spec.name, spec.dims
         )));
-    }
-    let (axis, sign) = options[rng.random_range(0..options.len())];
-    let tilt = Tilt {
-        axis,
-        sign,
-        rate: rng.random_range(2f64..5.0).to_radians(),
-        pivot: [rng.random_range(-0.03..0.03), rng.random_range(-0.03..0.03)],
-        max_tilt: 80f64.to_radians(),
     };
     run_with(spec, mu, &tilt, p, rng)
 }
 
+/// A tilt towards a downhill edge drawn among those whose lever `(d, h_c)` (see
+/// [`edge_lever`]) `accept`s, at a random rate (2-5°/s) about a random pivot, up to
+/// `max_tilt`; `None` if no edge is accepted.
+fn random_tilt(
+    spec: &BoxSpec,
+    accept: impl Fn(f64, f64) -> bool,
+    max_tilt: f64,
+    rng: &mut StdRng,
+) -> Option<Tilt> {
+    let mut options = Vec::new();
+    for axis in 0..2 {
+        for sign in [1.0, -1.0] {
+            let (d, hc) = edge_lever(spec, axis, sign);
+            if accept(d, hc) {
+                options.push((axis, sign));
+            }
+        }
+    }
+    if options.is_empty() {
+        return None;
+    }
+    let (axis, sign) = options[rng.random_range(0..options.len())];
+    Some(Tilt {
+        axis,
+        sign,
+        rate: rng.random_range(2f64..5.0).to_radians(),
+        pivot: [rng.random_range(-0.03..0.03), rng.random_range(-0.03..0.03)],
+        max_tilt,
+    })
+}
+
 /// A slide on the tilting palm: the palm's friction `mu` is too low for the box to topple
 /// towards a random downhill edge (`μ <= tan φ / 1.15`), so the box starts to slide down the
-/// palm when the tilt reaches `atan μ`; the hand levels the palm (at 4 times the rate it tilted it) once it slid 3 cm. The
-/// script's notes hold the tilt where it started to move (`slide_tilt`, 0.1 mm).
+/// palm when the tilt reaches `atan μ`; the hand levels the palm (at 4 times the rate it
+/// tilted it) once it slid 3 cm. The script's notes hold the tilt where it started to move
+/// (`slide_tilt`, 0.1 mm).
 pub fn run_slide(
     spec: &BoxSpec,
     mu: f64,
     p: &PhysicsParams,
     rng: &mut StdRng,
 ) -> Result<SceneOutput> {
-    let mut options = Vec::new();
-    for axis in 0..2 {
-        for sign in [1.0, -1.0] {
-            let (d, hc) = edge_lever(spec, axis, sign);
-            if 1.15 * mu <= d / hc {
-                options.push((axis, sign));
-            }
-        }
-    }
-    if options.is_empty() {
+    let slides = |d: f64, hc: f64| 1.15 * mu <= d / hc;
+    let Some(tilt) = random_tilt(spec, slides, 60f64.to_radians(), rng) else {
         return Err(SimError::InvalidSpec(format!(
             "box '{}' would topple on a palm of friction {mu} before it slides",
             spec.name
         )));
-    }
-    let (axis, sign) = options[rng.random_range(0..options.len())];
-    let tilt = Tilt {
-        axis,
-        sign,
-        rate: rng.random_range(2f64..5.0).to_radians(),
-        pivot: [rng.random_range(-0.03..0.03), rng.random_range(-0.03..0.03)],
-        max_tilt: 60f64.to_radians(),
     };
     run_until(spec, mu, &tilt, Goal::Slide(0.03), p, rng)
 }

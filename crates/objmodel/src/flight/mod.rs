@@ -240,13 +240,31 @@ fn longest(
     len: usize,
     test: &FlightTest,
 ) -> Option<(usize, FlightFit)> {
-    let n = frames.len();
-    let mut best = test.explains(&frames[i..i + len])?;
-    let (mut good, mut step) = (i + len, len.max(MIN_FLIGHT_FRAMES));
+    let best = test.explains(&frames[i..i + len])?;
+    Some(grow_window(
+        frames.len(),
+        i + len,
+        len.max(MIN_FLIGHT_FRAMES),
+        best,
+        |j| test.explains(&frames[i..j]),
+    ))
+}
+
+/// The largest end `good..=n` that `explains` accepts, and its value, from an accepted end
+/// `good` (`best` its value): the end advanced by steps that double from `step` while it is
+/// accepted, then bisected between the last accepted and the first rejected. Shared by the
+/// flights' and the rolls' window scans.
+pub(crate) fn grow_window<T>(
+    n: usize,
+    mut good: usize,
+    mut step: usize,
+    mut best: T,
+    explains: impl Fn(usize) -> Option<T>,
+) -> (usize, T) {
     let mut bad = None;
     while good < n {
         let j = (good + step).min(n);
-        match test.explains(&frames[i..j]) {
+        match explains(j) {
             Some(f) => {
                 (good, best) = (j, f);
                 step *= 2;
@@ -260,13 +278,13 @@ fn longest(
     if let Some(mut hi) = bad {
         while hi - good > 1 {
             let mid = (good + hi) / 2;
-            match test.explains(&frames[i..mid]) {
+            match explains(mid) {
                 Some(f) => (good, best) = (mid, f),
                 None => hi = mid,
             }
         }
     }
-    Some((good, best))
+    (good, best)
 }
 
 #[cfg(test)]

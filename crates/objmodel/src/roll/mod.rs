@@ -258,35 +258,12 @@ fn longest(
     frames: &[FlightFrame],
     i: usize,
     end: usize,
-    mut best: RollFit,
+    best: RollFit,
     test: &RollTest,
 ) -> (usize, RollFit) {
-    let n = frames.len();
-    let (mut good, mut step) = (end, (end - i).max(2));
-    let mut bad = None;
-    while good < n {
-        let j = (good + step).min(n);
-        match test.explains(&frames[i..j]) {
-            Some(f) => {
-                (good, best) = (j, f);
-                step *= 2;
-            }
-            None => {
-                bad = Some(j);
-                break;
-            }
-        }
-    }
-    if let Some(mut hi) = bad {
-        while hi - good > 1 {
-            let mid = (good + hi) / 2;
-            match test.explains(&frames[i..mid]) {
-                Some(f) => (good, best) = (mid, f),
-                None => hi = mid,
-            }
-        }
-    }
-    (good, best)
+    crate::flight::grow_window(frames.len(), end, (end - i).max(2), best, |j| {
+        test.explains(&frames[i..j])
+    })
 }
 
 /// A window cut where the line changes: for every cut that leaves at least
