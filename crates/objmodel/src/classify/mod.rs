@@ -449,6 +449,21 @@ pub struct Classification {
 }
 
 impl Classification {
+    /// Whether the object frame of index `i` (in the stream) was rejected as an outlier: a
+    /// binary search of the outlier label runs.
+    pub fn is_outlier(&self) -> impl Fn(u64) -> bool {
+        let outliers: Vec<(u64, u64)> = self
+            .labels
+            .iter()
+            .filter(|r| r.label == Label::Outlier)
+            .map(|r| (r.first as u64, r.last as u64))
+            .collect();
+        move |i: u64| {
+            let k = outliers.partition_point(|r| r.1 < i);
+            outliers.get(k).is_some_and(|r| r.0 <= i)
+        }
+    }
+
     /// Edge observations, one per topple.
     pub fn edges(&self) -> impl Iterator<Item = &EdgeObservation> {
         self.topples.iter().map(|t| &t.edge)

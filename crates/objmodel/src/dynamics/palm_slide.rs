@@ -32,7 +32,7 @@ use super::palm_stream::without_flips;
 use super::regression::smooth;
 use super::series::palm_at;
 use super::{MAX_REST_FRAMES, REST_MARGIN_S};
-use crate::classify::{Classification, Label};
+use crate::classify::Classification;
 use crate::recording::Recording;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -175,12 +175,7 @@ fn slide_series(
     sigma_rotation: f64,
 ) -> Option<SlideSeries> {
     let frames = &recording.object;
-    let mut outlier = vec![false; frames.len()];
-    for r in c.labels.iter().filter(|r| r.label == Label::Outlier) {
-        let lo = frames.partition_point(|f| f.index < r.first as u64);
-        let hi = frames.partition_point(|f| f.index <= r.last as u64);
-        outlier[lo..hi].iter_mut().for_each(|o| *o = true);
-    }
+    let outlier = c.is_outlier();
     let palm = without_flips(&recording.palm, sigma_rotation);
     let down = g.normalize();
     // The rest before the motion: the support normal (up) and the object's place, palm frame.
@@ -189,7 +184,7 @@ fn slide_series(
     let kept: Vec<(usize, nalgebra::UnitQuaternion<f64>)> = frames
         .iter()
         .enumerate()
-        .filter(|(i, _)| !outlier[*i])
+        .filter(|(_, f)| !outlier(f.index))
         .filter_map(|(i, f)| palm_at(&palm, f.t).map(|q| (i, q)))
         .collect();
     for &(i, qp) in &kept {

@@ -37,17 +37,7 @@ pub fn mark_flights(c: &mut Classification, recording: &Recording, config: &Conf
         config.robust.alpha,
         MAX_COM_M,
     );
-    // Outlier runs, in order, for a binary search.
-    let outliers: Vec<(u64, u64)> = c
-        .labels
-        .iter()
-        .filter(|r| r.label == Label::Outlier)
-        .map(|r| (r.first as u64, r.last as u64))
-        .collect();
-    let outlier = |i: u64| {
-        let k = outliers.partition_point(|r| r.1 < i);
-        outliers.get(k).is_some_and(|r| r.0 <= i)
-    };
+    let outlier = c.is_outlier();
     // The runs of parts a flight may split (consecutive, in one segment), by frame index:
     // only their frames are scanned.
     let mut runs: Vec<(usize, usize)> = Vec::new();

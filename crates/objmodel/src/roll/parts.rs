@@ -51,16 +51,7 @@ pub fn mark_rolls(c: &mut Classification, recording: &Recording, config: &Config
         r_max: config.paper.r_palm,
         com: known_com(&c.parts),
     };
-    let outliers: Vec<(u64, u64)> = c
-        .labels
-        .iter()
-        .filter(|r| r.label == Label::Outlier)
-        .map(|r| (r.first as u64, r.last as u64))
-        .collect();
-    let outlier = |i: u64| {
-        let k = outliers.partition_point(|r| r.1 < i);
-        outliers.get(k).is_some_and(|r| r.0 <= i)
-    };
+    let outlier = c.is_outlier();
     let mut runs: Vec<(usize, usize)> = Vec::new();
     let mut run_segment = None;
     for p in c.parts.iter().filter(|p| scanned(p)) {
