@@ -3,6 +3,7 @@
 //! labels and votes the fits give, and the edge observation (topple) or face (slide).
 
 use super::block::{Block, Phase};
+use super::lack_of_fit::{systematic_normal_var, systematic_point_var, PointSums};
 use super::msac::{
     fit_line, fit_plane, line_inlier, plane_inlier, rotation_explains_translation, slide_normal,
     Thresholds,
@@ -94,66 +95,6 @@ fn trim_change_points(
         total = sums;
     }
     kept
-}
-
-/// Per-axis variance \[m²\] of an edge's point beyond what its frames' noise explains: the
-/// split-half lack of fit of the rotation-about-a-fixed-edge model.
-///
-/// With `order` the edge's blocks in time order, cut once where their summed point weight
-/// reaches half (a cut chosen before looking at the data, so that the statistic has its null
-/// distribution), the weighted mean axis points before and after differ by `d` (normal to the
-/// line). Under a fixed edge `E|d|² = 2 s²`, `s² = 1/W_before + 1/W_after + (σ_ref Δ(1/c))²` per
-/// axis (as in [`trim_change_points`]). A pivot that moves while the object turns (a soft
-/// contact whose edge sinks and rises, an edge that slips on the support past the balance
-/// point: on MuJoCo's tilting palm the edge point moves 0.3 mm in the first 20° and 1-3 mm
-/// after 40°) moves the axes of the later frames, which weigh the most, and the mean line with
-/// them; the frames' scatter divided by their number does not say so, because the moves are
-/// one trajectory, not independent errors. The excess `|d|²/2 - s²` (method of moments, zero
-/// when negative) is that systematic error per axis: it is added to the edge point's
-/// covariance, so that its σ stays honest where the pivot moved.
-fn systematic_point_var(blocks: &[Block], order: &[usize], line: &Line, sigma_ref: f64) -> f64 {
-    let mut total = PointSums::default();
-    order.iter().for_each(|&i| total.add(&blocks[i].line));
-    if total.sw <= 0.0 || order.len() < 2 {
-        return 0.0;
-    }
-    let u = line.direction;
-    let p_mat = nalgebra::Matrix3::identity() - u * u.transpose();
-    let mut before = PointSums::default();
-    for &i in &order[..order.len() - 1] {
-        before.add(&blocks[i].line);
-        if before.sw >= 0.5 * total.sw {
-            break;
-        }
-    }
-    let (wb, wa) = (before.sw, total.sw - before.sw);
-    if wb <= 0.0 || wa <= 0.0 {
-        return 0.0;
-    }
-    let d = p_mat * (before.swr / wb - (total.swr - before.swr) / wa);
-    let dc = before.sw_inv_chord / wb - (total.sw_inv_chord - before.sw_inv_chord) / wa;
-    let s2 = 1.0 / wb + 1.0 / wa + (sigma_ref * dc).powi(2);
-    (0.5 * d.norm_squared() - s2).max(0.0)
-}
-
-/// The parts of [`LineStats`] that [`trim_change_points`] tests, summed as
-/// [`LineStats::merge`] sums them.
-#[derive(Clone, Copy, Default)]
-struct PointSums {
-    n: f64,
-    sw: f64,
-    swr: Vector3<f64>,
-    sw_inv_chord: f64,
-}
-
-impl PointSums {
-    #[inline]
-    fn add(&mut self, s: &LineStats) {
-        self.n += s.n;
-        self.sw += s.sw;
-        self.swr += s.swr;
-        self.sw_inv_chord += s.sw_inv_chord;
-    }
 }
 
 /// Whether a segment whose edge rotation about `line` ends with block `end` is a completed
@@ -433,10 +374,13 @@ pub(super) fn analyse_segment(
                 n = -n;
             }
         }
+        // The planar-motion model's lack of fit between the slide's halves, per axis.
+        let systematic = systematic_normal_var(blocks, &slide_blocks, &n, level_down.as_ref());
+        let across = nalgebra::Matrix3::identity() - n * n.transpose();
         Some(FaceObservation {
             demo: demo.to_string(),
             normal: n,
-            normal_cov: s.normal_covariance(&n),
+            normal_cov: s.normal_covariance(&n) + across * systematic,
             offset: None,
             offset_var: None,
             sign_known: seg.down_ref.is_some(),

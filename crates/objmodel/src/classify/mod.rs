@@ -51,6 +51,7 @@ pub(crate) mod cleaning;
 mod conclusion;
 mod files;
 pub(crate) mod frame_model;
+mod lack_of_fit;
 mod msac;
 mod palm;
 mod paper;

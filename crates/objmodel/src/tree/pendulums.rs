@@ -71,20 +71,22 @@ impl Pendulum {
             .map(|(o, w)| o.phi * w)
             .sum::<f64>()
             / sw;
-        // Between-demonstration scatter guards against over-confident single estimates.
+        // The observations' disagreement beyond their sigmas (the Birge ratio: χ² per degree
+        // of freedom, when above 1) widens the weighted mean's variance.
         let n = self.observations.len() as f64;
-        let scatter = if n > 1.0 {
-            self.observations
-                .iter()
-                .map(|o| (o.phi - phi).powi(2))
-                .sum::<f64>()
-                / (n - 1.0)
-                / n
+        let chi2: f64 = self
+            .observations
+            .iter()
+            .zip(&w)
+            .map(|(o, w)| w * (o.phi - phi).powi(2))
+            .sum();
+        let birge = if n > 1.0 {
+            (chi2 / (n - 1.0)).max(1.0)
         } else {
-            0.0
+            1.0
         };
         self.phi = Some(phi);
-        self.phi_sigma = Some((1.0 / sw).max(scatter).sqrt());
+        self.phi_sigma = Some((birge / sw).sqrt());
         let ratios: Vec<f64> = self
             .observations
             .iter()
@@ -154,5 +156,93 @@ impl Tree {
                 edge.pendulums.push(p);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{rngs::StdRng, Rng, SeedableRng};
+    use rand_distr::{Distribution, StandardNormal};
+
+    fn fused(obs: &[(f64, f64)]) -> Pendulum {
+        let mut p = Pendulum {
+            resting_face_normal: -Vector3::z(),
+            toppling_axis: Vector3::x(),
+            phi: None,
+            l_p: None,
+            phi_sigma: None,
+            inertia_ratio_m: None,
+            support: Vec::new(),
+            observations: obs
+                .iter()
+                .enumerate()
+                .map(|(i, &(phi, phi_sigma))| PendulumObservation {
+                    demo: format!("d{i}"),
+                    phi,
+                    phi_sigma,
+                    phi_onset: None,
+                    phi_fall: Some(phi),
+                    inertia_ratio_m: None,
+                    onset_t: None,
+                })
+                .collect(),
+            com_conflict: None,
+        };
+        p.refit();
+        p
+    }
+
+    /// Three palm onsets (σ 0.2°) and two falls (σ 3°) that agree within their sigmas: the
+    /// mean keeps the onsets' precision (the falls' own scatter does not widen it).
+    #[test]
+    fn agreeing_observations_keep_the_weighted_sigma() {
+        let d = f64::to_radians;
+        let obs = [
+            (d(31.0), d(0.2)),
+            (d(31.1), d(0.2)),
+            (d(30.9), d(0.2)),
+            (d(27.0), d(3.0)),
+            (d(33.5), d(3.0)),
+        ];
+        let p = fused(&obs);
+        let sw: f64 = obs.iter().map(|(_, s)| 1.0 / (s * s + 1e-12)).sum();
+        assert!((p.phi_sigma.unwrap() - (1.0 / sw).sqrt()).abs() < 1e-12);
+        assert!((p.phi.unwrap() - d(31.0)).abs() < d(0.1));
+    }
+
+    /// Two estimates 10 σ apart: the mean's σ is widened by the Birge ratio √(χ²/(N-1)).
+    #[test]
+    fn disagreeing_observations_widen_the_sigma() {
+        let p = fused(&[(0.50, 0.01), (0.60, 0.01)]);
+        let chi2: f64 = 2.0 * (0.05f64 / 0.01).powi(2);
+        let expected = (chi2 / 1.0 / (2.0 / (1e-4 + 1e-12))).sqrt();
+        assert!((p.phi_sigma.unwrap() - expected).abs() < 1e-9);
+        assert!(p.phi_sigma.unwrap() > 0.04);
+    }
+
+    /// Honest observations of mixed precision give an honest fused σ: over many trials the
+    /// median |error| / σ is near 0.674.
+    #[test]
+    fn the_fused_sigma_is_honest_for_honest_observations() {
+        let mut rng = StdRng::seed_from_u64(17);
+        let mut z: Vec<f64> = (0..2000)
+            .map(|_| {
+                let n = rng.random_range(2..7);
+                let obs: Vec<(f64, f64)> = (0..n)
+                    .map(|_| {
+                        let s = 10f64.powf(rng.random_range(-2.5..-1.0));
+                        let e: f64 = StandardNormal.sample(&mut rng);
+                        (0.5 + s * e, s)
+                    })
+                    .collect();
+                let p = fused(&obs);
+                (p.phi.unwrap() - 0.5).abs() / p.phi_sigma.unwrap()
+            })
+            .collect();
+        z.sort_by(f64::total_cmp);
+        let median = z[z.len() / 2];
+        assert!((0.5..0.75).contains(&median), "median |z| {median:.3}");
+        assert!(z[z.len() - 1] < 5.0, "max |z| {:.2}", z[z.len() - 1]);
     }
 }
