@@ -13,7 +13,7 @@
 
 use anyhow::Result;
 use nalgebra::{Matrix3, Vector3};
-use objmodel_sim::claims::{learn_boxes, truth_body};
+use objmodel_sim::claims::{learn_boxes, truth_body, DemoSet};
 use std::path::PathBuf;
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -28,7 +28,7 @@ fn main() -> Result<()> {
     let data = PathBuf::from(std::env::args().nth(1).expect("DATA_DIR"));
     for noise in ["clean", "mocap", "real", "noisy"] {
         let (mut z_all, mut zphi_all, mut zlp_all) = (Vec::new(), Vec::new(), Vec::new());
-        for (spec, tree, demos) in learn_boxes(&data, noise, true)? {
+        for (spec, tree, demos) in learn_boxes(&data, noise, DemoSet::All)? {
             if demos == 0 {
                 continue;
             }

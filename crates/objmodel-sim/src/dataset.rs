@@ -37,6 +37,11 @@ pub struct DatasetPlan {
     pub turned: Vec<(Turn, SceneKind)>,
     /// Rates.
     pub options: SimOptions,
+    /// Whether the instrumented topples of seed `s` tilt towards the downhill edge `s - 1`
+    /// (`s + 1` with the box turned; see [`SimOptions::edge`]) rather than a random one
+    /// (`options.edge`).
+    #[serde(default)]
+    pub edges_by_seed: bool,
     /// Worker threads (scenes run in parallel).
     pub threads: usize,
     /// Messy scenes made for every box besides `kinds`: each kind with its number of seeds
@@ -90,8 +95,10 @@ pub fn standard_boxes() -> Vec<BoxSpec> {
 }
 
 /// The standard plan: 5 boxes × 5 kinds × (clean, real, noisy) × 3 seeds; the topples again
-/// with each box upside down (direct and instrumented) and standing on either `x` end (direct;
-/// left out for a box too wide to topple so); and besides: topple-then-slide compounds (2
+/// with each box upside down (direct and instrumented), standing on either `x` end (direct)
+/// and on its `+x` end (instrumented), each left out for a box that cannot topple so; the
+/// instrumented topples of the three seeds towards three different edges
+/// ([`DatasetPlan::edges_by_seed`]); and besides: topple-then-slide compounds (2
 /// seeds per box), one session per box, 3 tosses per box, and motion-capture versions of the
 /// instrumented topples, both compounds, the sessions and the tosses. `quick` keeps 4 boxes,
 /// 1 seed, no turned boxes and only the original five kinds. [`with_tosses`] sets the tosses
@@ -116,10 +123,12 @@ pub fn standard_dataset(quick: bool) -> DatasetPlan {
                 (Turn::UpsideDown, SceneKind::Topple),
                 (Turn::UpsideDown, SceneKind::InstrumentedTopple),
                 (Turn::OnPosX, SceneKind::Topple),
+                (Turn::OnPosX, SceneKind::InstrumentedTopple),
                 (Turn::OnNegX, SceneKind::Topple),
             ]
         },
         options: SimOptions::default(),
+        edges_by_seed: true,
         threads: std::thread::available_parallelism()
             .map(|n| n.get())
             .unwrap_or(1)
@@ -255,7 +264,17 @@ fn run_cell(
     let mut last_err = String::new();
     for attempt in 0..4u64 {
         let s = seed + 1000 * attempt;
-        let out = match run_scene(kind, b, s, &plan.options) {
+        let options = SimOptions {
+            // A turned box starts two edges further on: the edges diagonally opposite the
+            // upright box's would put the same plane through a centred CoM.
+            edge: if plan.edges_by_seed {
+                Some((seed as usize).saturating_sub(1) + if turn.is_some() { 2 } else { 0 })
+            } else {
+                plan.options.edge
+            },
+            ..plan.options
+        };
+        let out = match run_scene(kind, b, s, &options) {
             Ok(out) => out,
             // Not every box can do every kind turned (a box too wide to topple standing on its
             // end): that cell is left out.
@@ -287,7 +306,7 @@ fn run_cell(
                     None => {
                         let opts = SimOptions {
                             rate_hz: rate,
-                            ..plan.options
+                            ..options
                         };
                         clean_demo(kind, b, s, &out, &opts)
                     }

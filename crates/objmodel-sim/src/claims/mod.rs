@@ -130,13 +130,32 @@ fn face_name(f: BoxFace) -> String {
     format!("{}{}", if s > 0.0 { '+' } else { '-' }, ['x', 'y', 'z'][k])
 }
 
-/// The trees learnt from the data set in `dir`: per box, all its demonstrations at `noise`
-/// (without those of the box turned onto another face unless `with_turned`).
-pub fn learn_boxes(
-    dir: &Path,
-    noise: &str,
-    with_turned: bool,
-) -> Result<Vec<(BoxSpec, Tree, usize)>> {
+/// Which of a box's demonstrations [`learn_boxes`] learns.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DemoSet {
+    /// All of them.
+    All,
+    /// Those that start with the box upright (none turned onto another face).
+    Upright,
+    /// Those without a tracked palm: the pushes, slides, carries and tosses, no instrumented
+    /// topple.
+    WithoutPalm,
+}
+
+impl DemoSet {
+    /// Whether the set holds the demonstration `m`.
+    pub fn holds(self, m: &crate::dataset::ManifestEntry) -> bool {
+        match self {
+            DemoSet::All => true,
+            DemoSet::Upright => m.turned.is_none(),
+            DemoSet::WithoutPalm => !m.instrumented,
+        }
+    }
+}
+
+/// The trees learnt from the data set in `dir`: per box, its demonstrations in `set` at
+/// `noise`.
+pub fn learn_boxes(dir: &Path, noise: &str, set: DemoSet) -> Result<Vec<(BoxSpec, Tree, usize)>> {
     let manifest: Manifest = serde_json::from_str(
         &std::fs::read_to_string(dir.join("manifest.json"))
             .with_context(|| format!("reading {}", dir.join("manifest.json").display()))?,
@@ -149,7 +168,7 @@ pub fn learn_boxes(
             .demos
             .iter()
             .filter(|m| m.r#box == spec.name && m.noise == noise)
-            .filter(|m| with_turned || m.turned.is_none())
+            .filter(|m| set.holds(m))
             .collect();
         for m in &demos {
             let object = dir.join(&m.tum);

@@ -52,7 +52,7 @@ pub const MAX_OVERHANG: f64 = 0.0;
 
 /// Largest tipping angle admitted \[rad\] (30°): steeper boxes land hard and tumble on a
 /// 20 cm palm, and the simulated user's demonstration on the plate often fails above it too
-/// (the scene's own limit is 33°, [`instrumented::MAX_PHI`]).
+/// (the scene's own limit is 36°, [`instrumented::MAX_PHI`]).
 pub const MAX_PHI_TASK: f64 = std::f64::consts::FRAC_PI_6;
 
 /// Friction of the shipped palm (see [`ArmSimOptions`]).
