@@ -598,3 +598,38 @@ fn an_undetermined_phi_is_not_reported() {
     }
     assert_eq!(dy[0].phi, None);
 }
+
+/// An edge's point is never known better than the contact's own wander (the model tolerance,
+/// `edge_tolerance_m`): a rounded edge or a soft contact moves the pivot along one trajectory
+/// per demonstration, which does not average down over its frames. On exact poses and at real
+/// noise, every topple's edge point has σ ≥ 0.3 mm along both axes normal to the line.
+#[test]
+fn edge_points_are_never_known_better_than_the_contact_tolerance() {
+    let tol = Config::default().robust.edge_tolerance_m;
+    let mut n = 0;
+    for noise in [SynthNoise::CLEAN, SynthNoise::REAL] {
+        for d in demos(0, 10, &noise) {
+            let c = classify(&d.demo, &Config::default()).unwrap();
+            for e in c.edges() {
+                let u = e.line.direction;
+                let a = u.cross(&Vector3::x());
+                let a = if a.norm() < 0.5 {
+                    u.cross(&Vector3::y())
+                } else {
+                    a
+                }
+                .normalize();
+                for axis in [a, u.cross(&a)] {
+                    let var = axis.dot(&(e.point_cov * axis));
+                    assert!(
+                        var.sqrt() >= tol * (1.0 - 1e-9),
+                        "{}: σ {var:e}",
+                        d.demo.name
+                    );
+                }
+                n += 1;
+            }
+        }
+    }
+    assert!(n >= 15, "{n} edges");
+}

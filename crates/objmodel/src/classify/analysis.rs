@@ -332,7 +332,11 @@ pub(super) fn analyse_segment(
             + (noise.sigma_rotation * e.line.point.norm()).powi(2))
             / seg.n_ref)
             .sqrt();
-        topple_systematic_var = systematic_point_var(blocks, &topple_blocks, &e.line, sigma_ref);
+        // At least the contact's own wander (the model tolerance: a rounded edge, a soft
+        // contact), which is one trajectory per demonstration and does not average down over
+        // its frames; more where the split-half lack of fit shows the pivot moved more.
+        topple_systematic_var = systematic_point_var(blocks, &topple_blocks, &e.line, sigma_ref)
+            .max(config.robust.edge_tolerance_m.powi(2));
         e.add_systematic_point_var(topple_systematic_var);
     }
     let turned_too_little = edge

@@ -142,7 +142,9 @@ pub struct RobustConfig {
     /// Tracking noise; `None` estimates it from the data.
     pub noise: Option<NoiseModel>,
     /// Model tolerance \[m\]: how far a real contact line may wander (rounded edges, compliant
-    /// surfaces, micro-slip) and still count as one edge; added in quadrature to the noise.
+    /// surfaces, micro-slip) and still count as one edge; added in quadrature to the noise of
+    /// each frame, and the least systematic error of a topple's edge point (one trajectory per
+    /// demonstration: it does not average down over the frames).
     pub edge_tolerance_m: f64,
     /// Model tolerance \[rad\] on directions (edge direction, plane normal).
     pub edge_tolerance_rad: f64,
