@@ -31,6 +31,18 @@ pub struct CreepSlip {
     pub slip_m: f64,
 }
 
+impl CreepSlip {
+    /// No creep, lag or slip: the box rides the palm rigidly until it falls over its edge
+    /// ([`super::instrumented_topple`]).
+    pub const NONE: CreepSlip = CreepSlip {
+        creep_m: 0.0,
+        creep_steps: 1,
+        lag_rad: 0.0,
+        slip_from: 0.0,
+        slip_m: 0.0,
+    };
+}
+
 impl Default for CreepSlip {
     /// MuJoCo's palm topples: 1.5 mm of creep in 3 steps, 0.6° of lag, a 3 mm slip past 45°.
     fn default() -> Self {
@@ -57,6 +69,31 @@ pub fn instrumented_creep_topple(
     rate: f64,
     seed: u64,
 ) -> SynthDemo {
+    palm_topple(
+        b,
+        side,
+        tilt_rate,
+        cs,
+        noise,
+        rate,
+        seed,
+        "instrumented_creep",
+    )
+}
+
+/// The palm topple of [`instrumented_creep_topple`], named `{name}_{seed}`; with
+/// [`CreepSlip::NONE`] it is [`super::instrumented_topple`].
+#[allow(clippy::too_many_arguments)]
+pub(super) fn palm_topple(
+    b: &SynthBox,
+    side: usize,
+    tilt_rate: f64,
+    cs: &CreepSlip,
+    noise: &SynthNoise,
+    rate: f64,
+    seed: u64,
+    name: &str,
+) -> SynthDemo {
     let mut rng = StdRng::seed_from_u64(seed);
     let (edge, dir, out) = side_edge(&b.half, side);
     let phi = tipping_angle(&b.half, side);
@@ -74,6 +111,8 @@ pub fn instrumented_creep_topple(
         ),
         UnitQuaternion::from_scaled_axis(Vector3::z() * rng.random_range(-3.0..3.0)),
     );
+    // The palm tilts about the box's edge direction (expressed in the palm frame), so that the
+    // box's `side` goes downhill.
     let tilt_axis = palm_from_box0.rotation * dir;
     let ts = times(rate, rest, tilt_s + fall_s);
     let t0 = ts[0];
@@ -116,7 +155,7 @@ pub fn instrumented_creep_topple(
     let face_n = b.box_from_tag.inverse() * -Vector3::z();
     SynthDemo {
         demo: Demonstration {
-            name: format!("instrumented_creep_{seed}"),
+            name: format!("{name}_{seed}"),
             object: add_noise(&object, noise, &mut rng),
             palm: Some(add_noise(&palm, noise, &mut rng)),
         },

@@ -360,61 +360,16 @@ pub fn instrumented_topple(
     rate: f64,
     seed: u64,
 ) -> SynthDemo {
-    let mut rng = StdRng::seed_from_u64(seed);
-    let (edge, dir, out) = side_edge(&b.half, side);
-    let phi = tipping_angle(&b.half, side);
-    let (rest, fall_s) = (1.0, 0.3);
-    let tilt_s = phi / tilt_rate;
-    let palm0 = Isometry3::from_parts(
-        Translation3::new(0.5, 0.0, 0.3),
-        UnitQuaternion::from_scaled_axis(Vector3::z() * rng.random_range(-3.0..3.0)),
-    );
-    let palm_from_box0 = Isometry3::from_parts(
-        Translation3::new(
-            rng.random_range(-0.02..0.02),
-            rng.random_range(-0.02..0.02),
-            b.half.z,
-        ),
-        UnitQuaternion::from_scaled_axis(Vector3::z() * rng.random_range(-3.0..3.0)),
-    );
-    // The palm tilts about the box's edge direction (expressed in the palm frame), so that the
-    // box's `side` goes downhill.
-    let tilt_axis = palm_from_box0.rotation * dir;
-    let ts = times(rate, rest, tilt_s + fall_s);
-    let t0 = ts[0];
-    let mut object = Vec::with_capacity(ts.len());
-    let mut palm = Vec::with_capacity(ts.len());
-    for &t in &ts {
-        let s = t - t0 - rest;
-        let beta = tilt_rate * s.clamp(0.0, tilt_s);
-        let world_from_palm =
-            palm0 * Isometry3::from_parts(Translation3::identity(), so3_exp(&(tilt_axis * beta)));
-        let x = ((s - tilt_s) / fall_s).clamp(0.0, 1.0);
-        let alpha = (FRAC_PI_2 - 0.0) * x * x;
-        let palm_from_box = palm_from_box0 * topple_motion(&edge, &dir, &out, alpha, 0.0);
-        object.push(StampedPose::new(
-            t,
-            world_from_palm * palm_from_box * b.box_from_tag,
-        ));
-        palm.push(StampedPose::new(t, world_from_palm));
-    }
-    let face_n = b.box_from_tag.inverse() * -Vector3::z();
-    SynthDemo {
-        demo: Demonstration {
-            name: format!("instrumented_{seed}"),
-            object: add_noise(&object, noise, &mut rng),
-            palm: Some(add_noise(&palm, noise, &mut rng)),
-        },
-        truth: SynthTruth {
-            kind: Kind::Topple,
-            edge: Some(b.tag_line(edge, dir)),
-            face: Some((
-                face_n,
-                face_n.dot(&(b.box_from_tag.inverse() * nalgebra::Point3::from(edge)).coords),
-            )),
-            phi: Some(phi),
-        },
-    }
+    creep::palm_topple(
+        b,
+        side,
+        tilt_rate,
+        &CreepSlip::NONE,
+        noise,
+        rate,
+        seed,
+        "instrumented",
+    )
 }
 
 /// A slide: over `duration` \[s\] the box translates by up to 15 cm and turns by up to ±60°
