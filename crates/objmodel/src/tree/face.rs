@@ -153,7 +153,7 @@ impl Face {
 /// `χ² / (N - 1)` when that exceeds 1, else 1. Offsets that scatter beyond their own sigmas (a
 /// systematic error that differs between demonstrations, or two different faces within the
 /// match gate) widen the mean's sigma by it; it never shrinks below the propagated one.
-fn birge_ratio(values: &[(f64, f64)], mean: f64) -> f64 {
+pub(super) fn birge_ratio(values: &[(f64, f64)], mean: f64) -> f64 {
     if values.len() < 2 {
         return 1.0;
     }

@@ -58,33 +58,17 @@ pub struct PendulumObservation {
 
 impl Pendulum {
     pub(crate) fn refit(&mut self) {
-        let w: Vec<f64> = self
+        // (φ, weight) of each observation.
+        let values: Vec<(f64, f64)> = self
             .observations
             .iter()
-            .map(|o| 1.0 / (o.phi_sigma.powi(2) + 1e-12))
+            .map(|o| (o.phi, 1.0 / (o.phi_sigma.powi(2) + 1e-12)))
             .collect();
-        let sw: f64 = w.iter().sum();
-        let phi = self
-            .observations
-            .iter()
-            .zip(&w)
-            .map(|(o, w)| o.phi * w)
-            .sum::<f64>()
-            / sw;
+        let sw: f64 = values.iter().map(|(_, w)| w).sum();
+        let phi = values.iter().map(|(p, w)| p * w).sum::<f64>() / sw;
         // The observations' disagreement beyond their sigmas (the Birge ratio: χ² per degree
         // of freedom, when above 1) widens the weighted mean's variance.
-        let n = self.observations.len() as f64;
-        let chi2: f64 = self
-            .observations
-            .iter()
-            .zip(&w)
-            .map(|(o, w)| w * (o.phi - phi).powi(2))
-            .sum();
-        let birge = if n > 1.0 {
-            (chi2 / (n - 1.0)).max(1.0)
-        } else {
-            1.0
-        };
+        let birge = super::face::birge_ratio(&values, phi);
         self.phi = Some(phi);
         self.phi_sigma = Some((birge / sw).sqrt());
         let ratios: Vec<f64> = self
