@@ -88,12 +88,13 @@ fn a_topple_s_parts_say_what_they_taught() {
     assert_eq!(json["parts"][0]["kind"], "rest");
 }
 
-/// The edge of a MuJoCo instrumented topple (`bench/mujoco_probe.py`, a palm tilting under a
-/// box; soft contacts) and how its segment was re-measured, against the probe's truth.
-fn mujoco_palm_topple(name: &str) -> (f64, String) {
+/// A MuJoCo instrumented topple (`bench/mujoco_probe.py`, a palm tilting under a box; soft
+/// contacts; `tests/data/NAME.tum`, `.palm.tum`, `.truth.json`), classified, and the probe's
+/// true edge.
+fn classify_mujoco_palm_topple(
+    name: &str,
+) -> (objmodel::classify::Classification, objmodel::geometry::Line) {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
-    let object = dir.join(format!("{name}.tum"));
-    let palm = dir.join(format!("{name}.palm.tum"));
     let truth: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(dir.join(format!("{name}.truth.json"))).unwrap(),
     )
@@ -106,17 +107,23 @@ fn mujoco_palm_topple(name: &str) -> (f64, String) {
             a[2].as_f64().unwrap(),
         )
     };
-    let (p, u) = (v("point"), v("direction"));
+    let truth = objmodel::geometry::Line::through(v("point"), v("direction"));
     let c = Learner::new(Config::default())
         .classify(&Source::Files {
-            object: &object,
-            palm: Some(&palm),
+            object: &dir.join(format!("{name}.tum")),
+            palm: Some(&dir.join(format!("{name}.palm.tum"))),
         })
         .unwrap();
+    (c, truth)
+}
+
+/// The edge of a MuJoCo instrumented topple ([`classify_mujoco_palm_topple`]): its distance
+/// from the truth \[mm\], and how its segment was re-measured.
+fn mujoco_palm_topple(name: &str) -> (f64, String) {
+    let (c, truth) = classify_mujoco_palm_topple(name);
     let edges: Vec<_> = c.edges().collect();
     assert_eq!(edges.len(), 1, "{name}: {:?}", c.parts);
-    let off = edges[0].line.point - p;
-    let dist_mm = (off - u * off.dot(&u)).norm() * 1e3;
+    let dist_mm = truth.distance_to(&edges[0].line.point) * 1e3;
     let seg = c.segments.iter().find(|s| s.edge.is_some()).unwrap();
     (dist_mm, seg.remeasured.clone().unwrap_or_default())
 }
@@ -221,29 +228,11 @@ fn a_precise_palm_topple_with_a_creep_and_a_slip_is_within_2_mm_or_withheld() {
     assert!(taught * 4 >= total * 3, "{taught} of {total} taught");
 }
 
-/// The edges a MuJoCo instrumented topple (`bench/mujoco_probe.py`) teaches, each as its
-/// distance from the probe's truth and its σ (RMS per axis) \[mm\], and the kind classified.
+/// The edges a MuJoCo instrumented topple ([`classify_mujoco_palm_topple`]) teaches, each as
+/// its distance from the probe's truth and its σ (RMS per axis) \[mm\], and the kind
+/// classified.
 fn mujoco_palm_edges(name: &str) -> (objmodel::classify::Kind, Vec<(f64, f64)>) {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
-    let truth: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(dir.join(format!("{name}.truth.json"))).unwrap(),
-    )
-    .unwrap();
-    let v = |k: &str| {
-        let a = truth["edge"][k].as_array().unwrap();
-        Vector3::new(
-            a[0].as_f64().unwrap(),
-            a[1].as_f64().unwrap(),
-            a[2].as_f64().unwrap(),
-        )
-    };
-    let truth = objmodel::geometry::Line::through(v("point"), v("direction"));
-    let c = Learner::new(Config::default())
-        .classify(&Source::Files {
-            object: &dir.join(format!("{name}.tum")),
-            palm: Some(&dir.join(format!("{name}.palm.tum"))),
-        })
-        .unwrap();
+    let (c, truth) = classify_mujoco_palm_topple(name);
     let edges = c
         .edges()
         .map(|e| {
