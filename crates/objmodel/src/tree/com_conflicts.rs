@@ -139,12 +139,17 @@ mod tests {
         (0, 1.0, 1, -1.0),
     ];
 
-    #[test]
-    fn planes_that_agree_are_all_kept_and_give_the_com() {
-        let (h, com) = (
+    /// The test box: half extents and CoM \[m\].
+    fn test_box() -> (Vector3<f64>, Vector3<f64>) {
+        (
             Vector3::new(0.03, 0.04, 0.06),
             Vector3::new(0.004, -0.003, -0.01),
-        );
+        )
+    }
+
+    #[test]
+    fn planes_that_agree_are_all_kept_and_give_the_com() {
+        let (h, com) = test_box();
         let planes = exact_planes(&h, &com, &EDGES, 0.5f64.to_radians());
         let (c, left_out) = com_without_conflicts(&planes).unwrap();
         assert!(left_out.is_empty(), "{left_out:?}");
@@ -157,10 +162,7 @@ mod tests {
     /// the others'.
     #[test]
     fn a_pendulum_far_from_the_others_is_left_out_and_told_its_phi() {
-        let (h, com) = (
-            Vector3::new(0.03, 0.04, 0.06),
-            Vector3::new(0.004, -0.003, -0.01),
-        );
+        let (h, com) = test_box();
         let s = 0.5f64.to_radians();
         for bad in 0..EDGES.len() {
             let mut planes = exact_planes(&h, &com, &EDGES, s);
@@ -180,10 +182,7 @@ mod tests {
     /// Within its σ a plane is kept: 2σ off is no contradiction.
     #[test]
     fn a_pendulum_within_its_sigma_is_kept() {
-        let (h, com) = (
-            Vector3::new(0.03, 0.04, 0.06),
-            Vector3::new(0.004, -0.003, -0.01),
-        );
+        let (h, com) = test_box();
         let s = 0.5f64.to_radians();
         let mut planes = exact_planes(&h, &com, &EDGES, s);
         planes[0].phi += 2.0 * s;
@@ -195,10 +194,7 @@ mod tests {
     /// Three planes always meet: none can be left out, however wrong.
     #[test]
     fn three_planes_cannot_contradict_each_other() {
-        let (h, com) = (
-            Vector3::new(0.03, 0.04, 0.06),
-            Vector3::new(0.004, -0.003, -0.01),
-        );
+        let (h, com) = test_box();
         let mut planes = exact_planes(&h, &com, &[EDGES[0], EDGES[2], EDGES[5]], 1e-3);
         planes[0].phi -= 0.3;
         let (c, left_out) = com_without_conflicts(&planes).unwrap();
