@@ -48,6 +48,7 @@ pub use crate::classify::Config;
 use crate::classify::{classify, Classification};
 use crate::format::bag::{read_bag_demonstrations, BagSelection};
 use crate::format::{conversion_warning, detect_time_unit_of, to_seconds, TimeUnit};
+use crate::noise::NoiseModel;
 use crate::observation::Observation;
 use crate::recording::{Recorder, Recording, DEFAULT_CAPACITY};
 use crate::trajectory::Demonstration;
@@ -152,7 +153,26 @@ impl Learner {
     /// The classification of files or poses in memory, checked against the frames kept
     /// ([`Learner::check`]), and those frames.
     fn classify_recorded(&self, source: &Source) -> Result<(Classification, Recording)> {
-        let (mut c, recording) = match *source {
+        let (c, recording) = self.classify_once(source)?;
+        let c = self.checked(c, &recording, |config| match *source {
+            Source::Files { object, palm } => {
+                crate::classify::classify_files_recording(object, palm, config, None)
+            }
+            Source::Memory(demo) => {
+                let (demo, warnings) = self.on_one_clock(demo);
+                let mut c = classify(&demo, config)?;
+                c.warnings.splice(0..0, warnings);
+                Ok(c)
+            }
+            Source::Bag { .. } => unreachable!("bags are split first (observe_all)"),
+        })?;
+        Ok((c, recording))
+    }
+
+    /// The classification of files or poses in memory, and the frames kept, with the noise
+    /// estimated from the first frames (or given).
+    fn classify_once(&self, source: &Source) -> Result<(Classification, Recording)> {
+        Ok(match *source {
             Source::Files { object, palm } => {
                 let mut recorder = Recorder::new(self.capacity);
                 let c = crate::classify::classify_files_recording(
@@ -170,18 +190,96 @@ impl Learner {
                 (c, Recording::of(&demo, self.capacity))
             }
             Source::Bag { .. } => unreachable!("bags are split first (observe_all)"),
+        })
+    }
+
+    /// `first`, the classification with the noise estimated from the first frames (or given),
+    /// checked against the kept frames ([`Learner::check`]); or, where those frames measured
+    /// the motion and a rest measures the noise ([`Learner::noise_check`]), the classification
+    /// `again` makes with the rest's noise, checked.
+    fn checked(
+        &self,
+        first: Classification,
+        recording: &Recording,
+        again: impl FnOnce(&Config) -> Result<Classification>,
+    ) -> Result<Classification> {
+        let rest = match self.noise_check(&first, recording) {
+            NoiseCheck::OnRest(rest) => rest,
+            check => {
+                let mut c = first;
+                self.check(&mut c, recording, matches!(check, NoiseCheck::Unmeasurable));
+                return Ok(c);
+            }
         };
-        self.check(&mut c, &recording);
-        Ok((c, recording))
+        let learner = Learner {
+            config: rest.config(&self.config),
+            capacity: self.capacity,
+        };
+        let mut c = rest.reclassified(again(&learner.config)?);
+        learner.check(&mut c, recording, false);
+        Ok(c)
+    }
+
+    /// Whether the noise the classification `c` used measures the tracker: estimated (none
+    /// given) from first frames whose motion dominates their second differences
+    /// ([`Learner::noise_unmeasurable`]), it may be the motion's (10 mm for 1 mm at 30 Hz, for
+    /// a thrown object whose file starts in flight), and then every test passes everything, a
+    /// 3-frame "topple" among them. Without a rest as long as the rest test's window, the noise
+    /// is unmeasurable. With one, the longest rest measures it (its first half window dropped:
+    /// with the motion's noise a motion's end is found late or early, and its last frames may
+    /// still be in the "rest"), and where the first frames' estimate exceeds the rest's beyond
+    /// their sampling errors ([`crate::noise::exceeds`]), the rest's is the noise. Otherwise
+    /// the first frames' estimate stands (a demonstration shorter than the warm-up holds its
+    /// motion among the first frames, and its rests keep the estimate at the noise).
+    fn noise_check(&self, c: &Classification, recording: &Recording) -> NoiseCheck {
+        if !self.noise_unmeasurable(recording) {
+            return NoiseCheck::Measured;
+        }
+        let robust = &self.config.robust;
+        let window = robust.rest_window_s;
+        let Some((t0, t1)) = longest_rest(c, recording).filter(|(a, b)| b - a >= window) else {
+            return NoiseCheck::Unmeasurable;
+        };
+        let measured = (t0 + 0.5 * window, t1);
+        let samples: Vec<crate::noise::PoseSample> = recording
+            .object
+            .iter()
+            .filter(|f| f.t > measured.0 && f.t < measured.1)
+            .map(|f| (f.t, f.rotation, f.position))
+            .collect();
+        let tolerance = (robust.edge_tolerance_m, robust.edge_tolerance_rad);
+        let first_frames = recording.object.len().min(robust.warmup_frames.max(3));
+        match (crate::noise::estimate(&samples), c.noise) {
+            (Some(noise), Some(first))
+                if !crate::noise::motion_dominated(&samples, robust.alpha, tolerance)
+                    && crate::noise::exceeds(
+                        &first,
+                        first_frames,
+                        &noise,
+                        samples.len(),
+                        robust.alpha,
+                    ) =>
+            {
+                NoiseCheck::OnRest(RestNoise {
+                    noise,
+                    first,
+                    measured,
+                })
+            }
+            _ => NoiseCheck::Measured,
+        }
     }
 
     /// What the kept frames say of a classification: nothing is taught when the noise could
-    /// not be measured ([`Learner::noise_unmeasurable`]), and the rests that a motion reached
-    /// are tested against that motion measured back from them ([`crate::arrival`]).
-    fn check(&self, classification: &mut Classification, recording: &Recording) {
-        let unmeasurable =
-            !has_long_rest(classification, recording, self.config.robust.rest_window_s)
-                && self.noise_unmeasurable(recording);
+    /// not be measured (`unmeasurable`, see [`Learner::noise_check`]), and the rests that a
+    /// motion reached are tested against that motion measured back from them
+    /// ([`crate::arrival`]).
+    fn check(
+        &self,
+        classification: &mut Classification,
+        recording: &Recording,
+        unmeasurable: bool,
+    ) {
         if unmeasurable {
             classification.withhold_all(
                 "the tracking noise cannot be estimated from this demonstration: the motion \
@@ -248,16 +346,20 @@ impl Learner {
             .map(|b| {
                 // The palm's offset is applied, and bag stamps are seconds (sec, nanosec).
                 let demo = &b.demo;
-                let mut c = classify(demo, &self.config).map_err(|e| match e {
+                let in_file = |e| match e {
                     crate::Error::Data(msg) => crate::Error::File {
                         file: path.to_path_buf(),
                         msg: format!("{}: {msg}", b.demo.name),
                     },
                     e => e,
-                })?;
-                c.warnings.splice(0..0, b.warnings.iter().cloned());
+                };
+                let classified = |config: &Config| {
+                    let mut c = classify(demo, config).map_err(in_file)?;
+                    c.warnings.splice(0..0, b.warnings.iter().cloned());
+                    Ok(c)
+                };
                 let recording = Recording::of(demo, self.capacity);
-                self.check(&mut c, &recording);
+                let c = self.checked(classified(&self.config)?, &recording, classified)?;
                 Ok(self.with_dynamics(c, recording))
             })
             .collect()
@@ -390,20 +492,68 @@ impl Learner {
     }
 }
 
-/// Whether the demonstration rests, somewhere, for at least the rest test's window: then its
-/// frames at rest show the noise by themselves, and the estimate is not the motion's (a fast
-/// fall between long rests measured no differently).
-fn has_long_rest(c: &Classification, recording: &Recording, window_s: f64) -> bool {
-    let (Some(first), Some(last)) = (recording.object.first(), recording.object.last()) else {
-        return false;
-    };
-    if c.segments.is_empty() {
-        return last.t - first.t >= window_s;
+/// What [`Learner::noise_check`] found.
+enum NoiseCheck {
+    /// The noise was given, or the first frames measured it.
+    Measured,
+    /// The first frames measured the motion; a rest measured the noise.
+    OnRest(RestNoise),
+    /// The first frames measured the motion, and no rest measures the noise.
+    Unmeasurable,
+}
+
+/// The tracking noise measured on a rest, in place of the first frames' estimate.
+struct RestNoise {
+    noise: NoiseModel,
+    first: NoiseModel,
+    /// The span \[s\] of the frames it was measured on.
+    measured: (f64, f64),
+}
+
+impl RestNoise {
+    /// `config` with this noise given.
+    fn config(&self, config: &Config) -> Config {
+        let mut config = *config;
+        config.robust.noise = Some(self.noise);
+        config
     }
-    let mut gaps = vec![c.segments[0].t_start - first.t];
-    gaps.extend(c.segments.windows(2).map(|w| w[1].t_start - w[0].t_end));
-    gaps.push(last.t - c.segments[c.segments.len() - 1].t_end);
-    gaps.iter().any(|&g| g >= window_s)
+
+    /// The classification made with this noise, saying where the noise came from.
+    fn reclassified(&self, mut c: Classification) -> Classification {
+        let mm = |n: &NoiseModel| n.sigma_position * 1e3;
+        let deg = |n: &NoiseModel| n.sigma_rotation.to_degrees();
+        c.warnings.insert(
+            0,
+            format!(
+                "the tracking noise was measured on the rest at {:.2}-{:.2} s ({:.2} mm, \
+                 {:.2} deg): the first frames are motion, whose second differences gave \
+                 {:.2} mm, {:.2} deg",
+                self.measured.0,
+                self.measured.1,
+                mm(&self.noise),
+                deg(&self.noise),
+                mm(&self.first),
+                deg(&self.first)
+            ),
+        );
+        c
+    }
+}
+
+/// The longest time \[s\] between the demonstration's motion segments (or before the first,
+/// or after the last), as (start, end); `None` without frames.
+fn longest_rest(c: &Classification, recording: &Recording) -> Option<(f64, f64)> {
+    let (first, last) = (recording.object.first()?, recording.object.last()?);
+    let mut bounds = vec![first.t];
+    for s in &c.segments {
+        bounds.push(s.t_start);
+        bounds.push(s.t_end);
+    }
+    bounds.push(last.t);
+    bounds
+        .chunks(2)
+        .map(|w| (w[0], w[1]))
+        .max_by(|a, b| (a.1 - a.0).total_cmp(&(b.1 - b.0)))
 }
 
 /// What a demonstration without motion is told.

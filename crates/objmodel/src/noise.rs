@@ -107,6 +107,17 @@ pub fn motion_dominated(samples: &[PoseSample], alpha: f64, tolerance: (f64, f64
     )
 }
 
+/// Whether the estimate `a` (from `n_a` consecutive samples) exceeds `b` (from `n_b`), in
+/// position or rotation, by more than their sampling errors allow: one-sided at the normal
+/// quantile of `alpha`, on the log scale, with the relative standard error of each about
+/// `1.17 / √m` for its `m = 3 (n - 2)` residuals (the median-based sigma's).
+pub fn exceeds(a: &NoiseModel, n_a: usize, b: &NoiseModel, n_b: usize, alpha: f64) -> bool {
+    let m = |n: usize| 3.0 * (n as f64 - 2.0).max(1.0);
+    let se = 1.17 * (1.0 / m(n_a) + 1.0 / m(n_b)).sqrt();
+    let limit = (crate::stats::normal_quantile(1.0 - alpha) * se).exp();
+    a.sigma_position > limit * b.sigma_position || a.sigma_rotation > limit * b.sigma_rotation
+}
+
 /// Robust per-axis sigmas (position, rotation) of the residuals of each frame from the
 /// geodesic midpoint of the frames `lag` before and after it, scaled by their variance factor
 /// for white noise. `None` with fewer than `2 lag + 1` samples.
@@ -257,5 +268,38 @@ mod tests {
         assert!(!motion_dominated(&samples(30.0, 600, 0.0), 1e-3, tol));
         // (A flight whose estimate was its curvature: tests/compound.rs, on a rapier toss.)
         assert!(!motion_dominated(&samples(240.0, 240, 1.0), 1e-3, tol));
+    }
+
+    /// Two estimates of the same noise at rest, each from its own samples, do not exceed each
+    /// other beyond the level (rarely, over 400 pairs); twice the noise does, with enough
+    /// samples, and not with too few to tell.
+    #[test]
+    fn one_estimate_exceeds_another_only_beyond_sampling_error() {
+        let mut rng = StdRng::seed_from_u64(4);
+        let at_rest = |n: usize, sp: f64, sr: f64, rng: &mut StdRng| {
+            let v: Vec<PoseSample> = (0..n)
+                .map(|k| {
+                    let g = |rng: &mut StdRng, s: f64| {
+                        Vector3::from_fn(|_, _| rng.sample::<f64, _>(StandardNormal) * s)
+                    };
+                    let q = UnitQuaternion::from_scaled_axis(g(rng, sr));
+                    (k as f64 / 30.0, q, g(rng, sp))
+                })
+                .collect();
+            estimate(&v).unwrap()
+        };
+        let mut false_alarms = 0;
+        for _ in 0..400 {
+            let n_a = rng.random_range(20..300);
+            let n_b = rng.random_range(15..60);
+            let a = at_rest(n_a, 1e-3, 8.7e-3, &mut rng);
+            let b = at_rest(n_b, 1e-3, 8.7e-3, &mut rng);
+            false_alarms += exceeds(&a, n_a, &b, n_b, 1e-3) as usize;
+        }
+        assert!(false_alarms <= 4, "{false_alarms} of 400");
+        let twice = at_rest(200, 2e-3, 8.7e-3, &mut rng);
+        let once = at_rest(30, 1e-3, 8.7e-3, &mut rng);
+        assert!(exceeds(&twice, 200, &once, 30, 1e-3));
+        assert!(!exceeds(&twice, 4, &once, 4, 1e-3));
     }
 }
