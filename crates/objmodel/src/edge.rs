@@ -54,6 +54,15 @@ impl EdgeObservation {
         }
     }
 
+    /// Add a per-axis variance \[rad²\] normal to the line to the direction's covariance (an
+    /// error common to all the frames, which their scatter does not show).
+    pub fn add_systematic_direction_var(&mut self, var: f64) {
+        if var > 0.0 {
+            let u = self.line.direction;
+            self.direction_cov += (nalgebra::Matrix3::identity() - u * u.transpose()) * var;
+        }
+    }
+
     /// RMS standard deviation \[rad\] of the direction, per axis normal to the line.
     pub fn sigma_direction(&self) -> f64 {
         (self.direction_cov.trace() / 2.0).max(0.0).sqrt()

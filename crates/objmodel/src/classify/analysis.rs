@@ -3,7 +3,9 @@
 //! labels and votes the fits give, and the edge observation (topple) or face (slide).
 
 use super::block::{Block, Phase};
-use super::lack_of_fit::{systematic_normal_var, systematic_point_var, PointSums};
+use super::lack_of_fit::{
+    systematic_direction_var, systematic_normal_var, systematic_point_var, PointSums,
+};
 use super::msac::{
     fit_line, fit_plane, line_inlier, plane_inlier, rotation_explains_translation, slide_normal,
     Thresholds,
@@ -323,6 +325,7 @@ pub(super) fn analyse_segment(
     }
     let mut edge = topple_best.and_then(|best| edge_observation(&topple_stats, best, demo));
     let mut topple_systematic_var = 0.0;
+    let mut topple_systematic_direction_var = 0.0;
     if let Some(e) = edge.as_mut() {
         let noise = config.robust.noise.unwrap_or(crate::noise::NoiseModel {
             sigma_position: 0.0,
@@ -338,6 +341,10 @@ pub(super) fn analyse_segment(
         topple_systematic_var = systematic_point_var(blocks, &topple_blocks, &e.line, sigma_ref)
             .max(config.robust.edge_tolerance_m.powi(2));
         e.add_systematic_point_var(topple_systematic_var);
+        let sigma_ref_rot = noise.sigma_rotation / seg.n_ref.sqrt();
+        topple_systematic_direction_var =
+            systematic_direction_var(blocks, &topple_blocks, &e.line, sigma_ref_rot);
+        e.add_systematic_direction_var(topple_systematic_direction_var);
     }
     let turned_too_little = edge
         .as_ref()
@@ -413,6 +420,7 @@ pub(super) fn analyse_segment(
         topple_stats,
         topple_best,
         topple_systematic_var,
+        topple_systematic_direction_var,
         t_start: seg.t_start,
         t_end: seg.t_end,
         kind,

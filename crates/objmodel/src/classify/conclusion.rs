@@ -109,13 +109,13 @@ pub(crate) fn group_topples(segments: &[Segment], alpha: f64, demo: &str) -> Vec
         .into_iter()
         .filter_map(|(idx, stats, best)| {
             let mut edge = edge_observation(&stats, best, demo)?;
-            // The largest systematic error of its segments' pivots (one trajectory each: it
-            // does not average down over segments).
-            edge.add_systematic_point_var(
-                idx.iter()
-                    .map(|&i| segments[i].topple_systematic_var)
-                    .fold(0.0, f64::max),
-            );
+            // The largest systematic errors of its segments' pivots (one trajectory each: they
+            // do not average down over segments).
+            let largest = |var: fn(&Segment) -> f64| {
+                idx.iter().map(|&i| var(&segments[i])).fold(0.0, f64::max)
+            };
+            edge.add_systematic_point_var(largest(|s| s.topple_systematic_var));
+            edge.add_systematic_direction_var(largest(|s| s.topple_systematic_direction_var));
             Some(super::Topple {
                 resting_normal_before: segments[idx[0]].resting_normal_before,
                 // The face after only when the topple lasts to the rest (landing aside): after

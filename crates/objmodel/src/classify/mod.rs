@@ -342,6 +342,10 @@ pub struct Segment {
     /// lack of fit of a pivot that moved), added to the edge's point covariance.
     #[serde(skip)]
     pub(crate) topple_systematic_var: f64,
+    /// Per-axis variance \[rad²\] of the edge direction beyond the frames' noise (the
+    /// split-half lack of fit of an axis that turned), added to the direction covariance.
+    #[serde(skip)]
+    pub(crate) topple_systematic_direction_var: f64,
     /// Time of the first moving frame \[s\].
     pub t_start: f64,
     /// Time of the last moving frame \[s\].

@@ -244,6 +244,7 @@ impl PaperMethod {
                 topple_stats: Default::default(),
                 topple_best: None,
                 topple_systematic_var: 0.0,
+                topple_systematic_direction_var: 0.0,
                 t_start: t0,
                 t_end: t1,
                 kind,

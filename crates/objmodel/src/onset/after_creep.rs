@@ -171,6 +171,7 @@ pub(super) fn remeasure_after_creep(
         seg.topple_best = None;
         seg.topple_stats = Default::default();
         seg.topple_systematic_var = 0.0;
+        seg.topple_systematic_direction_var = 0.0;
         seg.withheld = Some(format!(
             "edge not taught: measured from the rest before the segment, but {why}, and \
              measured from after it the topple teaches no edge"

@@ -360,6 +360,7 @@ fn adopt(c: &mut Classification, r: Remeasured, recording: &Recording, config: &
         seg.edge = Some(e.clone());
         seg.topple_stats = first.topple_stats;
         seg.topple_systematic_var = first.topple_systematic_var;
+        seg.topple_systematic_direction_var = first.topple_systematic_direction_var;
         seg.topple_best = first.topple_best;
     } else if let Some(f) = &first.face {
         seg.face = Some(f.clone());
