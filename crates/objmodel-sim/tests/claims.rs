@@ -83,7 +83,11 @@ fn learnt_models_of_the_standard_boxes_meet_the_claims() {
             );
         }
         assert!(with_sigma > 0, "{}: no predicted φ with a σ", c.name);
-        for o in &c.onsets {
+        // The true box tips at its quasi-static angle in both simulators, where it can tip
+        // before it slides (where `tan φ > μ` it slides, and a simulator may register the
+        // slide's first rotation as a topple at the friction angle: MuJoCo did, at 49.8° for
+        // the weighted box's 54.0°).
+        for o in c.onsets.iter().filter(|o| !o.slides_first) {
             let phi = o.phi_deg[0].to_radians();
             let mut pairs = vec![("rapier", o.rapier)];
             pairs.extend(o.mujoco.map(|m| ("MuJoCo", m)));

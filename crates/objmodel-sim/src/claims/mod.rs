@@ -46,6 +46,12 @@ pub struct FaceOnset {
     pub phi_sigma_deg: Option<f64>,
     /// Whether the true box slides before it tips (`tan φ > μ`): no claim there.
     pub slides_first: bool,
+    /// Whether the true box tips before it slides by less than the claim's own tolerance:
+    /// its φ within [`ONSET_DEG`] below the friction angle `atan μ`. A learnt φ within the
+    /// claim can then slide where the true box tips (and which of the two a simulator
+    /// registers first depends on its contact model), so the claim does not decide it.
+    #[serde(default)]
+    pub at_friction_limit: bool,
     /// Onsets in rapier: the true box, the learnt body (from its URDF).
     pub rapier: [Onset; 2],
     /// Onsets in MuJoCo (from the MJCF files), when MuJoCo was run.
@@ -282,6 +288,8 @@ pub fn measure_box(
                 phi_deg: [phi_t.to_degrees(), phi_l.to_degrees()],
                 phi_sigma_deg: predicted_sigma(tree, &n_l, &e_l).map(f64::to_degrees),
                 slides_first: phi_t.tan() > spec.friction,
+                at_friction_limit: phi_t.tan() <= spec.friction
+                    && spec.friction.atan() - phi_t < ONSET_DEG.to_radians(),
                 rapier,
                 mujoco: None,
             });

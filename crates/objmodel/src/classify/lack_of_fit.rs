@@ -346,7 +346,11 @@ mod tests {
         // 2-D |error|/σ is 1.18; the covariance without the lack of fit gives 0.83 here (its
         // scatter term and its formal term both hold the noise).
         assert!(unchanged >= 200, "{unchanged} of 400 unchanged");
-        assert!(z[200] > 0.65, "median z {:.2}: the σ is not inflated", z[200]);
+        assert!(
+            z[200] > 0.65,
+            "median z {:.2}: the σ is not inflated",
+            z[200]
+        );
         assert!(z[399] < 4.3, "max z {:.2}", z[399]);
     }
 }
