@@ -290,8 +290,18 @@ impl LineStats {
         let scatter_u = self.sauu / self.sa;
         let n_eff_u = (self.sa * self.sa / self.saa).max(1.0);
         // Formal (model) covariance floors: 1/Σw per axis and 1/Σa per axis.
-        let cov_p = p_mat * (scatter_r / n_eff_r) * p_mat + p_mat / self.sw;
-        let cov_u = p_mat * (scatter_u / n_eff_u) * p_mat + p_mat / self.sa;
+        // The formal covariance, and the scatter's excess over it where the lines scatter
+        // more than their weights say (the scatter holds the noise the weights already hold:
+        // summing the two counted it twice, and the σ came out √2 too large).
+        let with_excess = |scatter: Matrix3<f64>, formal: Matrix3<f64>| {
+            let (vals, vecs) = sym_eigen(&(scatter - formal));
+            let excess = (0..3).fold(Matrix3::zeros(), |m, i| {
+                m + vecs[i] * vecs[i].transpose() * vals[i].max(0.0)
+            });
+            formal + p_mat * excess * p_mat
+        };
+        let cov_p = with_excess(p_mat * (scatter_r / n_eff_r) * p_mat, p_mat / self.sw);
+        let cov_u = with_excess(p_mat * (scatter_u / n_eff_u) * p_mat, p_mat / self.sa);
         (cov_p, cov_u)
     }
 }
