@@ -14,7 +14,10 @@
 //! each topple are fitted to the kept frames
 //! ([`crate::dynamics::analyse`]), and the demonstration's geometry and pendulums enter the
 //! tree together ([`Tree::add`]), under the identity of its poses (the kept frames'
-//! fingerprint, not its name). Gravity comes from the [`Config`]: without it the topples'
+//! fingerprint, not its name). A file is read a second time only where its first frames
+//! measured the motion rather than the noise and a rest measures the noise
+//! (`Learner::noise_check`): it is classified again with that noise. Gravity comes from the
+//! [`Config`]: without it the topples'
 //! dynamics cannot be measured (their angles are from the vertical), which the report says.
 //! A demonstration without motion teaches nothing and is not added.
 //!
@@ -526,7 +529,7 @@ impl RestNoise {
             0,
             format!(
                 "the tracking noise was measured on the rest at {:.2}-{:.2} s ({:.2} mm, \
-                 {:.2} deg): the first frames are motion, whose second differences gave \
+                 {:.2} deg): the first frames are motion, and the estimate from them was \
                  {:.2} mm, {:.2} deg",
                 self.measured.0,
                 self.measured.1,
