@@ -76,25 +76,12 @@ pub(super) fn systematic_direction_var(
     line: &Line,
     sigma_ref: f64,
 ) -> f64 {
-    let mut total = LineStats::default();
-    order.iter().for_each(|&i| total.merge(&blocks[i].line));
-    if total.sa <= 0.0 || order.len() < 2 {
+    if order.len() < 2 {
         return 0.0;
     }
-    let mut before = LineStats::default();
-    let mut cut = 0;
-    for (k, &i) in order[..order.len() - 1].iter().enumerate() {
-        before.merge(&blocks[i].line);
-        cut = k + 1;
-        if before.sa >= 0.5 * total.sa {
-            break;
-        }
-    }
-    let mut after = LineStats::default();
-    order[cut..]
-        .iter()
-        .for_each(|&i| after.merge(&blocks[i].line));
-    if before.sa <= 0.0 || after.sa <= 0.0 || before.sw <= 0.0 || after.sw <= 0.0 {
+    let (total, before, after) = split_half(blocks, order, |b| &b.line, LineStats::merge, |s| s.sa);
+    if total.sa <= 0.0 || before.sa <= 0.0 || after.sa <= 0.0 || before.sw <= 0.0 || after.sw <= 0.0
+    {
         return 0.0;
     }
     let u = line.direction;
@@ -152,24 +139,10 @@ pub(super) fn systematic_normal_var(
     n: &Vector3<f64>,
     down: Option<&Vector3<f64>>,
 ) -> f64 {
-    let mut total = PlaneStats::default();
-    order.iter().for_each(|&i| total.merge(&blocks[i].plane));
     if order.len() < 2 {
         return 0.0;
     }
-    let mut before = PlaneStats::default();
-    let mut cut = 0;
-    for (k, &i) in order[..order.len() - 1].iter().enumerate() {
-        before.merge(&blocks[i].plane);
-        cut = k + 1;
-        if before.n >= 0.5 * total.n {
-            break;
-        }
-    }
-    let mut after = PlaneStats::default();
-    order[cut..]
-        .iter()
-        .for_each(|&i| after.merge(&blocks[i].plane));
+    let (_, before, after) = split_half(blocks, order, |b| &b.plane, PlaneStats::merge, |s| s.n);
     let half = |s: &PlaneStats| -> Option<(Vector3<f64>, Matrix3<f64>)> {
         let s = slide_normal(s, down);
         let m = s.normal()?.into_inner();
@@ -183,6 +156,37 @@ pub(super) fn systematic_normal_var(
     let p = Matrix3::identity() - n * n.transpose();
     let d = p * (nb - na);
     (0.5 * (d.norm_squared() - cb.trace() - ca.trace())).max(0.0)
+}
+
+/// The statistics (`stats` of each block) of all the blocks of `order` (at least 2, in time
+/// order), and of those before and after one cut, made before looking at the data where the
+/// `weight` of the blocks before it reaches half of all of theirs (at least one block after
+/// it): `(total, before, after)`, each merged in time order.
+fn split_half<S: Default>(
+    blocks: &[Block],
+    order: &[usize],
+    stats: impl Fn(&Block) -> &S,
+    merge: impl Fn(&mut S, &S),
+    weight: impl Fn(&S) -> f64,
+) -> (S, S, S) {
+    let mut total = S::default();
+    order
+        .iter()
+        .for_each(|&i| merge(&mut total, stats(&blocks[i])));
+    let mut before = S::default();
+    let mut cut = 0;
+    for (k, &i) in order[..order.len() - 1].iter().enumerate() {
+        merge(&mut before, stats(&blocks[i]));
+        cut = k + 1;
+        if weight(&before) >= 0.5 * weight(&total) {
+            break;
+        }
+    }
+    let mut after = S::default();
+    order[cut..]
+        .iter()
+        .for_each(|&i| merge(&mut after, stats(&blocks[i])));
+    (total, before, after)
 }
 
 #[cfg(test)]

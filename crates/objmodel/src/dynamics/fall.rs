@@ -126,19 +126,30 @@ mod tests {
         }
     }
 
-    fn fall_of(s: &AngleSeries) -> Option<FallFit> {
+    /// The fall's fit over all of `s`, with rotation noise `noise` \[rad\] and a reference
+    /// from `reference_frames` rest frames.
+    fn fall_of(s: &AngleSeries, noise: f64, reference_frames: usize) -> Option<FallFit> {
         let budget = Budget {
-            sigma_object: 2e-4,
-            sigma_palm: 2e-4,
-            reference_frames: 30,
+            sigma_object: noise,
+            sigma_palm: noise,
+            reference_frames,
         };
-        fit(s, 0, s.t.len() - 1, None, None, 2e-4, &budget)
+        fit(s, 0, s.t.len() - 1, None, None, noise, &budget)
+    }
+
+    /// A recorded series: ψ \[deg\] sampled at `rate` \[Hz\].
+    fn recorded(deg: &[f64], rate: f64) -> AngleSeries {
+        AngleSeries {
+            t: (0..deg.len()).map(|i| i as f64 / rate).collect(),
+            object: deg.iter().map(|d| d.to_radians()).collect(),
+            palm: Vec::new(),
+        }
     }
 
     #[test]
     fn a_push_released_before_balance_gives_its_phi() {
         let phi = 35f64.to_radians();
-        let f = fall_of(&push(phi, 90.0, 4.0, 30f64.to_radians())).expect("a free fall");
+        let f = fall_of(&push(phi, 90.0, 4.0, 30f64.to_radians()), 2e-4, 30).expect("a free fall");
         assert!(
             (f.phi - phi).abs() < 0.2f64.to_radians(),
             "{:.2}° ± {:.2}°",
@@ -159,12 +170,7 @@ mod tests {
             20.1651, 22.6693, 25.3104, 28.1110, 31.1035, 34.3373, 37.8952, 41.9378, 46.8637,
             53.4681, 61.2105, 70.8040, 83.2789,
         ];
-        let s = AngleSeries {
-            t: (0..deg.len()).map(|i| i as f64 / 30.0).collect(),
-            object: deg.iter().map(|d: &f64| d.to_radians()).collect(),
-            palm: Vec::new(),
-        };
-        if let Some(f) = fall_of(&s) {
+        if let Some(f) = fall_of(&recorded(&deg, 30.0), 2e-4, 30) {
             panic!(
                 "φ {:.2}° ± {:.2}° for 45°",
                 f.phi.to_degrees(),
@@ -191,21 +197,10 @@ mod tests {
             54.244, 56.144, 57.038, 59.479, 61.676, 64.376, 66.703, 69.239, 72.100, 75.181, 78.718,
             81.963, 86.274,
         ];
-        let s = AngleSeries {
-            t: (0..deg.len()).map(|i| i as f64 / 120.0).collect(),
-            object: deg.iter().map(|d: &f64| d.to_radians()).collect(),
-            palm: Vec::new(),
-        };
-        let noise = 0.28f64.to_radians();
-        let budget = Budget {
-            sigma_object: noise,
-            sigma_palm: noise,
-            reference_frames: 60,
-        };
         let phi = 34.70f64.to_radians();
         // Now the scan reaches windows whose fits do not determine φ (σ beyond the prior, which
         // the demonstration's φ leaves out: it says it cannot tell), or a φ within 5 σ.
-        let got = fit(&s, 0, s.t.len() - 1, None, None, noise, &budget);
+        let got = fall_of(&recorded(&deg, 120.0), 0.28f64.to_radians(), 60);
         if let Some(f) = got.filter(|f| f.phi_sigma < super::super::PHI_PRIOR_SIGMA_RAD) {
             let z = (f.phi - phi).abs() / f.phi_sigma;
             assert!(
