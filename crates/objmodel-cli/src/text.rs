@@ -209,8 +209,12 @@ pub fn tree(tree: &Tree) -> String {
                 f.offset_sigma_m.unwrap_or(0.0) * 1e3
             )
         });
+        let landings = match f.evidence.landing {
+            0 => String::new(),
+            n => format!(", {n} landings"),
+        };
         s += &format!(
-            "  {}: normal {}, {off}, ±{:.2} deg, {} demos ({} slides, {} rests)\n",
+            "  {}: normal {}, {off}, ±{:.2} deg, {} demos ({} slides, {} rests{landings})\n",
             f.id,
             v3(&f.normal),
             f.sigma_normal_rad.to_degrees(),

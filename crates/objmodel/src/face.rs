@@ -32,8 +32,11 @@ pub const SUPPORT_LEVEL_SIGMA_RAD: f64 = 0.017_453_292_519_943_295;
 pub enum FaceSource {
     /// A face slide (eq. 5).
     Slide,
-    /// The face an object rested on before or after a topple (gravity).
+    /// The face an object rested on before or after a topple, or on the support (gravity).
     Rest,
+    /// The face an object rested on after a flight, confirmed by another demonstration's
+    /// landing in the same place (gravity; [`crate::landing`]).
+    Landing,
 }
 
 /// One demonstration's estimate of one face, in the object frame.

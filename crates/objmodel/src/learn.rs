@@ -300,7 +300,10 @@ impl Learner {
             );
             crate::onset::remeasure_later_parts(classification, recording, &self.config);
         }
-        crate::arrival::confirm_arrivals(classification, recording, &self.config);
+        // (A demonstration that teaches nothing shows no support either.)
+        if !unmeasurable {
+            crate::arrival::confirm_arrivals(classification, recording, &self.config);
+        }
         classification.fill_parts();
         crate::flight::mark_flights(classification, recording, &self.config);
         // A roll is measured without a reference pose, so it does not depend on the rest a

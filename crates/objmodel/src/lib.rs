@@ -24,6 +24,8 @@
 //! * [`recording`]: the frames the dynamics need, kept in bounded memory during the one pass.
 //! * [`flight`]: free flights (the centre of mass falls with gravity) and their impacts, found
 //!   on the kept frames and put into the parts list; they teach no feature.
+//! * [`landing`]: the rests reached after a flight, which teach the face rested on once a
+//!   landing of another demonstration agrees in down and place.
 //! * [`dynamics`], [`pendulum`]: each topple's angles, onset, φ and pendulum fit.
 //! * [`observation`]: what one demonstration shows (classification and dynamics).
 //! * [`tree`]: the object description tree, its JSON schema and incremental fusion.
@@ -59,6 +61,7 @@ pub mod format;
 pub mod friction;
 pub mod geometry;
 pub mod inertia;
+pub mod landing;
 pub mod learn;
 pub mod mass;
 pub mod noise;

@@ -28,7 +28,11 @@ fn face(id: usize, normal: Vector3<f64>, offset: Option<f64>) -> Face {
         sign_known: true,
         support: vec!["demo".into()],
         n_support: 1,
-        evidence: Evidence { slide: 0, rest: 1 },
+        evidence: Evidence {
+            slide: 0,
+            rest: 1,
+            landing: 0,
+        },
         observations: Vec::new(),
     }
 }

@@ -432,6 +432,8 @@ pub(super) fn analyse_segment(
         resting_normal_after: seg.rest_after,
         resting_frames_before: seg.rest_before_frames as u64,
         resting_frames_after: seg.rest_after_frames as u64,
+        resting_place_before: seg.rest_before_place,
+        resting_place_after: seg.rest_after_place,
         departs_from_support,
         arrives_on_support,
         withheld,

@@ -65,6 +65,7 @@ pub(super) fn conclude(
         warnings,
         parts: Vec::new(),
         rolls: Vec::new(),
+        withheld: None,
     };
     c.fill_parts();
     c

@@ -375,6 +375,13 @@ pub struct Segment {
     /// Frames of the rest after it.
     #[serde(default)]
     pub resting_frames_after: u64,
+    /// Where the object frame's origin was in the rest before, in the frame the poses are given
+    /// in (absent when gravity is unknown).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resting_place_before: Option<crate::landing::RestPlace>,
+    /// Where it was in the rest after, likewise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resting_place_after: Option<crate::landing::RestPlace>,
     /// Whether the rest before was on the support: a contact mode (slide, edge rotation)
     /// measured from it leaves it and passes its test.
     #[serde(default)]
@@ -453,6 +460,10 @@ pub struct Classification {
     /// and whether it taught it.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub rolls: Vec<crate::roll::Roll>,
+    /// Why the demonstration teaches nothing at all ([`Classification::withhold_all`]), if it
+    /// does not.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub withheld: Option<String>,
 }
 
 impl Classification {
@@ -497,7 +508,8 @@ impl Classification {
     }
 
     /// Teach nothing: every edge, face and rest of the classification is withheld, for the
-    /// reason given (which becomes a warning); the labels and votes stay.
+    /// reason given (which becomes a warning and [`Self::withheld`]); the labels and votes
+    /// stay.
     pub fn withhold_all(&mut self, why: &str) {
         self.topples.clear();
         for s in &mut self.segments {
@@ -510,6 +522,7 @@ impl Classification {
             s.arrives_on_support = false;
         }
         self.paper_edge = None;
+        self.withheld = Some(why.to_string());
         self.warnings
             .push(format!("{why}; nothing is learnt from it"));
         self.fill_parts();
@@ -520,7 +533,7 @@ impl Classification {
     /// least `MIN_FACE_FRAMES` frames (a tossed object may rest for a tenth of a second at the
     /// end of a file), when gravity is known and not in doubt ([`Self::gravity_doubted`]).
     pub fn rest_faces(&self) -> Vec<FaceObservation> {
-        if self.gravity_doubted {
+        if self.gravity_doubted || self.withheld.is_some() {
             return Vec::new();
         }
         self.rests()
@@ -542,9 +555,47 @@ impl Classification {
             .map(|r| {
                 r.with_edge
                     || (!self.gravity_doubted
+                        && self.withheld.is_none()
                         && r.supported
                         && r.normal.is_some()
                         && r.frames as f64 >= analysis::MIN_FACE_FRAMES)
+            })
+            .collect()
+    }
+
+    /// The demonstration's landings ([`crate::landing`]): its rests of at least
+    /// `MIN_FACE_FRAMES` frames that a flight leads to (in the motion segment before them) and
+    /// that taught no face themselves (no contact mode showed the support, no topple's edge
+    /// lies in the face), when gravity is known and not in doubt, the poses are the world's
+    /// (not a palm's) and the noise is known. Each teaches its face once a landing of another
+    /// demonstration agrees ([`crate::tree::Tree::add`]).
+    pub fn landings(&self) -> Vec<crate::landing::Landing> {
+        let Some(noise) = self
+            .noise
+            .filter(|_| !self.gravity_doubted && !self.instrumented)
+        else {
+            return Vec::new();
+        };
+        let after_flight = |k: usize| {
+            k >= 1
+                && self
+                    .parts
+                    .iter()
+                    .any(|p| p.kind == Label::Flight && p.segment == Some(k - 1))
+        };
+        self.rests()
+            .into_iter()
+            .enumerate()
+            .filter(|(k, r)| {
+                after_flight(*k)
+                    && !r.supported
+                    && !r.with_edge
+                    && r.frames as f64 >= analysis::MIN_FACE_FRAMES
+            })
+            .filter_map(|(_, r)| {
+                Some(crate::landing::Landing::new(
+                    &self.name, &r.normal?, r.place?, r.frames, &noise,
+                ))
             })
             .collect()
     }
@@ -553,15 +604,22 @@ impl Classification {
     fn rests(&self) -> Vec<RestSummary> {
         // Rest k is the one before segment k; the rest after segment i is rest i + 1 (the one
         // before segment i + 1 when a rest split them).
-        let mut rests: Vec<(Option<Vector3<f64>>, u64)> = Vec::new();
+        type Rest = (Option<Vector3<f64>>, u64, Option<crate::landing::RestPlace>);
+        let mut rests: Vec<Rest> = Vec::new();
         if let Some(s) = self.segments.first() {
-            rests.push((s.resting_normal_before, s.resting_frames_before));
+            rests.push((
+                s.resting_normal_before,
+                s.resting_frames_before,
+                s.resting_place_before,
+            ));
         }
-        rests.extend(
-            self.segments
-                .iter()
-                .map(|s| (s.resting_normal_after, s.resting_frames_after)),
-        );
+        rests.extend(self.segments.iter().map(|s| {
+            (
+                s.resting_normal_after,
+                s.resting_frames_after,
+                s.resting_place_after,
+            )
+        }));
         // Rest k is on the support when segment k departs from it in a contact mode, or
         // segment k - 1 arrives at it in one: a rest alone could be an object held still.
         let n = self.segments.len();
@@ -575,9 +633,10 @@ impl Classification {
         rests
             .into_iter()
             .enumerate()
-            .map(|(k, (normal, frames))| RestSummary {
+            .map(|(k, (normal, frames, place))| RestSummary {
                 normal,
                 frames,
+                place,
                 supported: (k < n && self.segments[k].departs_from_support)
                     || (k >= 1 && self.segments[k - 1].arrives_on_support),
                 with_edge: with_edge[k],
@@ -595,6 +654,7 @@ impl Classification {
 struct RestSummary {
     normal: Option<Vector3<f64>>,
     frames: u64,
+    place: Option<crate::landing::RestPlace>,
     /// On the support: a contact mode leaves it or reaches it.
     supported: bool,
     /// A topple's edge gives its face.

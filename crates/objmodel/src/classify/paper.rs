@@ -256,6 +256,8 @@ impl PaperMethod {
                 resting_normal_after: None,
                 resting_frames_before: 0,
                 resting_frames_after: 0,
+                resting_place_before: None,
+                resting_place_after: None,
                 departs_from_support: false,
                 arrives_on_support: false,
                 withheld: None,
@@ -269,6 +271,7 @@ impl PaperMethod {
             gravity_doubted: false,
             parts: Vec::new(),
             rolls: Vec::new(),
+            withheld: None,
         };
         c.fill_parts();
         Ok(c)

@@ -12,6 +12,7 @@ use super::sample::SampleRef;
 use super::Config;
 use crate::clean::RawFrame;
 use crate::fast::moving_sums::MovingFrameSums;
+use crate::landing::RestPlace;
 use crate::noise::NoiseModel;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
@@ -41,6 +42,9 @@ pub(super) struct MotionSegment {
     /// Frames of those rests.
     pub rest_before_frames: f64,
     pub rest_after_frames: f64,
+    /// Where those rests were, if gravity is known.
+    pub rest_before_place: Option<RestPlace>,
+    pub rest_after_place: Option<RestPlace>,
 }
 
 /// Segments and blocks: consumes the rest front end's output ([`Verdict`]).
@@ -273,9 +277,13 @@ impl Segmenter {
         } else {
             0.0
         };
+        let rest_place = start
+            .zip(self.down)
+            .map(|((_, p, _), d)| RestPlace::new(&p, &d));
         if let Some(prev) = self.segments.last_mut() {
             prev.rest_after = rest_down;
             prev.rest_after_frames = rest_frames;
+            prev.rest_after_place = rest_place;
         }
         let (ref_q, ref_p, n_ref) = start.unwrap_or((f.q, f.p, 1.0));
         let down_ref = rest_down.or_else(|| self.down.map(|d| (f.q.inverse() * d).normalize()));
@@ -292,6 +300,8 @@ impl Segmenter {
             rest_after: None,
             rest_before_frames: rest_frames,
             rest_after_frames: 0.0,
+            rest_before_place: rest_place,
+            rest_after_place: None,
         });
     }
 
@@ -365,8 +375,14 @@ impl Segmenter {
         self.close_block();
         if !self.in_motion {
             let rest_down = self.rest.down(self.down);
+            let rest_place = self
+                .rest
+                .mean()
+                .zip(self.down)
+                .map(|((_, p), d)| RestPlace::new(&p, &d));
             if let Some(prev) = self.segments.last_mut() {
                 prev.rest_after = rest_down;
+                prev.rest_after_place = rest_place;
                 prev.rest_after_frames = if rest_down.is_some() {
                     self.rest.n()
                 } else {

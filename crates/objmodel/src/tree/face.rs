@@ -36,8 +36,11 @@ pub struct Face {
 pub struct Evidence {
     /// From slides.
     pub slide: usize,
-    /// From rests before or after topples.
+    /// From rests before or after topples, or on the support.
     pub rest: usize,
+    /// From landings after flights, confirmed by another demonstration's ([`crate::landing`]).
+    #[serde(default)]
+    pub landing: usize,
 }
 
 impl Face {
@@ -92,6 +95,7 @@ impl Face {
             match o.source {
                 FaceSource::Slide => evidence.slide += 1,
                 FaceSource::Rest => evidence.rest += 1,
+                FaceSource::Landing => evidence.landing += 1,
             }
         }
         let n = sum.normalize();

@@ -37,6 +37,7 @@ mod derived;
 mod edge;
 mod face;
 mod file;
+mod landing;
 mod pendulums;
 mod unconfirmed;
 pub use checks::Contradiction;
@@ -156,6 +157,10 @@ pub struct Tree {
     /// ([`crate::prediction`]); with a shape and a learnt CoM.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub predictions: Vec<crate::prediction::PredictedPendulum>,
+    /// The rests reached after a flight ([`crate::landing`]), each of which teaches its face
+    /// once a landing of another demonstration agrees with it (`confirmed`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub landings: Vec<crate::landing::Landing>,
 }
 
 impl Default for Tree {
@@ -173,6 +178,7 @@ impl Default for Tree {
             inertia: None,
             friction: None,
             predictions: Vec::new(),
+            landings: Vec::new(),
         }
     }
 }
@@ -192,7 +198,8 @@ pub(crate) fn angle(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
 impl Tree {
     /// Fuse an analysed demonstration into the tree, geometry and pendulums in one step: each
     /// topple's edge, the faces it rested on before and after, and the pendulum of its
-    /// dynamics on that edge; each taught roll's edge ([`crate::roll`]).
+    /// dynamics on that edge; each taught roll's edge ([`crate::roll`]); its landings, whose
+    /// faces are taught once another demonstration's landing agrees ([`crate::landing`]).
     ///
     /// A demonstration is identified by its poses ([`Observation::fingerprint`]), not its
     /// name: the same poses again (under any name) replace the earlier ones, so adding a
@@ -241,6 +248,15 @@ impl Tree {
                 ..f.clone()
             });
         }
+        self.add_landings(
+            c.landings()
+                .into_iter()
+                .map(|l| crate::landing::Landing {
+                    demo: name.clone(),
+                    ..l
+                })
+                .collect(),
+        );
         for (ti, t) in c.topples.iter().enumerate() {
             let edge = EdgeObservation {
                 demo: name.clone(),
@@ -349,6 +365,8 @@ impl Tree {
             !e.observations.is_empty()
         });
         self.edges.iter_mut().for_each(Edge::refit);
+        self.landings.retain(|l| l.demo != name);
+        self.reconfirm_landings();
         self.faces.retain_mut(|f| {
             f.observations.retain(|o| o.demo != name);
             !f.observations.is_empty()
