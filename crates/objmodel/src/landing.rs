@@ -18,8 +18,16 @@
 //! The test is a χ² (3 dof) of the difference, with the noise of both rests, the support's tilt
 //! ([`crate::face::SUPPORT_LEVEL_SIGMA_RAD`] for each down, and across the distance between the
 //! two places for the height) and its flatness ([`SUPPORT_FLATNESS_M`] for each height).
-//! The tree keeps every landing ([`crate::tree::Tree::landings`]), so that a later
-//! demonstration can confirm an earlier one.
+//!
+//! A face is also a *discrete* rest: an object resting on a curved side (a cylinder, a bottle)
+//! comes to rest at one height with any down along a circle, and two such rests may agree by
+//! chance. So a landing teaches nothing while another landing at its height (χ²₁) has a down
+//! that differs from its own (χ²₂) by less than [`crate::tree::SAME_FACE_RAD`] (20°, far less
+//! than a polyhedron's faces differ by): its rests form a continuum, not a face.
+//!
+//! The tree keeps every landing ([`crate::tree::Tree::landings`]) and decides again over all
+//! of them whenever one comes or goes, so that a later demonstration can confirm an earlier
+//! one (or show it was on a curved side), whatever the order.
 
 use crate::face::{FaceObservation, FaceSource, SUPPORT_LEVEL_SIGMA_RAD};
 use crate::noise::NoiseModel;
@@ -93,22 +101,37 @@ impl Landing {
         }
     }
 
-    /// χ² (3 dof) of the difference between two landings: their downs (2 dof) and their
-    /// heights (1 dof), as the module documentation says.
+    /// χ² (3 dof) of the difference between two landings: their downs (2 dof,
+    /// [`Landing::chi2_down`]) and their heights (1 dof, [`Landing::chi2_height`]), as the
+    /// module documentation says.
     pub fn chi2(&self, other: &Landing) -> f64 {
+        self.chi2_down(other) + self.chi2_height(other)
+    }
+
+    /// χ² (2 dof) of the difference between two landings' downs.
+    pub fn chi2_down(&self, other: &Landing) -> f64 {
         let level = SUPPORT_LEVEL_SIGMA_RAD * SUPPORT_LEVEL_SIGMA_RAD;
-        let angle = self
-            .down
-            .cross(&other.down)
-            .norm()
-            .atan2(self.down.dot(&other.down));
-        let var_down = self.sigma_down_rad.powi(2) + other.sigma_down_rad.powi(2) + 2.0 * level;
+        let var = self.sigma_down_rad.powi(2) + other.sigma_down_rad.powi(2) + 2.0 * level;
+        self.angle_to(other).powi(2) / var
+    }
+
+    /// χ² (1 dof) of the difference between two landings' heights.
+    pub fn chi2_height(&self, other: &Landing) -> f64 {
+        let level = SUPPORT_LEVEL_SIGMA_RAD * SUPPORT_LEVEL_SIGMA_RAD;
         let apart = (self.place.across - other.place.across).norm();
-        let var_height = self.sigma_height_m.powi(2)
+        let var = self.sigma_height_m.powi(2)
             + other.sigma_height_m.powi(2)
             + 2.0 * SUPPORT_FLATNESS_M * SUPPORT_FLATNESS_M
             + level * apart * apart;
-        angle * angle / var_down + (self.place.height - other.place.height).powi(2) / var_height
+        (self.place.height - other.place.height).powi(2) / var
+    }
+
+    /// The angle \[rad\] between two landings' downs.
+    pub fn angle_to(&self, other: &Landing) -> f64 {
+        self.down
+            .cross(&other.down)
+            .norm()
+            .atan2(self.down.dot(&other.down))
     }
 
     /// The face it teaches once confirmed: the face rested on, from gravity.

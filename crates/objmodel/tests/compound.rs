@@ -215,11 +215,7 @@ fn a_demonstration_that_teaches_nothing_shows_no_support_either() {
     assert!(c.segments.iter().all(|s| !s.arrives_on_support));
     assert!(c.rest_faces().is_empty());
     assert!(c.landings().is_empty());
-    assert!(
-        c.parts.iter().all(|p| p.taught.is_empty()),
-        "{:?}",
-        c.parts
-    );
+    assert!(c.parts.iter().all(|p| p.taught.is_empty()), "{:?}", c.parts);
 }
 
 /// A slide that tips over an edge without stopping (a push that slides the box and then

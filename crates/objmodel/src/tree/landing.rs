@@ -1,49 +1,45 @@
-//! The tree's landings ([`crate::landing`]): every landing is kept, and a landing teaches its
-//! face once a landing of another demonstration agrees with it (χ², 3 dof, at
-//! [`MATCH_ALPHA`]); the face observation goes when the last landing that agreed does.
+//! The tree's landings ([`crate::landing`]): every landing is kept, and whenever one comes or
+//! goes, each is decided again over all of them: a landing teaches its face while a landing of
+//! another demonstration agrees with it (χ², 3 dof, at [`MATCH_ALPHA`]) and no landing at its
+//! height has a down less than [`SAME_FACE_RAD`] from its own that disagrees with it (a curved
+//! side, not a face). A face observation comes and goes with its landing's confirmation.
 
-use super::{Tree, MATCH_ALPHA};
+use super::{Tree, MATCH_ALPHA, SAME_FACE_RAD};
 use crate::face::FaceSource;
 use crate::landing::Landing;
 
 impl Tree {
-    /// Keep a demonstration's landings; each that another demonstration's agrees with, and
-    /// each earlier one that it is the first to agree with, teaches its face.
+    /// Keep a demonstration's landings, and decide again every landing they may change.
     pub(super) fn add_landings(&mut self, landings: Vec<Landing>) {
-        let gate = crate::stats::chi2_threshold(3.0, MATCH_ALPHA);
-        for mut new in landings {
-            let mut confirmed_now = Vec::new();
-            for (i, old) in self.landings.iter_mut().enumerate() {
-                if old.demo != new.demo && old.chi2(&new) < gate {
-                    new.confirmed = true;
-                    if !old.confirmed {
-                        old.confirmed = true;
-                        confirmed_now.push(i);
-                    }
-                }
-            }
-            if new.confirmed {
-                confirmed_now.push(self.landings.len());
-            }
-            self.landings.push(new);
-            for i in confirmed_now {
-                self.add_face(self.landings[i].face());
-            }
-        }
+        self.landings.extend(landings.iter().cloned());
+        self.refit_landings(&landings);
     }
 
-    /// After the landings of a removed demonstration are gone: each landing that no other
-    /// demonstration's agrees with any more no longer teaches its face.
-    pub(super) fn reconfirm_landings(&mut self) {
-        let gate = crate::stats::chi2_threshold(3.0, MATCH_ALPHA);
-        for i in 0..self.landings.len() {
-            let l = &self.landings[i];
-            let agreed = self
-                .landings
-                .iter()
-                .any(|o| o.demo != l.demo && o.chi2(l) < gate);
-            if l.confirmed && !agreed {
-                let taught = l.face();
+    /// Decide again ([`confirmed`]) every landing that the landings `changed` (added or
+    /// removed) may change: those at a height a test could not tell from theirs. Each newly
+    /// confirmed teaches its face, each no longer confirmed has its face observation taken
+    /// back (and a face left without observations goes).
+    pub(super) fn refit_landings(&mut self, changed: &[Landing]) {
+        let gate3 = crate::stats::chi2_threshold(3.0, MATCH_ALPHA);
+        let near: Vec<usize> = (0..self.landings.len())
+            .filter(|&i| {
+                changed
+                    .iter()
+                    .any(|c| self.landings[i].chi2_height(c) < gate3)
+            })
+            .collect();
+        let now: Vec<(usize, bool)> = near
+            .iter()
+            .map(|&i| (i, confirmed(&self.landings, i)))
+            .collect();
+        let mut taken_back = false;
+        for (i, c) in now {
+            let was = self.landings[i].confirmed;
+            self.landings[i].confirmed = c;
+            if c && !was {
+                self.add_face(self.landings[i].face());
+            } else if was && !c {
+                let taught = self.landings[i].face();
                 for f in &mut self.faces {
                     f.observations.retain(|o| {
                         !(o.source == FaceSource::Landing
@@ -52,10 +48,35 @@ impl Tree {
                             && o.normal == taught.normal)
                     });
                 }
-                self.landings[i].confirmed = false;
+                taken_back = true;
             }
         }
+        if taken_back {
+            self.faces.retain(|f| !f.observations.is_empty());
+            let ids: Vec<String> = self.faces.iter().map(|f| f.id.clone()).collect();
+            self.edges
+                .iter_mut()
+                .for_each(|e| e.faces.retain(|f| ids.contains(f)));
+            self.faces.iter_mut().for_each(super::Face::refit);
+        }
     }
+}
+
+/// Whether landing `i` of `all` teaches its face: a landing of another demonstration agrees
+/// with it, and none at its height has a down within [`SAME_FACE_RAD`] that disagrees.
+fn confirmed(all: &[Landing], i: usize) -> bool {
+    let gate3 = crate::stats::chi2_threshold(3.0, MATCH_ALPHA);
+    let gate2 = crate::stats::chi2_threshold(2.0, MATCH_ALPHA);
+    let gate1 = crate::stats::chi2_threshold(1.0, MATCH_ALPHA);
+    let l = &all[i];
+    let agreed = all.iter().any(|o| o.demo != l.demo && l.chi2(o) < gate3);
+    let continuum = all.iter().enumerate().any(|(j, o)| {
+        j != i
+            && l.chi2_height(o) < gate1
+            && l.chi2_down(o) >= gate2
+            && l.angle_to(o) < SAME_FACE_RAD
+    });
+    agreed && !continuum
 }
 
 #[cfg(test)]
@@ -102,6 +123,32 @@ mod tests {
         assert_eq!(t.faces[0].evidence.landing, 3);
         assert!(t.faces[0].sign_known);
         assert!(t.faces[0].normal.z < -0.999);
+    }
+
+    #[test]
+    fn rests_along_a_curved_side_teach_no_face() {
+        // A cylinder on its side: every rest at one height, its down anywhere on a circle.
+        let mut t = Tree::default();
+        t.add_landings(vec![landing("a", [0.0, 0.0, -1.0], 0.03, 0.0)]);
+        t.add_landings(vec![landing("b", [0.01, 0.0, -1.0], 0.03, 0.1)]);
+        assert_eq!(landing_faces(&t), 1, "two rests alone look like a face");
+        // A third, 12 degrees round the side: the rests form a continuum, and the face goes.
+        let (s, c) = 12f64.to_radians().sin_cos();
+        t.add_landings(vec![landing("c", [s, 0.0, -c], 0.03, 0.2)]);
+        assert_eq!(landing_faces(&t), 0, "{:?}", t.faces);
+        assert!(t.landings.iter().all(|l| !l.confirmed));
+        // Any order gives the same.
+        let mut u = Tree::default();
+        u.add_landings(vec![landing("c", [s, 0.0, -c], 0.03, 0.2)]);
+        u.add_landings(vec![landing("b", [0.01, 0.0, -1.0], 0.03, 0.1)]);
+        u.add_landings(vec![landing("a", [0.0, 0.0, -1.0], 0.03, 0.0)]);
+        assert_eq!(landing_faces(&u), 0);
+        // A box's next face (90 degrees away) at the same height does not block it.
+        let mut v = Tree::default();
+        v.add_landings(vec![landing("a", [0.0, 0.0, -1.0], 0.03, 0.0)]);
+        v.add_landings(vec![landing("b", [0.01, 0.0, -1.0], 0.03, 0.1)]);
+        v.add_landings(vec![landing("c", [1.0, 0.0, 0.0], 0.03, 0.2)]);
+        assert_eq!(landing_faces(&v), 1);
     }
 
     #[test]

@@ -365,8 +365,11 @@ impl Tree {
             !e.observations.is_empty()
         });
         self.edges.iter_mut().for_each(Edge::refit);
-        self.landings.retain(|l| l.demo != name);
-        self.reconfirm_landings();
+        let (gone, kept) = std::mem::take(&mut self.landings)
+            .into_iter()
+            .partition(|l| l.demo == name);
+        self.landings = kept;
+        self.refit_landings(&gone);
         self.faces.retain_mut(|f| {
             f.observations.retain(|o| o.demo != name);
             !f.observations.is_empty()
