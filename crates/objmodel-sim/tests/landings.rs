@@ -1,7 +1,9 @@
 //! Landings on the rapier tosses: one box's tosses learnt together, at motion-capture noise
 //! and at the "real" camera preset. Their final rests, reached after a flight and confirmed by
 //! another toss's landing in the same down and place, teach the faces the box rested on
-//! (`objmodel::landing`); every face learnt must be one of the box's.
+//! (`objmodel::landing`); every face learnt must be one of the box's. At motion-capture rates
+//! the rolls' edges measure the table's height, which gives those faces their offsets
+//! (`objmodel::support`).
 
 use objmodel::classify::Config;
 use objmodel::learn::{Learner, Source};
@@ -50,19 +52,23 @@ fn learn_tosses(level: &str, n: u64) -> (Tree, objmodel_sim::truth::BoxFeatures)
 
 #[test]
 fn confirmed_landings_teach_only_true_faces() {
-    for level in ["mocap", "real"] {
-        let (tree, features) = learn_tosses(level, 16);
+    for (level, n) in [("mocap", 48), ("real", 16)] {
+        let (tree, features) = learn_tosses(level, n);
         let from_landings: Vec<_> = tree
             .faces
             .iter()
             .filter(|f| f.evidence.landing > 0)
             .collect();
         println!(
-            "{level}: {} landings, {} confirmed; {} faces, {} from landings",
+            "{level}: {} landings, {} confirmed; {} faces, {} from landings, {} with offsets; \
+             support {:?} from {} edges",
             tree.landings.len(),
             tree.landings.iter().filter(|l| l.confirmed).count(),
             tree.faces.len(),
-            from_landings.len()
+            from_landings.len(),
+            tree.faces.iter().filter(|f| f.offset.is_some()).count(),
+            tree.support.as_ref().map(|s| (s.height, s.sigma_m)),
+            tree.supports.len()
         );
         for f in &tree.faces {
             assert!(
@@ -79,6 +85,46 @@ fn confirmed_landings_teach_only_true_faces() {
             "{level}: {} faces from landings",
             from_landings.len()
         );
+        // At motion-capture rates rolls locate their edges, which lie on the table (its top is
+        // the world's z = 0): the support's height is known, and every face of a landing gets
+        // its offset, within its σ of the box's (and within the 5 mm `face_is_true` asked).
+        if level == "mocap" {
+            let support = tree.support.as_ref().expect("rolls measured the support");
+            assert!(
+                support.height.abs() < 4.0 * support.sigma_m,
+                "support at {} ± {} m",
+                support.height,
+                support.sigma_m
+            );
+            let with_offsets: Vec<_> = tree.faces.iter().filter(|f| f.offset.is_some()).collect();
+            assert!(
+                with_offsets.len() >= 3,
+                "{} faces with offsets",
+                with_offsets.len()
+            );
+            for f in with_offsets {
+                let truth = features
+                    .faces
+                    .iter()
+                    .max_by(|a, b| {
+                        let n = |t: &objmodel_sim::truth::FaceFeature| {
+                            f.normal.dot(&nalgebra::Vector3::from(t.normal))
+                        };
+                        n(a).total_cmp(&n(b))
+                    })
+                    .unwrap();
+                let err = f.offset.unwrap() - truth.offset;
+                let sigma = f.offset_sigma_m.unwrap();
+                assert!(
+                    err.abs() < 4.0 * sigma,
+                    "face {}: offset {:.4} m for {:.4} (σ {:.2} mm)",
+                    f.id,
+                    f.offset.unwrap(),
+                    truth.offset,
+                    sigma * 1e3
+                );
+            }
+        }
         // Every confirmed landing taught a face (its observation is in one).
         for l in tree.landings.iter().filter(|l| l.confirmed) {
             assert!(

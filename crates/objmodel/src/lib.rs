@@ -25,7 +25,9 @@
 //! * [`flight`]: free flights (the centre of mass falls with gravity) and their impacts, found
 //!   on the kept frames and put into the parts list; they teach no feature.
 //! * [`landing`]: the rests reached after a flight, which teach the face rested on once a
-//!   landing of another demonstration agrees in down and place.
+//!   landing of another demonstration agrees in down and place; [`support`]: the height of
+//!   the plane the object rests on, from the edges it turned about on it, which gives the
+//!   landings' faces their offsets.
 //! * [`dynamics`], [`pendulum`]: each topple's angles, onset, φ and pendulum fit.
 //! * [`observation`]: what one demonstration shows (classification and dynamics).
 //! * [`tree`]: the object description tree, its JSON schema and incremental fusion.
@@ -77,6 +79,7 @@ pub mod shape;
 pub mod skill;
 pub mod start_rest;
 pub mod stats;
+pub mod support;
 pub mod synth;
 #[cfg(test)]
 mod testing;

@@ -600,6 +600,39 @@ impl Classification {
             .collect()
     }
 
+    /// The demonstration's measurements of the support's height ([`crate::support`]): each
+    /// topple's edge at the rest it starts from (the rest's height less the edge's depth below
+    /// the object frame's origin, `h − down · edge point`), and each taught roll's edge; when
+    /// gravity is known and not in doubt, the poses are the world's and the demonstration
+    /// teaches.
+    pub fn support_observations(&self) -> Vec<crate::support::SupportObservation> {
+        let Some(noise) = self
+            .noise
+            .filter(|_| !self.gravity_doubted && !self.instrumented && self.withheld.is_none())
+        else {
+            return Vec::new();
+        };
+        let mut out: Vec<crate::support::SupportObservation> = self
+            .topples
+            .iter()
+            .filter_map(|t| {
+                let s = &self.segments[*t.segments.first()?];
+                let (down, place) = (t.resting_normal_before?, s.resting_place_before?);
+                let n = (s.resting_frames_before.max(1)) as f64;
+                let depth_var = down.dot(&(t.edge.point_cov * down)).max(0.0);
+                Some(crate::support::SupportObservation {
+                    demo: self.name.clone(),
+                    height: place.height - down.dot(&t.edge.line.point),
+                    sigma_m: (noise.sigma_position.powi(2) / n + depth_var).sqrt(),
+                    across: place.across,
+                    from: "topple".to_string(),
+                })
+            })
+            .collect();
+        out.extend(self.rolls.iter().filter_map(|r| r.support.clone()));
+        out
+    }
+
     /// The rests of the demonstration, in order (see [`Self::resting_faces_taught`]).
     fn rests(&self) -> Vec<RestSummary> {
         // Rest k is the one before segment k; the rest after segment i is rest i + 1 (the one

@@ -80,6 +80,8 @@ pub struct RollFit {
     pub direction_cov: Matrix3<f64>,
     /// Covariance of the world line's direction \[rad²\].
     pub world_direction_cov: Matrix3<f64>,
+    /// Covariance of the world line's point, normal to the line \[m²\].
+    pub world_point_cov: Matrix3<f64>,
     /// χ² of the residuals.
     pub chi2: f64,
     /// Its degrees of freedom, `5n − 9`.
@@ -284,12 +286,19 @@ fn finish(
     jd.fixed_view_mut::<3, 2>(0, 6).copy_from(&bo);
     let mut jw = SMatrix::<f64, 3, 10>::zeros();
     jw.fixed_view_mut::<3, 2>(0, 8).copy_from(&bw);
+    // The world line's point closest to the world's origin, likewise.
+    let pw_mat = Matrix3::identity() - u_w * u_w.transpose();
+    let sw = u_w.dot(&c_w);
+    let mut jwp = SMatrix::<f64, 3, 10>::zeros();
+    jwp.fixed_view_mut::<3, 3>(0, 3).copy_from(&pw_mat);
+    jwp.fixed_view_mut::<3, 2>(0, 8).copy_from(&(-bw * sw));
     RollFit {
         object_line: Line::through(c_o, u_o),
         world_line: Line::through(c_w, u_w),
         point_cov: jp * cov * jp.transpose(),
         direction_cov: jd * cov * jd.transpose(),
         world_direction_cov: jw * cov * jw.transpose(),
+        world_point_cov: jwp * cov * jwp.transpose(),
         chi2,
         dof: 5.0 * frames.len() as f64 - 9.0,
         turn: sign * (hi - lo),

@@ -100,6 +100,10 @@ pub struct Roll {
     /// Why it taught nothing, when it did not.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub withheld: Option<String>,
+    /// The support's height it measured (its edge, on the support, in the world), when it
+    /// taught its edge and gravity is known ([`crate::support`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub support: Option<crate::support::SupportObservation>,
 }
 
 /// What the finder needs besides the frames.

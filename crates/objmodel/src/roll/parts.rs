@@ -6,6 +6,7 @@ use super::{find_rolls, Roll, RollNoise, RollTest};
 use crate::classify::{Classification, Config, Label, Part};
 use crate::flight::{FlightFrame, FlightTest, Span, MAX_COM_M};
 use crate::recording::{RecordedFrame, Recording};
+use crate::support::SupportObservation;
 use nalgebra::{Matrix3, Vector3};
 
 /// Whether a part's frames may hold a roll: it taught nothing and is a motion that no other
@@ -76,6 +77,18 @@ pub fn mark_rolls(c: &mut Classification, recording: &Recording, config: &Config
         for r in find_rolls(&frames, &test) {
             let (a, b) = (kept[r.first], kept[r.last]);
             let taught = r.withheld.is_none();
+            // A taught roll's edge lies on the support: its world line's height is the
+            // support's.
+            let support = down.filter(|_| taught).map(|d| {
+                let p = r.fit.world_line.point;
+                SupportObservation {
+                    demo: c.name.clone(),
+                    height: -d.dot(&p),
+                    sigma_m: d.dot(&(r.fit.world_point_cov * d)).max(0.0).sqrt(),
+                    across: p - d * d.dot(&p),
+                    from: "roll".to_string(),
+                }
+            });
             c.rolls.push(Roll {
                 first: a.index as usize,
                 last: b.index as usize,
@@ -87,6 +100,7 @@ pub fn mark_rolls(c: &mut Classification, recording: &Recording, config: &Config
                 dof: r.fit.dof,
                 taught,
                 withheld: r.withheld.clone(),
+                support,
             });
             spans.push(Span {
                 kind: Label::Roll,

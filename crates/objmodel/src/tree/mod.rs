@@ -39,6 +39,7 @@ mod face;
 mod file;
 mod landing;
 mod pendulums;
+mod support;
 mod unconfirmed;
 pub use checks::Contradiction;
 pub use com::{com_from_planes, CentreOfMass, ComPlane, UNKNOWN_PHI_SIGMA_RAD};
@@ -161,6 +162,14 @@ pub struct Tree {
     /// once a landing of another demonstration agrees with it (`confirmed`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub landings: Vec<crate::landing::Landing>,
+    /// The demonstrations' measurements of the support's height ([`crate::support`]): the
+    /// edges they turned about on it.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub supports: Vec<crate::support::SupportObservation>,
+    /// The support's height, when at least two demonstrations measured it and agree; it gives
+    /// the landings' faces their offsets.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub support: Option<crate::support::SupportHeight>,
 }
 
 impl Default for Tree {
@@ -179,6 +188,8 @@ impl Default for Tree {
             friction: None,
             predictions: Vec::new(),
             landings: Vec::new(),
+            supports: Vec::new(),
+            support: None,
         }
     }
 }
@@ -248,6 +259,13 @@ impl Tree {
                 ..f.clone()
             });
         }
+        self.supports
+            .extend(c.support_observations().into_iter().map(|o| {
+                crate::support::SupportObservation {
+                    demo: name.clone(),
+                    ..o
+                }
+            }));
         self.add_landings(
             c.landings()
                 .into_iter()
@@ -370,6 +388,7 @@ impl Tree {
             .partition(|l| l.demo == name);
         self.landings = kept;
         self.refit_landings(&gone);
+        self.supports.retain(|o| o.demo != name);
         self.faces.retain_mut(|f| {
             f.observations.retain(|o| o.demo != name);
             !f.observations.is_empty()
@@ -382,9 +401,11 @@ impl Tree {
         self.refit_whole();
     }
 
-    /// Recompute what depends on all the features: the centre of mass, the shape and the
-    /// contradictions between them.
+    /// Recompute what depends on all the features: the support's height and the offsets it
+    /// gives the landings' faces, the centre of mass, the shape and the contradictions between
+    /// them.
     fn refit_whole(&mut self) {
+        self.refit_support();
         self.refit_centre_of_mass();
         self.shape = self.reconstruct_shape().ok();
         self.contradictions = self.contradictions();

@@ -1,0 +1,194 @@
+//! The support: the height of the plane the object rests, topples and rolls on, in the frame
+//! the poses are given in, and the face offsets it gives the landings.
+//!
+//! An edge the object turns about on the support lies on the support: the world line of a
+//! roll ([`crate::roll`]) and the edge of a topple at the rest it starts from are at the
+//! support's height. Each is a [`SupportObservation`]. Where at least two demonstrations
+//! give one and they agree (χ² of their scatter about the weighted mean, with the support's
+//! flatness and tilt, at [`crate::tree::MATCH_ALPHA`]), the support's height is known
+//! ([`SupportHeight`]); where they disagree (the demonstrations came from several tables, or
+//! trackers with other origins) it is not, and nothing is taken from it.
+//!
+//! A landing ([`crate::landing`]) rests on the support with the face it teaches: that face's
+//! plane is at the support's height, so its offset is the landing's height above it,
+//! `d = h − z` (the object frame's origin is `d` above the face it rests on).
+
+use crate::face::SUPPORT_LEVEL_SIGMA_RAD;
+use crate::landing::{Landing, SUPPORT_FLATNESS_M};
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+/// One demonstration's measurement of the support's height: an edge on the support.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SupportObservation {
+    /// The demonstration.
+    pub demo: String,
+    /// Height \[m\] of the edge along −gravity, in the frame the poses are given in.
+    pub height: f64,
+    /// Its standard deviation \[m\] from the fit's noise alone.
+    pub sigma_m: f64,
+    /// Where it was across gravity \[m\].
+    pub across: Vector3<f64>,
+    /// What measured it: `"roll"` or `"topple"`.
+    pub from: String,
+}
+
+/// The support's height, when the observations determine it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SupportHeight {
+    /// Height \[m\] along −gravity, in the frame the poses are given in.
+    pub height: f64,
+    /// Its standard deviation \[m\] (the weighted mean's, the flatness and tilt included).
+    pub sigma_m: f64,
+    /// The mean place of the observations across gravity \[m\].
+    pub across: Vector3<f64>,
+    /// How many observations, and from how many demonstrations.
+    pub observations: usize,
+    /// Demonstrations.
+    pub demos: usize,
+}
+
+/// Variance \[m²\] of a support's height between two places `apart` metres apart, beyond the
+/// measurements' noise: its flatness at each and its tilt across the distance.
+fn support_var(apart: f64) -> f64 {
+    2.0 * SUPPORT_FLATNESS_M * SUPPORT_FLATNESS_M
+        + (SUPPORT_LEVEL_SIGMA_RAD * apart) * (SUPPORT_LEVEL_SIGMA_RAD * apart)
+}
+
+impl SupportHeight {
+    /// The support's height from `observations`: their mean weighted by their noise and the
+    /// support's flatness, when at least two demonstrations give one and their scatter is
+    /// what noise, flatness and tilt explain (χ² at `alpha`); `None` otherwise.
+    pub fn fuse(observations: &[SupportObservation], alpha: f64) -> Option<Self> {
+        let mut demos: Vec<&str> = observations.iter().map(|o| o.demo.as_str()).collect();
+        demos.sort_unstable();
+        demos.dedup();
+        if demos.len() < 2 {
+            return None;
+        }
+        let n = observations.len() as f64;
+        let across = observations
+            .iter()
+            .fold(Vector3::zeros(), |s, o| s + o.across)
+            / n;
+        let var = |o: &SupportObservation| {
+            o.sigma_m * o.sigma_m + support_var((o.across - across).norm()) / 2.0
+        };
+        let (mut sw, mut swh) = (0.0, 0.0);
+        for o in observations {
+            let w = 1.0 / var(o);
+            sw += w;
+            swh += w * o.height;
+        }
+        let height = swh / sw;
+        let chi2: f64 = observations
+            .iter()
+            .map(|o| (o.height - height).powi(2) / var(o))
+            .sum();
+        if chi2 > crate::stats::chi2_threshold(n - 1.0, alpha) {
+            return None;
+        }
+        Some(Self {
+            height,
+            sigma_m: (1.0 / sw).sqrt(),
+            across,
+            observations: observations.len(),
+            demos: demos.len(),
+        })
+    }
+
+    /// The offset \[m\] of the face a landing rests on, and its variance: the landing's
+    /// height above the support, with both their noise and the support's flatness and tilt
+    /// between the landing's place and the observations'.
+    pub fn offset_of(&self, landing: &Landing) -> (f64, f64) {
+        let apart = (landing.place.across - self.across).norm();
+        let var = landing.sigma_height_m.powi(2) + self.sigma_m.powi(2) + support_var(apart);
+        (landing.place.height - self.height, var)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::landing::RestPlace;
+    use crate::noise::NoiseModel;
+    use rand::{Rng, SeedableRng};
+    use rand_distr::{Distribution, Normal};
+
+    fn obs(demo: &str, height: f64, x: f64) -> SupportObservation {
+        SupportObservation {
+            demo: demo.to_string(),
+            height,
+            sigma_m: 2e-4,
+            across: Vector3::new(x, 0.0, 0.0),
+            from: "roll".to_string(),
+        }
+    }
+
+    #[test]
+    fn two_demonstrations_that_agree_fix_the_height_and_one_does_not() {
+        assert!(SupportHeight::fuse(&[obs("a", 0.0, 0.0)], 1e-4).is_none());
+        // Two edges of one demonstration are still one demonstration.
+        assert!(SupportHeight::fuse(&[obs("a", 0.0, 0.0), obs("a", 0.0, 0.1)], 1e-4).is_none());
+        let s = SupportHeight::fuse(&[obs("a", 0.001, 0.0), obs("b", -0.001, 0.2)], 1e-4)
+            .expect("agree");
+        assert!(s.height.abs() < 1e-9, "{}", s.height);
+        assert_eq!((s.observations, s.demos), (2, 2));
+        assert!((s.across.x - 0.1).abs() < 1e-12);
+        // Two tables 5 cm apart in height are no one support.
+        assert!(SupportHeight::fuse(&[obs("a", 0.0, 0.0), obs("b", 0.05, 0.1)], 1e-4).is_none());
+    }
+
+    #[test]
+    fn a_landing_is_its_face_offset_above_the_support() {
+        let s = SupportHeight::fuse(&[obs("a", 0.7, 0.0), obs("b", 0.7, 0.0)], 1e-4).unwrap();
+        let noise = NoiseModel {
+            sigma_position: 1e-3,
+            sigma_rotation: 0.01,
+        };
+        let place = RestPlace {
+            height: 0.735,
+            across: Vector3::new(0.3, 0.4, 0.0),
+        };
+        let l = Landing::new("c", &Vector3::new(0.0, 0.0, -1.0), place, 16, &noise);
+        let (d, var) = s.offset_of(&l);
+        assert!((d - 0.035).abs() < 1e-12);
+        // Noise of both, flatness at two places, and a 1° tilt over the 0.5 m between them.
+        let tilt = (SUPPORT_LEVEL_SIGMA_RAD * 0.5).powi(2);
+        let expected = 1e-6 / 16.0 + s.sigma_m.powi(2) + 2.0 * SUPPORT_FLATNESS_M.powi(2) + tilt;
+        assert!((var / expected - 1.0).abs() < 1e-9, "{var} vs {expected}");
+    }
+
+    /// The fused height's σ is honest: over many supports measured as the model says (noise,
+    /// flatness at each place), the median |error|/σ is near 0.67 and none exceeds 5.
+    #[test]
+    fn the_fused_height_sigma_is_honest() {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(3);
+        let unit = Normal::new(0.0, 1.0).unwrap();
+        let mut z = Vec::new();
+        for _ in 0..2000 {
+            let n = rng.random_range(2..8);
+            let all: Vec<SupportObservation> = (0..n)
+                .map(|k| {
+                    let sigma = 1e-4 * (1.0 + 4.0 * rng.random::<f64>());
+                    SupportObservation {
+                        demo: format!("d{k}"),
+                        height: unit.sample(&mut rng) * sigma
+                            + unit.sample(&mut rng) * SUPPORT_FLATNESS_M,
+                        sigma_m: sigma,
+                        across: Vector3::zeros(),
+                        from: "topple".to_string(),
+                    }
+                })
+                .collect();
+            if let Some(s) = SupportHeight::fuse(&all, 1e-4) {
+                z.push(s.height.abs() / s.sigma_m);
+            }
+        }
+        z.sort_by(f64::total_cmp);
+        let median = z[z.len() / 2];
+        assert!(z.len() > 1990, "{} fused", z.len());
+        assert!((0.5..0.85).contains(&median), "median {median}");
+        assert!(z.last().unwrap() < &5.0, "max {}", z.last().unwrap());
+    }
+}
