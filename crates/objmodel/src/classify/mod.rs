@@ -567,12 +567,13 @@ impl Classification {
     /// `MIN_FACE_FRAMES` frames that a flight leads to (in the motion segment before them) and
     /// that taught no face themselves (no contact mode showed the support, no topple's edge
     /// lies in the face), when gravity is known and not in doubt, the poses are the world's
-    /// (not a palm's) and the noise is known. Each teaches its face once a landing of another
-    /// demonstration agrees ([`crate::tree::Tree::add`]).
+    /// (not a palm's), the noise is known and the demonstration teaches ([`Self::withheld`]).
+    /// Each teaches its face once a landing of another demonstration agrees
+    /// ([`crate::tree::Tree::add`]).
     pub fn landings(&self) -> Vec<crate::landing::Landing> {
         let Some(noise) = self
             .noise
-            .filter(|_| !self.gravity_doubted && !self.instrumented)
+            .filter(|_| !self.gravity_doubted && !self.instrumented && self.withheld.is_none())
         else {
             return Vec::new();
         };
