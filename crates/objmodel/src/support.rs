@@ -71,8 +71,13 @@ impl SupportHeight {
             .iter()
             .fold(Vector3::zeros(), |s, o| s + o.across)
             / n;
+        // Each observation's height about the plane's at the observations' mean place: its
+        // noise, the flatness where it was, and a tilt across its distance from that place.
         let var = |o: &SupportObservation| {
-            o.sigma_m * o.sigma_m + support_var((o.across - across).norm()) / 2.0
+            let apart = (o.across - across).norm();
+            o.sigma_m * o.sigma_m
+                + SUPPORT_FLATNESS_M * SUPPORT_FLATNESS_M
+                + (SUPPORT_LEVEL_SIGMA_RAD * apart).powi(2)
         };
         let (mut sw, mut swh) = (0.0, 0.0);
         for o in observations {
