@@ -141,6 +141,15 @@ impl Landing {
             ..FaceObservation::from_gravity(&self.down, &self.demo, self.frames)
         }
     }
+
+    /// Whether `o` is the face observation this landing taught ([`Landing::face`]).
+    pub fn taught(&self, o: &FaceObservation) -> bool {
+        let taught = self.face();
+        o.source == FaceSource::Landing
+            && o.demo == taught.demo
+            && o.frames == taught.frames
+            && o.normal == taught.normal
+    }
 }
 
 #[cfg(test)]

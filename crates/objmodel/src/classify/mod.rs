@@ -40,7 +40,8 @@
 //! * `block`: the sufficient statistics of a run of frames; `segments`: the motion segments;
 //! * `msac`: the fixed-line and fixed-plane fits; `analysis`: what one segment teaches;
 //!   `parts`: where a segment's parts end and what each must show to teach;
-//!   `conclusion`: what the segments teach together (votes, topples by edge);
+//!   `conclusion`: what the segments teach together (votes, topples by edge); `rest_faces`:
+//!   what the rests teach (faces from gravity, landings, the support's height);
 //! * `robust`, `paper`: the two methods, streaming; `analyzer`: the [`Analyzer`] that drives
 //!   them; `files`: [`classify_files`].
 
@@ -58,6 +59,7 @@ mod paper;
 mod part_list;
 pub(crate) mod parts;
 mod rest;
+mod rest_faces;
 mod rest_stats;
 mod rest_sums;
 pub(crate) mod rest_test;
@@ -528,171 +530,10 @@ impl Classification {
         self.fill_parts();
     }
 
-    /// The faces the object rested on, from gravity, other than those before and after a
-    /// topple (which [`FaceObservation::from_rest`] gives with their offsets): every rest of at
-    /// least `MIN_FACE_FRAMES` frames (a tossed object may rest for a tenth of a second at the
-    /// end of a file), when gravity is known and not in doubt ([`Self::gravity_doubted`]).
-    pub fn rest_faces(&self) -> Vec<FaceObservation> {
-        if self.gravity_doubted || self.withheld.is_some() {
-            return Vec::new();
-        }
-        self.rests()
-            .into_iter()
-            .filter(|r| r.supported && !r.with_edge && r.frames as f64 >= analysis::MIN_FACE_FRAMES)
-            .filter_map(|r| {
-                r.normal
-                    .map(|n| FaceObservation::from_gravity(&n, &self.name, r.frames))
-            })
-            .collect()
-    }
-
-    /// Per rest (rest k is the one before segment k; the last, the one after the last
-    /// segment): whether it taught the face rested on, from gravity ([`Self::rest_faces`]) or
-    /// beside a topple's edge ([`FaceObservation::from_rest`]).
-    pub fn resting_faces_taught(&self) -> Vec<bool> {
-        self.rests()
-            .into_iter()
-            .map(|r| {
-                r.with_edge
-                    || (!self.gravity_doubted
-                        && self.withheld.is_none()
-                        && r.supported
-                        && r.normal.is_some()
-                        && r.frames as f64 >= analysis::MIN_FACE_FRAMES)
-            })
-            .collect()
-    }
-
-    /// The demonstration's landings ([`crate::landing`]): its rests of at least
-    /// `MIN_FACE_FRAMES` frames that a flight leads to (in the motion segment before them) and
-    /// that taught no face themselves (no contact mode showed the support, no topple's edge
-    /// lies in the face), when gravity is known and not in doubt, the poses are the world's
-    /// (not a palm's), the noise is known and the demonstration teaches ([`Self::withheld`]).
-    /// Each teaches its face once a landing of another demonstration agrees
-    /// ([`crate::tree::Tree::add`]).
-    pub fn landings(&self) -> Vec<crate::landing::Landing> {
-        let Some(noise) = self
-            .noise
-            .filter(|_| !self.gravity_doubted && !self.instrumented && self.withheld.is_none())
-        else {
-            return Vec::new();
-        };
-        let after_flight = |k: usize| {
-            k >= 1
-                && self
-                    .parts
-                    .iter()
-                    .any(|p| p.kind == Label::Flight && p.segment == Some(k - 1))
-        };
-        self.rests()
-            .into_iter()
-            .enumerate()
-            .filter(|(k, r)| {
-                after_flight(*k)
-                    && !r.supported
-                    && !r.with_edge
-                    && r.frames as f64 >= analysis::MIN_FACE_FRAMES
-            })
-            .filter_map(|(_, r)| {
-                Some(crate::landing::Landing::new(
-                    &self.name, &r.normal?, r.place?, r.frames, &noise,
-                ))
-            })
-            .collect()
-    }
-
-    /// The demonstration's measurements of the support's height ([`crate::support`]): each
-    /// topple's edge at the rest it starts from (the rest's height less the edge's depth below
-    /// the object frame's origin, `h − down · edge point`), and each taught roll's edge; when
-    /// gravity is known and not in doubt, the poses are the world's and the demonstration
-    /// teaches.
-    pub fn support_observations(&self) -> Vec<crate::support::SupportObservation> {
-        let Some(noise) = self
-            .noise
-            .filter(|_| !self.gravity_doubted && !self.instrumented && self.withheld.is_none())
-        else {
-            return Vec::new();
-        };
-        let mut out: Vec<crate::support::SupportObservation> = self
-            .topples
-            .iter()
-            .filter_map(|t| {
-                let s = &self.segments[*t.segments.first()?];
-                let (down, place) = (t.resting_normal_before?, s.resting_place_before?);
-                let n = (s.resting_frames_before.max(1)) as f64;
-                let depth_var = down.dot(&(t.edge.point_cov * down)).max(0.0);
-                Some(crate::support::SupportObservation {
-                    demo: self.name.clone(),
-                    height: place.height - down.dot(&t.edge.line.point),
-                    sigma_m: (noise.sigma_position.powi(2) / n + depth_var).sqrt(),
-                    across: place.across,
-                    from: "topple".to_string(),
-                })
-            })
-            .collect();
-        out.extend(self.rolls.iter().filter_map(|r| r.support.clone()));
-        out
-    }
-
-    /// The rests of the demonstration, in order (see [`Self::resting_faces_taught`]).
-    fn rests(&self) -> Vec<RestSummary> {
-        // Rest k is the one before segment k; the rest after segment i is rest i + 1 (the one
-        // before segment i + 1 when a rest split them).
-        type Rest = (Option<Vector3<f64>>, u64, Option<crate::landing::RestPlace>);
-        let mut rests: Vec<Rest> = Vec::new();
-        if let Some(s) = self.segments.first() {
-            rests.push((
-                s.resting_normal_before,
-                s.resting_frames_before,
-                s.resting_place_before,
-            ));
-        }
-        rests.extend(self.segments.iter().map(|s| {
-            (
-                s.resting_normal_after,
-                s.resting_frames_after,
-                s.resting_place_after,
-            )
-        }));
-        // Rest k is on the support when segment k departs from it in a contact mode, or
-        // segment k - 1 arrives at it in one: a rest alone could be an object held still.
-        let n = self.segments.len();
-        let mut with_edge = vec![false; rests.len()];
-        for t in &self.topples {
-            if let (Some(&a), Some(&b)) = (t.segments.first(), t.segments.last()) {
-                with_edge[a] |= t.resting_normal_before.is_some();
-                with_edge[b + 1] |= t.resting_normal_after.is_some();
-            }
-        }
-        rests
-            .into_iter()
-            .enumerate()
-            .map(|(k, (normal, frames, place))| RestSummary {
-                normal,
-                frames,
-                place,
-                supported: (k < n && self.segments[k].departs_from_support)
-                    || (k >= 1 && self.segments[k - 1].arrives_on_support),
-                with_edge: with_edge[k],
-            })
-            .collect()
-    }
-
     /// Fill [`Self::parts`] from the labels and what the segments taught.
     pub fn fill_parts(&mut self) {
         self.parts = part_list::parts(self);
     }
-}
-
-/// One rest of a demonstration, as [`Classification::rests`] sees it.
-struct RestSummary {
-    normal: Option<Vector3<f64>>,
-    frames: u64,
-    place: Option<crate::landing::RestPlace>,
-    /// On the support: a contact mode leaves it or reaches it.
-    supported: bool,
-    /// A topple's edge gives its face.
-    with_edge: bool,
 }
 
 /// Classify a demonstration held in memory.

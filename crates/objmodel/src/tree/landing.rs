@@ -5,7 +5,6 @@
 //! side, not a face). A face observation comes and goes with its landing's confirmation.
 
 use super::{Tree, MATCH_ALPHA, SAME_FACE_RAD};
-use crate::face::FaceSource;
 use crate::landing::Landing;
 
 impl Tree {
@@ -39,25 +38,15 @@ impl Tree {
             if c && !was {
                 self.add_face(self.landings[i].face());
             } else if was && !c {
-                let taught = self.landings[i].face();
+                let landing = &self.landings[i];
                 for f in &mut self.faces {
-                    f.observations.retain(|o| {
-                        !(o.source == FaceSource::Landing
-                            && o.demo == taught.demo
-                            && o.frames == taught.frames
-                            && o.normal == taught.normal)
-                    });
+                    f.observations.retain(|o| !landing.taught(o));
                 }
                 taken_back = true;
             }
         }
         if taken_back {
-            self.faces.retain(|f| !f.observations.is_empty());
-            let ids: Vec<String> = self.faces.iter().map(|f| f.id.clone()).collect();
-            self.edges
-                .iter_mut()
-                .for_each(|e| e.faces.retain(|f| ids.contains(f)));
-            self.faces.iter_mut().for_each(super::Face::refit);
+            self.prune_faces();
         }
     }
 }

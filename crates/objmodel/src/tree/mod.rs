@@ -389,16 +389,22 @@ impl Tree {
         self.landings = kept;
         self.refit_landings(&gone);
         self.supports.retain(|o| o.demo != name);
-        self.faces.retain_mut(|f| {
-            f.observations.retain(|o| o.demo != name);
-            !f.observations.is_empty()
-        });
+        self.faces
+            .iter_mut()
+            .for_each(|f| f.observations.retain(|o| o.demo != name));
+        self.prune_faces();
+        self.refit_whole();
+    }
+
+    /// Drop the faces left without observations (and the edges' references to them), and
+    /// refit the others.
+    fn prune_faces(&mut self) {
+        self.faces.retain(|f| !f.observations.is_empty());
         self.faces.iter_mut().for_each(Face::refit);
         let ids: Vec<String> = self.faces.iter().map(|f| f.id.clone()).collect();
         self.edges
             .iter_mut()
             .for_each(|e| e.faces.retain(|f| ids.contains(f)));
-        self.refit_whole();
     }
 
     /// Recompute what depends on all the features: the support's height and the offsets it

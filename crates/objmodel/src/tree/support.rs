@@ -20,12 +20,7 @@ impl Tree {
                 .iter_mut()
                 .filter(|o| o.source == FaceSource::Landing)
             {
-                let landing = landings.iter().find(|l| {
-                    l.confirmed
-                        && l.demo == o.demo
-                        && l.frames == o.frames
-                        && l.face().normal == o.normal
-                });
+                let landing = landings.iter().find(|l| l.confirmed && l.taught(o));
                 let (offset, var) = match (support, landing) {
                     (Some(s), Some(l)) => {
                         let (d, v) = s.offset_of(l);
