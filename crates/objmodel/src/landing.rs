@@ -144,11 +144,12 @@ impl Landing {
 
     /// Whether `o` is the face observation this landing taught ([`Landing::face`]).
     pub fn taught(&self, o: &FaceObservation) -> bool {
-        let taught = self.face();
+        // The fields `face` sets, compared without building the observation (its normal is
+        // `from_gravity`'s, `down` normalised).
         o.source == FaceSource::Landing
-            && o.demo == taught.demo
-            && o.frames == taught.frames
-            && o.normal == taught.normal
+            && o.demo == self.demo
+            && o.frames == self.frames
+            && o.normal == self.down.normalize()
     }
 }
 
