@@ -11,8 +11,9 @@
 //!   it has none);
 //! * the edge's point: `r` changes by `-mᵀ δp` (`Edge::point_cov`);
 //! * the edge's direction (`Edge::direction_cov`) and the resting face's normal (its
-//!   `sigma_normal_rad` per axis): by the numerical derivative of `r` along the two axes
-//!   normal to each.
+//!   `sigma_normal_own_rad` per axis: the support's level common to every gravity-taught face
+//!   is left out, as it would tilt every plane's face alike): by the numerical derivative of
+//!   `r` along the two axes normal to each.
 //!
 //! The errors of different planes are taken as independent (two pendulums of one edge share the
 //! edge's error: that correlation is left out). The covariance of `x` is `(Σ m mᵀ/σ²)⁻¹`; with
@@ -181,7 +182,7 @@ impl Tree {
                     .faces
                     .iter()
                     .filter(|f| super::angle(&f.normal, &p.resting_face_normal) < SAME_FACE_RAD)
-                    .map(|f| f.sigma_normal_rad)
+                    .map(|f| f.sigma_normal_own_rad())
                     .next()
                     .unwrap_or(0.0);
                 let m = |r: &[[f64; 3]; 3]| Matrix3::from_fn(|i, j| r[i][j]);

@@ -2,7 +2,7 @@
 //! the offsets that are known (see the [tree documentation](super)).
 
 use super::{angle, SYSTEMATIC_DIRECTION_RAD, SYSTEMATIC_POINT_M};
-use crate::face::{FaceObservation, FaceSource};
+use crate::face::{FaceObservation, FaceSource, SUPPORT_LEVEL_SIGMA_RAD};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -112,7 +112,8 @@ impl Face {
             .sum::<f64>()
             / wsum;
         self.normal = n;
-        self.sigma_normal_rad = ((scatter / 2.0) / n_eff + 1.0 / wsum).sqrt();
+        self.sigma_normal_rad =
+            ((scatter / 2.0) / n_eff + 1.0 / wsum + self.common_level_var(wsum)).sqrt();
         self.sign_known = self.observations.iter().any(|o| o.sign_known);
         let off_w: f64 = offsets.iter().map(|(_, w)| w).sum();
         self.offset =
@@ -125,6 +126,48 @@ impl Face {
         self.support.dedup();
         self.n_support = self.support.len();
         self.evidence = evidence;
+    }
+
+    /// RMS standard deviation \[rad\] of the normal per axis without the support's level
+    /// common to its gravity-taught observations ([`Self::sigma_normal_rad`] less
+    /// `common_level_var`): what tells this face's normal from another face's taught in the same
+    /// lab, where the common tilt tilts both alike (the centre of mass's planes weigh their
+    /// resting faces by it, `tree/com.rs`).
+    pub fn sigma_normal_own_rad(&self) -> f64 {
+        let wsum: f64 = self
+            .observations
+            .iter()
+            .map(|o| 1.0 / (o.sigma_normal().powi(2) + 1e-12))
+            .sum();
+        (self.sigma_normal_rad.powi(2) - self.common_level_var(wsum))
+            .max(0.0)
+            .sqrt()
+    }
+
+    /// Variance \[rad²\] per axis that the support's level adds to the weighted mean normal
+    /// (of total weight `wsum`) beyond what its weights say. A normal taught by gravity (a rest,
+    /// a landing) holds the level of the support and of the tracking frame against gravity,
+    /// [`SUPPORT_LEVEL_SIGMA_RAD`] per axis, and its weight counts it as independent: the mean
+    /// of `n` such normals would be known to `1/√n` of it. But a tilted table, or a tracker's
+    /// world tilted from the gravity it was given, tilts them all alike: that part does not
+    /// average down. Counted as common to them (full correlation, the worst case), it
+    /// contributes `L² (W_g / W)²` to the mean's variance where the weights gave
+    /// `L² Σ w_i² / W²` (`W_g` the gravity-taught observations' weight, `w_i` theirs): the
+    /// difference is added. A face that rests alone taught is then known to the support's
+    /// level, 1°, however many rests show it; one that slides taught too, to less.
+    fn common_level_var(&self, wsum: f64) -> f64 {
+        let level = SUPPORT_LEVEL_SIGMA_RAD * SUPPORT_LEVEL_SIGMA_RAD;
+        let (mut w_g, mut w2_g) = (0.0, 0.0);
+        for o in self
+            .observations
+            .iter()
+            .filter(|o| matches!(o.source, FaceSource::Rest | FaceSource::Landing))
+        {
+            let w = 1.0 / (o.sigma_normal().powi(2) + 1e-12);
+            w_g += w;
+            w2_g += w * w;
+        }
+        (level * (w_g * w_g - w2_g) / (wsum * wsum)).max(0.0)
     }
 
     /// χ² (2 dof) of an observation's normal against this face, and whether offsets agree.
@@ -215,6 +258,68 @@ mod tests {
         z.sort_by(f64::total_cmp);
         let median = z[z.len() / 2];
         assert!((0.5..0.8).contains(&median), "median |z| {median}");
+    }
+
+    /// Faces taught by gravity in one lab whose tracking frame is tilted from the gravity it
+    /// was given (by a normal draw of 1° per axis, the support level the observations hold):
+    /// every rest on the face sees the same tilt when the object rests on it the same way
+    /// round, so their mean is off by the whole tilt however many rests there are. Its σ must
+    /// say so: over many labs, the median |error|/σ of the 2-D normal error is near the
+    /// honest 1.18 (counted as independent, the σ shrank as 1/√n and the median was
+    /// 1.18 √n, 2.4 to 3.3 here), and no error exceeds 5 σ.
+    #[test]
+    fn a_tilt_common_to_rests_does_not_average_down() {
+        let mut rng = StdRng::seed_from_u64(11);
+        let level = SUPPORT_LEVEL_SIGMA_RAD;
+        let mut z = Vec::new();
+        for k in 0..400 {
+            let n = 4 + k % 5;
+            let (a, b): (f64, f64) = (
+                StandardNormal.sample(&mut rng),
+                StandardNormal.sample(&mut rng),
+            );
+            let tilt = Vector3::new(level * a, level * b, 0.0);
+            let down = nalgebra::Rotation3::new(tilt) * Vector3::z();
+            let obs: Vec<_> = (0..n)
+                .map(|i| FaceObservation::from_gravity(&down, &format!("d{i}"), 40))
+                .collect();
+            let f = fused(obs);
+            z.push(angle(&f.normal, &Vector3::z()) / f.sigma_normal_rad);
+        }
+        z.sort_by(f64::total_cmp);
+        let median = z[z.len() / 2];
+        assert!((0.95..1.4).contains(&median), "median |error|/σ {median}");
+        assert!(z[z.len() - 1] < 5.0, "largest |error|/σ {}", z[z.len() - 1]);
+    }
+
+    /// The common level counts for the gravity-taught share of a face only: slides that
+    /// determine the normal better keep it better known than the level.
+    #[test]
+    fn slides_keep_a_face_known_better_than_the_level() {
+        let slide = FaceObservation {
+            source: FaceSource::Slide,
+            normal_cov: (Matrix3::identity() - Vector3::z() * Vector3::z().transpose()) * 1e-6,
+            ..FaceObservation::from_gravity(&Vector3::z(), "s", 40)
+        };
+        let rests =
+            (0..6).map(|i| FaceObservation::from_gravity(&Vector3::z(), &format!("r{i}"), 40));
+        let f = fused(std::iter::repeat_n(slide, 3).chain(rests).collect());
+        assert!(
+            f.sigma_normal_rad < 0.1 * SUPPORT_LEVEL_SIGMA_RAD,
+            "σ {}",
+            f.sigma_normal_rad
+        );
+        let alone = fused(
+            (0..6)
+                .map(|i| FaceObservation::from_gravity(&Vector3::z(), &format!("r{i}"), 40))
+                .collect(),
+        );
+        assert!(
+            (alone.sigma_normal_rad - SUPPORT_LEVEL_SIGMA_RAD).abs()
+                < 1e-3 * SUPPORT_LEVEL_SIGMA_RAD,
+            "σ {}",
+            alone.sigma_normal_rad
+        );
     }
 
     /// Two offsets 10 mm apart, each known to 0.3 mm (two boxes' faces within the match gate):
