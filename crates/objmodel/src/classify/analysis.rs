@@ -409,8 +409,12 @@ pub(super) fn analyse_segment(
     }
     // The rests around the segment were on the support when a contact mode measured from them
     // leaves the rest before (it leads the segment: its features are taught) or reaches the
-    // rest after (it lasts to the segment's end, landing aside).
-    let rotation = edge.is_some() || small_rotation;
+    // rest after (it lasts to the segment's end, landing aside). An edge rotation too small to
+    // locate its edge shows that only relative to a palm, which is the support: in the world,
+    // a hand that starts to swing a held object turns it about some line for a few degrees
+    // too (on MuJoCo tosses from a still hold, two such 2-4° "topples" made the hold a
+    // resting face, 34° and 49° off any face of the box).
+    let rotation = edge.is_some() || (small_rotation && instrumented);
     let departs_from_support = seg.rest_before.is_some()
         && seg.rest_before_frames >= MIN_FACE_FRAMES
         && (face.is_some() || rotation);
