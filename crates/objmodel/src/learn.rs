@@ -299,6 +299,7 @@ impl Learner {
                 self.config.robust.rest_window_s,
             );
             crate::onset::remeasure_later_parts(classification, recording, &self.config);
+            crate::flight::withhold_topples_that_fly(classification, recording, &self.config);
         }
         // (A demonstration that teaches nothing shows no support either.)
         if !unmeasurable {

@@ -15,9 +15,11 @@
 //! Flights and impacts teach no contact feature: they only split the parts that taught
 //! nothing ([`mark`](parts::mark_flights)), and a flight reports its fitted centre of mass.
 
+mod after_topple;
 pub mod fit;
 mod parts;
 
+pub use after_topple::withhold_topples_that_fly;
 pub use fit::{FlightFit, FlightFrame, FLIGHT_TOLERANCE_M};
 pub use parts::mark_flights;
 pub(crate) use parts::{split_parts, Span};
