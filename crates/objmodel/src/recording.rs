@@ -64,6 +64,14 @@ impl Recording {
 }
 
 impl Recording {
+    /// The kept object frames whose stream index lies in `first..=last` (a part's or a label
+    /// run's frames, as far as they were kept).
+    pub fn objects_in(&self, first: usize, last: usize) -> &[RecordedFrame] {
+        let lo = self.object.partition_point(|f| (f.index as usize) < first);
+        let hi = self.object.partition_point(|f| (f.index as usize) <= last);
+        &self.object[lo..hi]
+    }
+
     /// A 64-bit FNV-1a hash (over words), in hex, of `frames` (the object stream's length) and the bits of
     /// every kept frame (index, time, orientation with its sign fixed; palm: time and pose)
     /// and of the strides:

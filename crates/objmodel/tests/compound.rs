@@ -206,14 +206,8 @@ fn a_fast_toss_at_30_hz_teaches_nothing_without_the_noise() {
 /// taught: no arrival is tested, no resting face, landing or support height comes from them.
 #[test]
 fn a_demonstration_that_teaches_nothing_shows_no_support_either() {
-    use objmodel::learn::{Learner, Source};
     for name in ["toss_rest_30hz.tum", "toss_landing_30hz.tum"] {
-        let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests/data")
-            .join(name);
-        let c = Learner::new(Config::default())
-            .classify(&Source::file(&file))
-            .unwrap();
+        let c = classified_fixture(name);
         assert!(c.withheld.is_some(), "{name}: {:?}", c.warnings);
         assert!(c.segments.iter().all(|s| !s.arrives_on_support), "{name}");
         assert!(c.rest_faces().is_empty(), "{name}");
@@ -226,11 +220,7 @@ fn a_demonstration_that_teaches_nothing_shows_no_support_either() {
         );
     }
     // The second does fly and come to rest: were it measurable, its rest would be a landing.
-    let file =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/toss_landing_30hz.tum");
-    let c = Learner::new(Config::default())
-        .classify(&Source::file(&file))
-        .unwrap();
+    let c = classified_fixture("toss_landing_30hz.tum");
     assert!(c
         .parts
         .iter()
@@ -282,6 +272,45 @@ fn slide_normals_before_a_topple_have_honest_sigmas() {
     );
 }
 
+/// The classification `objmodel learn` makes (default settings) of `tests/data/NAME`.
+fn classified_fixture(name: &str) -> objmodel::classify::Classification {
+    use objmodel::learn::{Learner, Source};
+    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name);
+    Learner::new(Config::default())
+        .classify(&Source::file(&file))
+        .unwrap()
+}
+
+/// The outward face normals of a box whose tag is turned by the angle of cosine `c` and sine
+/// `s` about its z axis, in the tag frame.
+fn turned_box_faces(c: f64, s: f64) -> [Vector3<f64>; 6] {
+    [
+        Vector3::new(c, s, 0.0),
+        Vector3::new(-c, -s, 0.0),
+        Vector3::new(-s, c, 0.0),
+        Vector3::new(s, -c, 0.0),
+        Vector3::new(0.0, 0.0, -1.0),
+        Vector3::new(0.0, 0.0, 1.0),
+    ]
+}
+
+/// Every resting face `c` teaches is within 5° of one of `truth`.
+fn assert_rest_faces_on(
+    c: &objmodel::classify::Classification,
+    truth: &[Vector3<f64>],
+    name: &str,
+) {
+    for f in &c.rest_faces() {
+        let off = truth
+            .iter()
+            .map(|t| f.normal.angle(t).to_degrees())
+            .fold(f64::INFINITY, f64::min);
+        assert!(off < 5.0, "{name}: a face {off:.1}° off the box");
+    }
+}
+
 /// Tosses from another simulator (`bench/mujoco_tosses.py`, MuJoCo, 150-250 Hz, 0.1-0.5 mm):
 /// the box is held still in the air, swung and thrown. The swing's first frames turn it 2-4°
 /// about a line, which passed as a topple too small to locate its edge, and such a rotation
@@ -292,35 +321,15 @@ fn slide_normals_before_a_topple_have_honest_sigmas() {
 /// frame, from the generator).
 #[test]
 fn a_hand_that_starts_a_throw_is_not_a_support() {
-    use objmodel::learn::{Learner, Source};
-    let (c, s) = (0.992_358, 0.123_396);
-    let truth = [
-        Vector3::new(-c, -s, 0.0),
-        Vector3::new(c, s, 0.0),
-        Vector3::new(s, -c, 0.0),
-        Vector3::new(-s, c, 0.0),
-        Vector3::new(0.0, 0.0, -1.0),
-        Vector3::new(0.0, 0.0, 1.0),
-    ];
+    let truth = turned_box_faces(0.992_358, 0.123_396);
     for name in ["mujoco_hold_toss_1.tum", "mujoco_hold_toss_2.tum"] {
-        let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests/data")
-            .join(name);
-        let c = Learner::new(Config::default())
-            .classify(&Source::file(&file))
-            .unwrap();
+        let c = classified_fixture(name);
         assert_eq!(
             c.resting_faces_taught().first(),
             Some(&false),
             "{name}: the hold taught a face"
         );
-        for f in &c.rest_faces() {
-            let off = truth
-                .iter()
-                .map(|t| f.normal.angle(t).to_degrees())
-                .fold(f64::INFINITY, f64::min);
-            assert!(off < 5.0, "{name}: a face {off:.1}° off the box");
-        }
+        assert_rest_faces_on(&c, &truth, name);
     }
 }
 
@@ -333,29 +342,10 @@ fn a_hand_that_starts_a_throw_is_not_a_support() {
 /// hold, and what is taught is on the box.
 #[test]
 fn a_swing_that_ends_in_flight_is_no_topple() {
-    use objmodel::learn::{Learner, Source};
-    let (c, s) = (0.639_328, 0.768_934);
-    let truth = [
-        Vector3::new(c, s, 0.0),
-        Vector3::new(-c, -s, 0.0),
-        Vector3::new(-s, c, 0.0),
-        Vector3::new(s, -c, 0.0),
-        Vector3::new(0.0, 0.0, -1.0),
-        Vector3::new(0.0, 0.0, 1.0),
-    ];
-    let file =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mujoco_swing_toss.tum");
-    let c = Learner::new(Config::default())
-        .classify(&Source::file(&file))
-        .unwrap();
+    let name = "mujoco_swing_toss.tum";
+    let c = classified_fixture(name);
     assert_eq!(c.edges().count(), 0, "{:?}", c.topples);
     assert!(c.rolls.iter().all(|r| !r.taught));
     assert_eq!(c.resting_faces_taught().first(), Some(&false));
-    for f in &c.rest_faces() {
-        let off = truth
-            .iter()
-            .map(|t| f.normal.angle(t).to_degrees())
-            .fold(f64::INFINITY, f64::min);
-        assert!(off < 5.0, "a face {off:.1}° off the box");
-    }
+    assert_rest_faces_on(&c, &turned_box_faces(0.639_328, 0.768_934), name);
 }

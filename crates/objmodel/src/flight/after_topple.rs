@@ -13,7 +13,7 @@
 //! its face, not an edge of it, and falls. Such a segment's edge is withheld and its rests are
 //! not on a support.
 
-use super::{find_flights, FlightFrame, FlightTest, MAX_COM_M};
+use super::{find_flights, FlightFrame, FlightTest};
 use crate::classify::{Classification, Config, Label};
 use crate::recording::Recording;
 
@@ -21,28 +21,17 @@ use crate::recording::Recording;
 /// take their rests as on the support (see the module documentation). Needs gravity and a
 /// noise model; direct demonstrations only (on a palm the palm is the support and moves).
 pub fn withhold_topples_that_fly(c: &mut Classification, recording: &Recording, config: &Config) {
-    let (Some(g), Some(noise)) = (config.gravity, c.noise.or(config.robust.noise)) else {
+    let Some(test) = FlightTest::of_demonstration(c, config) else {
         return;
     };
-    if c.instrumented || g.norm() == 0.0 {
-        return;
-    }
-    let test = FlightTest::new(
-        g.normalize() * crate::pendulum::G,
-        noise,
-        config.robust.alpha,
-        MAX_COM_M,
-    );
     let outlier = c.is_outlier();
     let flies = |k: usize| {
         c.labels
             .iter()
             .filter(|r| r.segment == Some(k) && r.label == Label::Landing)
             .any(|r| {
-                let objects = &recording.object;
-                let lo = objects.partition_point(|f| (f.index as usize) < r.first);
-                let hi = objects.partition_point(|f| (f.index as usize) <= r.last);
-                let frames: Vec<FlightFrame> = objects[lo..hi]
+                let frames: Vec<FlightFrame> = recording
+                    .objects_in(r.first, r.last)
                     .iter()
                     .filter(|f| !outlier(f.index))
                     .map(|f| f.into())

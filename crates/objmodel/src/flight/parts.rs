@@ -6,7 +6,7 @@
 //! falls with gravity) stay whole. Each flight is followed by its impact: the frames after its last one up to the next
 //! flight, up to [`MAX_IMPACT_S`], and up to a part that stays whole.
 
-use super::{find_flights, ComEstimate, FlightFrame, FlightTest, MAX_COM_M, MAX_IMPACT_S};
+use super::{find_flights, ComEstimate, FlightFrame, FlightTest, MAX_IMPACT_S};
 use crate::classify::{Classification, Config, Label, Part};
 use crate::recording::{RecordedFrame, Recording};
 
@@ -25,18 +25,9 @@ pub(crate) struct Span {
 /// impacts, into `c.parts`. Nothing happens without gravity (`--gravity none`: no flight can
 /// be told from a motion), without a noise model, or relative to a palm (the support moves).
 pub fn mark_flights(c: &mut Classification, recording: &Recording, config: &Config) {
-    let (Some(g), Some(noise)) = (config.gravity, c.noise.or(config.robust.noise)) else {
+    let Some(test) = FlightTest::of_demonstration(c, config).filter(|_| !c.parts.is_empty()) else {
         return;
     };
-    if c.instrumented || g.norm() == 0.0 || c.parts.is_empty() {
-        return;
-    }
-    let test = FlightTest::new(
-        g.normalize() * crate::pendulum::G,
-        noise,
-        config.robust.alpha,
-        MAX_COM_M,
-    );
     let outlier = c.is_outlier();
     // The runs of parts a flight may split (consecutive, in one segment), by frame index:
     // only their frames are scanned.
@@ -57,10 +48,7 @@ pub fn mark_flights(c: &mut Classification, recording: &Recording, config: &Conf
     }
     let mut spans: Vec<Span> = Vec::new();
     for &(first, last) in &runs {
-        let objects = &recording.object;
-        let lo = objects.partition_point(|f| (f.index as usize) < first);
-        let hi = objects.partition_point(|f| (f.index as usize) <= last);
-        let run = &objects[lo..hi];
+        let run = recording.objects_in(first, last);
         let kept: Vec<&RecordedFrame> = run.iter().filter(|f| !outlier(f.index)).collect();
         let frames: Vec<FlightFrame> = kept.iter().map(|&f| f.into()).collect();
         let flights = find_flights(&frames, &test);

@@ -66,10 +66,8 @@ pub fn mark_rolls(c: &mut Classification, recording: &Recording, config: &Config
     }
     let mut spans: Vec<Span> = Vec::new();
     for &(first, last) in &runs {
-        let objects = &recording.object;
-        let lo = objects.partition_point(|f| (f.index as usize) < first);
-        let hi = objects.partition_point(|f| (f.index as usize) <= last);
-        let kept: Vec<&RecordedFrame> = objects[lo..hi]
+        let kept: Vec<&RecordedFrame> = recording
+            .objects_in(first, last)
             .iter()
             .filter(|f| !outlier(f.index))
             .collect();

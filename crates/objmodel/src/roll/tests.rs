@@ -216,6 +216,18 @@ fn non_rolls_teach_no_edge() {
     }
 }
 
+/// `poses` with `noise` added, as the frames a roll is fitted to.
+fn noisy_frames(poses: &[StampedPose], noise: &SynthNoise, rng: &mut StdRng) -> Vec<FlightFrame> {
+    synth::add_noise(poses, noise, rng)
+        .iter()
+        .map(|p| FlightFrame {
+            t: p.t,
+            rotation: p.pose.rotation.to_rotation_matrix().into_inner(),
+            position: p.pose.translation.vector,
+        })
+        .collect()
+}
+
 /// The same roll without noise is found but does not pass as a flight, and with the tests'
 /// noise model the fit's χ² per degree of freedom is about 1 and its edge's error is within
 /// its covariance on average (the covariance is honest): over 200 noisy windows of a 30°
@@ -267,14 +279,7 @@ fn the_fit_is_honest_under_its_noise_model() {
                 )
             })
             .collect();
-        let noisy: Vec<FlightFrame> = synth::add_noise(&poses, &synth_noise, &mut rng)
-            .iter()
-            .map(|p| FlightFrame {
-                t: p.t,
-                rotation: p.pose.rotation.to_rotation_matrix().into_inner(),
-                position: p.pose.translation.vector,
-            })
-            .collect();
+        let noisy = noisy_frames(&poses, &synth_noise, &mut rng);
         let f = fit(&noisy, &rn).unwrap();
         c2 += f.chi2 / f.dof;
         let e = f.edge("");
@@ -350,14 +355,7 @@ fn a_roll_that_turns_back_is_cut_where_it_turns() {
         .collect();
     let mut rng = StdRng::seed_from_u64(17);
     for _ in 0..50 {
-        let frames: Vec<FlightFrame> = synth::add_noise(&stamped, &synth_noise, &mut rng)
-            .iter()
-            .map(|p| FlightFrame {
-                t: p.t,
-                rotation: p.pose.rotation.to_rotation_matrix().into_inner(),
-                position: p.pose.translation.vector,
-            })
-            .collect();
+        let frames = noisy_frames(&stamped, &synth_noise, &mut rng);
         let whole = fit(&frames, &test.noise).unwrap();
         let (first, end, f) = one_way(&frames, 0, frames.len(), whole, &test).unwrap();
         assert!(
