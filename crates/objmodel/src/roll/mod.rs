@@ -40,6 +40,7 @@ pub use parts::mark_rolls;
 
 use crate::edge::EdgeObservation;
 use crate::flight::{FlightFrame, FlightTest};
+use crate::support::SupportObservation;
 use nalgebra::{Rotation3, Vector3};
 use serde::{Deserialize, Serialize};
 
@@ -169,6 +170,31 @@ impl RollTest<'_> {
                 .try_inverse()
                 .is_some_and(|w| d.dot(&(w * d)) > crate::stats::chi2_threshold(3.0, self.alpha))
         })
+    }
+
+    /// The fit as the edge observation of demonstration `demo`, with the contact's wander
+    /// (`tolerance_m`, a rounded edge, a soft contact that lets the pivot sink) as the least
+    /// error of its point: one roll is one path of the contact, so that error is common to its
+    /// frames and does not average down over them, as for a topple's edge
+    /// (`classify::analysis`). The fit's own χ² tests are the tracking noise's alone.
+    pub fn edge(&self, fit: &RollFit, demo: &str) -> EdgeObservation {
+        let mut e = fit.edge(demo);
+        e.add_systematic_point_var(self.tolerance_m.powi(2));
+        e
+    }
+
+    /// The support's height a roll's fitted world line measures (its edge lies on the
+    /// support), with the same least error as its edge ([`Self::edge`]); `down` is unit.
+    pub fn support(&self, fit: &RollFit, down: &Vector3<f64>, demo: &str) -> SupportObservation {
+        let p = fit.world_line.point;
+        let var = down.dot(&(fit.world_point_cov * down)).max(0.0) + self.tolerance_m.powi(2);
+        SupportObservation {
+            demo: demo.to_string(),
+            height: -down.dot(&p),
+            sigma_m: var.sqrt(),
+            across: p - down * down.dot(&p),
+            from: "roll".to_string(),
+        }
     }
 
     /// The smallest turn \[rad\] that locates an edge against the contact's wander.
@@ -426,7 +452,7 @@ fn judge(frames: &[FlightFrame], fit: RollFit, test: &RollTest, min_turn: f64) -
         withheld: None,
         physics: false,
     };
-    let edge = fit.edge("");
+    let edge = test.edge(&fit, "");
     c.rejected = if fit.frames < MIN_ROLL_FRAMES || !test.passes(&fit, test.alpha) {
         Some("the fixed-line model does not explain it".into())
     } else if fit.object_line.point.norm() > test.r_max {

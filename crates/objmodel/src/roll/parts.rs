@@ -6,7 +6,6 @@ use super::{find_rolls, Roll, RollNoise, RollTest};
 use crate::classify::{Classification, Config, Label, Part};
 use crate::flight::{FlightFrame, FlightTest, Span, MAX_COM_M};
 use crate::recording::{RecordedFrame, Recording};
-use crate::support::SupportObservation;
 use nalgebra::{Matrix3, Vector3};
 
 /// Whether a part's frames may hold a roll: it taught nothing and is a motion that no other
@@ -77,22 +76,15 @@ pub fn mark_rolls(c: &mut Classification, recording: &Recording, config: &Config
             let taught = r.withheld.is_none();
             // A taught roll's edge lies on the support: its world line's height is the
             // support's.
-            let support = down.filter(|_| taught).map(|d| {
-                let p = r.fit.world_line.point;
-                SupportObservation {
-                    demo: c.name.clone(),
-                    height: -d.dot(&p),
-                    sigma_m: d.dot(&(r.fit.world_point_cov * d)).max(0.0).sqrt(),
-                    across: p - d * d.dot(&p),
-                    from: "roll".to_string(),
-                }
-            });
+            let support = down
+                .filter(|_| taught)
+                .map(|d| test.support(&r.fit, &d, &c.name));
             c.rolls.push(Roll {
                 first: a.index as usize,
                 last: b.index as usize,
                 t_start: a.t,
                 t_end: b.t,
-                edge: r.fit.edge(&c.name),
+                edge: test.edge(&r.fit, &c.name),
                 turn: r.fit.turn.abs(),
                 chi2: r.fit.chi2,
                 dof: r.fit.dof,
