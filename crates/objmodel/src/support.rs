@@ -25,7 +25,8 @@ pub struct SupportObservation {
     pub demo: String,
     /// Height \[m\] of the edge along −gravity, in the frame the poses are given in.
     pub height: f64,
-    /// Its standard deviation \[m\] from the fit's noise alone.
+    /// Its standard deviation \[m\]: the measurement's, with the contact's wander that the
+    /// edge's σ holds (the support's flatness and tilt are added where observations meet).
     pub sigma_m: f64,
     /// Where it was across gravity \[m\].
     pub across: Vector3<f64>,
