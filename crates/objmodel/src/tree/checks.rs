@@ -21,7 +21,14 @@ pub struct Contradiction {
 impl Tree {
     /// Every contradiction between the tree's features (see the module documentation).
     pub fn contradictions(&self) -> Vec<Contradiction> {
-        let mut out = Vec::new();
+        let mut out: Vec<Contradiction> = self
+            .withheld_edges
+            .iter()
+            .map(|w| Contradiction {
+                features: vec![w.edge.id.clone()],
+                what: w.why.clone(),
+            })
+            .collect();
         let limit = crate::stats::chi2_threshold(2.0, MATCH_ALPHA);
         for e in &self.edges {
             for fid in &e.faces {

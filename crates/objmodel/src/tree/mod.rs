@@ -38,6 +38,7 @@ mod edge;
 mod face;
 mod file;
 mod landing;
+mod landing_edges;
 mod pendulums;
 mod support;
 mod unconfirmed;
@@ -46,6 +47,7 @@ pub use com::{com_from_planes, CentreOfMass, ComPlane, UNKNOWN_PHI_SIGMA_RAD};
 pub use com_conflicts::{com_without_conflicts, ComConflict};
 pub use edge::Edge;
 pub use face::{Evidence, Face};
+pub use landing_edges::WithheldEdge;
 use nalgebra::{Matrix3, Vector3};
 pub use pendulums::{Pendulum, PendulumObservation};
 use serde::{Deserialize, Serialize};
@@ -170,6 +172,10 @@ pub struct Tree {
     /// the landings' faces their offsets.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub support: Option<crate::support::SupportHeight>,
+    /// Edges held back: the faces the landings show contradict them
+    /// (`tree/landing_edges.rs`). They are not in `edges`, the shape or the plans.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub withheld_edges: Vec<WithheldEdge>,
 }
 
 impl Default for Tree {
@@ -190,6 +196,7 @@ impl Default for Tree {
             landings: Vec::new(),
             supports: Vec::new(),
             support: None,
+            withheld_edges: Vec::new(),
         }
     }
 }
@@ -218,6 +225,7 @@ impl Tree {
     /// name the tree already has are added under a new name (`NAME#2`, ...), so none is lost.
     /// The returned [`Added`] says which.
     pub fn add(&mut self, observation: &Observation) -> Added {
+        self.restore_withheld_edges();
         let c = &observation.classification;
         let same_poses = observation.fingerprint.as_ref().and_then(|f| {
             self.demos
@@ -370,6 +378,7 @@ impl Tree {
 
     /// Remove every observation of the demonstration `name`, and features left without any.
     pub fn remove_demo(&mut self, name: &str) {
+        self.restore_withheld_edges();
         self.demos.retain(|d| d.name != name);
         self.edges.retain_mut(|e| {
             e.observations.retain(|o| o.demo != name);
@@ -411,6 +420,7 @@ impl Tree {
     /// gives the landings' faces, the centre of mass, the shape and the contradictions between
     /// them.
     fn refit_whole(&mut self) {
+        self.withhold_edges_off_landed_faces();
         self.refit_support();
         self.refit_centre_of_mass();
         self.shape = self.reconstruct_shape().ok();

@@ -1,5 +1,6 @@
 //! The tree's support ([`crate::support`]): every demonstration's measurements of the support's
-//! height are kept; the height they agree on, if they do, gives each confirmed landing's face
+//! height are kept (those of a demonstration with a withheld edge are not used:
+//! `tree/landing_edges.rs`); the height they agree on, if they do, gives each confirmed landing's face
 //! observation its offset, and the face's offset σ holds the support's error once (it is
 //! common to all its landings).
 
@@ -11,7 +12,20 @@ impl Tree {
     /// Fuse the support's height from its observations, and give each face observation of a
     /// confirmed landing the offset it implies (none without a height).
     pub(super) fn refit_support(&mut self) {
-        self.support = SupportHeight::fuse(&self.supports, MATCH_ALPHA);
+        // A withheld edge's line is not on the support: its demonstration's measurements of
+        // the support's height (the same lines) are left out with it.
+        let withheld: Vec<&str> = self
+            .withheld_edges
+            .iter()
+            .flat_map(|w| w.edge.observations.iter().map(|o| o.demo.as_str()))
+            .collect();
+        let kept: Vec<crate::support::SupportObservation> = self
+            .supports
+            .iter()
+            .filter(|o| !withheld.contains(&o.demo.as_str()))
+            .cloned()
+            .collect();
+        self.support = SupportHeight::fuse(&kept, MATCH_ALPHA);
         let (faces, landings, support) = (&mut self.faces, &self.landings, &self.support);
         for f in faces.iter_mut() {
             let mut changed = false;
