@@ -52,6 +52,7 @@ fn edge(id: usize, point: Vector3<f64>, direction: Vector3<f64>, faces: [usize; 
         faces: faces.iter().map(|f| format!("f{f}")).collect(),
         pendulums: Vec::new(),
         observations: Vec::new(),
+        between_sigma_m: None,
     }
 }
 

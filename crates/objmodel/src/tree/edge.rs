@@ -34,6 +34,11 @@ pub struct Edge {
     pub pendulums: Vec<Pendulum>,
     /// The per-demonstration observations.
     pub observations: Vec<EdgeObservation>,
+    /// Standard deviation \[m\] per axis of the scatter of the edges about the faces the
+    /// landings show beyond the edges' own σ (a random effect, `tree/landing_edges.rs`),
+    /// included in `point_cov` and `sigma_point_m`; absent where no landed face tests the edge.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub between_sigma_m: Option<f64>,
 }
 
 impl Edge {
@@ -51,6 +56,7 @@ impl Edge {
             faces: Vec::new(),
             pendulums: Vec::new(),
             observations: vec![obs],
+            between_sigma_m: None,
         };
         e.refit();
         e
@@ -83,10 +89,22 @@ impl Edge {
         self.point_cov = rows(&cp);
         self.direction_cov = rows(&cd);
         self.sigma_point_m = (cp.trace() / 2.0).sqrt();
+        self.between_sigma_m = None;
         self.sigma_direction_rad = (cd.trace() / 2.0).sqrt();
         self.support = self.observations.iter().map(|o| o.demo.clone()).collect();
         self.support.dedup();
         self.n_support = self.support.len();
+    }
+
+    /// Add the scatter `sigma` \[m\] per axis between the edges (normal to the line) to the
+    /// point's covariance ([`Edge::between_sigma_m`]); [`Edge::refit`] takes it out.
+    pub(super) fn add_between(&mut self, sigma: f64) {
+        let u = self.direction;
+        let cp = Matrix3::from_fn(|i, j| self.point_cov[i][j])
+            + (Matrix3::identity() - u * u.transpose()) * sigma * sigma;
+        self.point_cov = rows(&cp);
+        self.sigma_point_m = (cp.trace() / 2.0).sqrt();
+        self.between_sigma_m = Some(sigma);
     }
 
     /// χ² (4 dof) of an observation against this edge.

@@ -86,6 +86,13 @@ impl Tree {
 
     /// Withhold the edges the landings' faces contradict (see the module documentation).
     pub(super) fn withhold_edges_off_landed_faces(&mut self) {
+        for e in self
+            .edges
+            .iter_mut()
+            .filter(|e| e.between_sigma_m.is_some())
+        {
+            e.refit();
+        }
         let faces = self.landed_faces();
         if faces.is_empty() {
             return;
@@ -115,9 +122,13 @@ impl Tree {
             return;
         };
         let mut kept = Vec::with_capacity(self.edges.len());
+        let mut tested = Vec::new();
         for (e, cs) in std::mem::take(&mut self.edges).into_iter().zip(claims) {
             let chi2: f64 = cs.iter().map(|c| c.chi2(z0, z0_var, 0.0, 0.0)).sum();
             if cs.is_empty() || chi2 <= chi2_threshold(2.0 * cs.len() as f64, MATCH_ALPHA) {
+                if !cs.is_empty() {
+                    tested.push((kept.len(), cs));
+                }
                 kept.push(e);
                 continue;
             }
@@ -140,6 +151,21 @@ impl Tree {
                 2 * cs.len()
             );
             self.withheld_edges.push(WithheldEdge { edge: e, why });
+        }
+        // The kept edges' scatter about the faces beyond their σ: one variance between edges
+        // (a contact that sinks or slips more than the edge's σ holds), by the moment
+        // estimator of Paule and Mandel over their values.
+        if tested.len() >= 2 {
+            let residuals: Vec<(f64, f64)> = tested
+                .iter()
+                .flat_map(|(_, cs)| cs.iter().map(|c| (c.z - z0, c.z_var)))
+                .collect();
+            let between = between_variance(&residuals).sqrt();
+            if between > 0.0 {
+                for (i, _) in &tested {
+                    kept[*i].add_between(between);
+                }
+            }
         }
         self.edges = kept;
     }
@@ -230,6 +256,36 @@ fn claimed(candidates: Vec<Claim>, z0: f64, z0_var: f64) -> Vec<Claim> {
         .into_iter()
         .filter(|c| c.chi2(z0, z0_var, sys, sys_dir) < gate)
         .collect()
+}
+
+/// The variance `τ²` between `residuals` (each about one common mean, with its own variance)
+/// beyond their own: the `τ² ≥ 0` with `Σ r²/(v + τ²)` equal to its expectation, `n − 1`
+/// (Paule and Mandel's estimator); 0 where their own variances explain them.
+fn between_variance(residuals: &[(f64, f64)]) -> f64 {
+    let dof = residuals.len() as f64 - 1.0;
+    let q = |tau2: f64| {
+        residuals
+            .iter()
+            .map(|(r, v)| r * r / (v + tau2))
+            .sum::<f64>()
+    };
+    if dof < 1.0 || q(0.0) <= dof {
+        return 0.0;
+    }
+    let mut hi = residuals.iter().map(|(r, _)| r * r).fold(0.0, f64::max);
+    while q(hi) > dof {
+        hi *= 2.0;
+    }
+    let mut lo = 0.0;
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if q(mid) > dof {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
 }
 
 /// The mean of `values` (value, variance) that a χ² test (1 dof, [`MATCH_ALPHA`]) keeps,
