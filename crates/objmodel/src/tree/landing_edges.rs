@@ -1,7 +1,8 @@
 //! The edges checked against the landings' faces: an edge of the object lies in two of its
 //! faces, and where the landings know those faces, it must lie in them as precisely as both
 //! are measured. An edge that does not is withheld from the tree ([`WithheldEdge`]), with the
-//! reason, until the demonstrations change.
+//! reason and the faces its topples taught (a topple off the object's faces was no topple on
+//! the support, and its rests no rests on it), until the demonstrations change.
 //!
 //! Why: a roll measured on a soft or sinking contact (the pivot sinks into the support, or
 //! slips, as it turns) still fits a fixed line within the tracking noise, a few millimetres
@@ -25,6 +26,7 @@
 //! landings came from several supports) or no face has landings.
 
 use super::{Edge, Tree, MATCH_ALPHA, SYSTEMATIC_DIRECTION_RAD, SYSTEMATIC_POINT_M};
+use crate::face::{FaceObservation, FaceSource};
 use crate::landing::SUPPORT_FLATNESS_M;
 use crate::stats::chi2_threshold;
 use nalgebra::{Matrix3, Vector3};
@@ -37,6 +39,11 @@ pub struct WithheldEdge {
     pub edge: Edge,
     /// Why it is withheld, with numbers.
     pub why: String,
+    /// The face observations its topples taught (the rests before and after, with offsets
+    /// from this edge), held back with it: a topple whose edge is off the object's faces was
+    /// no topple on the support.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub faces: Vec<FaceObservation>,
 }
 
 /// A face as its confirmed landings show it.
@@ -78,8 +85,18 @@ impl Tree {
         if self.withheld_edges.is_empty() {
             return;
         }
-        self.edges
-            .extend(self.withheld_edges.drain(..).map(|w| w.edge));
+        for w in std::mem::take(&mut self.withheld_edges) {
+            let mut edge = w.edge;
+            edge.faces
+                .retain(|id| self.faces.iter().any(|f| &f.id == id));
+            for o in w.faces {
+                let id = self.add_face(o);
+                if !edge.faces.contains(&id) {
+                    edge.faces.push(id);
+                }
+            }
+            self.edges.push(edge);
+        }
         self.edges
             .sort_by_key(|e| e.id[1..].parse::<usize>().unwrap_or(usize::MAX));
     }
@@ -150,7 +167,15 @@ impl Tree {
                 what.join(", "),
                 2 * cs.len()
             );
-            self.withheld_edges.push(WithheldEdge { edge: e, why });
+            let faces = self.take_topple_faces(&e);
+            self.withheld_edges.push(WithheldEdge {
+                edge: e,
+                why,
+                faces,
+            });
+        }
+        if self.withheld_edges.iter().any(|w| !w.faces.is_empty()) {
+            self.prune_faces();
         }
         // The kept edges' scatter about the faces beyond their σ: one variance between edges
         // (a contact that sinks or slips more than the edge's σ holds), by the moment
@@ -168,6 +193,27 @@ impl Tree {
             }
         }
         self.edges = kept;
+    }
+
+    /// Take out of the faces the observations that the topples of the edge `e` taught
+    /// ([`FaceObservation::from_rest`]: its demonstration, its frames, an offset).
+    fn take_topple_faces(&mut self, e: &Edge) -> Vec<FaceObservation> {
+        let taught = |o: &FaceObservation| {
+            o.source == FaceSource::Rest
+                && o.offset.is_some()
+                && e.observations
+                    .iter()
+                    .any(|t| t.demo == o.demo && t.frames == o.frames)
+        };
+        let mut out = Vec::new();
+        for f in self.faces.iter_mut().filter(|f| e.faces.contains(&f.id)) {
+            let (taken, kept) = std::mem::take(&mut f.observations)
+                .into_iter()
+                .partition(|o| taught(o));
+            f.observations = kept;
+            out.extend::<Vec<FaceObservation>>(taken);
+        }
+        out
     }
 
     /// The faces with at least two confirmed landings whose heights agree (χ² of their

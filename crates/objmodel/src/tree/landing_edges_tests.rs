@@ -1,5 +1,6 @@
 use super::*;
 use crate::edge::EdgeObservation;
+use crate::face::FaceObservation;
 use crate::geometry::Line;
 use crate::landing::{Landing, RestPlace};
 use crate::noise::NoiseModel;
@@ -278,4 +279,56 @@ fn the_edges_scatter_about_the_landed_faces_is_in_their_sigma() {
         "honest σ: median {m_honest}"
     );
     assert!(with.len() > 500, "{} edges kept", with.len());
+}
+
+/// A topple whose edge the landed faces contradict takes the faces it taught (its rests
+/// before and after, with offsets from that edge) with it, and gives them back with it.
+#[test]
+fn a_withheld_topple_takes_the_faces_it_taught() {
+    let mut rng = StdRng::seed_from_u64(12);
+    let mut tree = tree_with(0, Vector3::zeros(), &[0, 1, 2, 3, 4, 5], &mut rng);
+    assert!(withheld(&tree).is_empty());
+    tree.edges.retain(|e| e.support[0] != "wrong");
+    let faces_before = tree.faces.len();
+    // A "topple" 8 mm inside the edge (+y, +z) along x, between rests 20° off the faces.
+    let (p, u) = box_edges()[0];
+    let o = observe(
+        "topple",
+        p - (axis(1) + axis(2)) * 8e-3,
+        u,
+        4e-4,
+        0.005,
+        &mut rng,
+    );
+    let eid = tree.add_edge(o.clone());
+    let (s, c) = 20f64.to_radians().sin_cos();
+    for down in [axis(1) * c + axis(2) * s, axis(2) * c + axis(1) * s] {
+        let fid = tree.add_face(FaceObservation::from_rest(&down, &o));
+        let e = tree.edges.iter_mut().find(|e| e.id == eid).unwrap();
+        e.faces.push(fid);
+    }
+    assert_eq!(tree.faces.len(), faces_before + 2);
+    tree.refit_whole();
+    assert_eq!(withheld(&tree), vec!["topple"]);
+    assert_eq!(tree.withheld_edges[0].faces.len(), 2);
+    assert_eq!(
+        tree.faces.len(),
+        faces_before,
+        "the topple's rests left with it"
+    );
+    let landings: Vec<String> = tree.landings.iter().map(|l| l.demo.clone()).collect();
+    for demo in landings {
+        tree.remove_demo(&demo);
+    }
+    assert!(tree.withheld_edges.is_empty());
+    let topple = tree
+        .edges
+        .iter()
+        .find(|e| e.support[0] == "topple")
+        .unwrap();
+    assert_eq!(topple.faces.len(), 2, "{:?}", topple.faces);
+    assert!(topple
+        .faces
+        .iter()
+        .all(|id| tree.faces.iter().any(|f| &f.id == id)));
 }
