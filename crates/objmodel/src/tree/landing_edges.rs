@@ -90,13 +90,7 @@ impl Tree {
     /// Move every withheld edge back into the tree (before a demonstration comes or goes).
     /// The edges' own σ come back too ([`Edge::between_sigma_m`] is taken out).
     pub(super) fn restore_withheld_edges(&mut self) {
-        for e in self
-            .edges
-            .iter_mut()
-            .filter(|e| e.between_sigma_m.is_some())
-        {
-            e.refit();
-        }
+        self.edges_to_own_sigma();
         if self.withheld_edges.is_empty() {
             return;
         }
@@ -116,8 +110,9 @@ impl Tree {
             .sort_by_key(|e| e.id[1..].parse::<usize>().unwrap_or(usize::MAX));
     }
 
-    /// Withhold the edges the landings' faces contradict (see the module documentation).
-    pub(super) fn withhold_edges_off_landed_faces(&mut self) {
+    /// Give every edge its own σ back: take out the scatter between edges
+    /// ([`Edge::between_sigma_m`]) that the last check added.
+    fn edges_to_own_sigma(&mut self) {
         for e in self
             .edges
             .iter_mut()
@@ -125,6 +120,11 @@ impl Tree {
         {
             e.refit();
         }
+    }
+
+    /// Withhold the edges the landings' faces contradict (see the module documentation).
+    pub(super) fn withhold_edges_off_landed_faces(&mut self) {
+        self.edges_to_own_sigma();
         let faces = self.landed_faces();
         if faces.is_empty() {
             return;
