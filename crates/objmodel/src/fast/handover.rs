@@ -224,6 +224,11 @@ fn push_batch_with<F: ParsingThreadWork>(
     }
 }
 
+/// Frames between two prefetches of the hand-over chunk, and how far ahead
+/// ([`super::prefetch`]).
+const PREFETCH_EVERY: usize = 8;
+const PREFETCH_FRAMES_AHEAD: usize = 32;
+
 /// Pass a hand-over chunk to the analysis, `index` being the number of the first frame in it
 /// (advanced past the chunk): in AVX2 code where the processor has it, as [`push_batch`]
 /// (the choice of code in the rest front end then folds away).
@@ -240,7 +245,14 @@ pub fn push_cleaned_frames(a: &mut Analyzer, chunk: &[CleanedFrame], index: &mut
 
 #[inline(always)]
 fn push_cleaned_frames_with(a: &mut Analyzer, chunk: &[CleanedFrame], index: &mut usize) {
-    for h in chunk {
+    for (k, h) in chunk.iter().enumerate() {
+        // The parsing thread wrote these frames on the other core: fetched ahead.
+        if k % PREFETCH_EVERY == 0 {
+            super::prefetch(
+                chunk.as_ptr().wrapping_add(k + PREFETCH_FRAMES_AHEAD).cast(),
+                PREFETCH_EVERY * std::mem::size_of::<CleanedFrame>(),
+            );
+        }
         // Read in place, in the hand-over chunk (see `SampleRef`).
         let frame = (!h.rot.x.is_nan()).then_some((&h.q, &h.p, &h.rot));
         a.push_cleaned_rotated(*index, h.t, frame);
