@@ -23,7 +23,9 @@
 //! nothing of how wrong the assumption may be (a weight inside the object moves the face by
 //! twice the weight's offset of the CoM).
 
+mod box_fit;
 mod inferred;
+pub use box_fit::{box_fit, BoxFit, BOX_ANGLE_RAD};
 pub use inferred::{opposite_id, reconstruct_inferring, OPPOSITE_RAD};
 
 use nalgebra::{Matrix3, Vector3};

@@ -28,12 +28,15 @@
 //! about its centroid ([`crate::mass::uniform`]) and taken about the learnt CoM unchanged, as
 //! `objmodel-sim` does for a weighted box (the weight is not modelled in its inertia).
 
-use crate::export::box_fit;
+mod learnt;
+
+pub use learnt::{AxisMoment, InertiaSource, LearntInertia};
+
 use crate::mass;
+use crate::shape::box_fit;
 use crate::shape::Shape;
 use crate::tree::Tree;
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
-use serde::{Deserialize, Serialize};
 
 /// Pendulum edges within this angle \[rad\] (10°) of a box axis give its moment.
 pub const AXIS_RAD: f64 = 0.174_532_925_199_432_95;
@@ -43,62 +46,6 @@ pub const AXIS_RAD: f64 = 0.174_532_925_199_432_95;
 pub const MIN_FALLS: usize = 2;
 /// ... and their mean's standard deviation (scatter over √n) is at most this fraction of it.
 pub const MAX_RELATIVE_SIGMA: f64 = 0.1;
-
-/// Where the inertia came from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum InertiaSource {
-    /// Every moment from the pendulums.
-    Pendulums,
-    /// Some moments from the pendulums, the others from the shape at uniform density.
-    PendulumsAndUniformDensity,
-    /// The shape at uniform density.
-    UniformDensity,
-}
-
-/// The moment about one axis through the CoM.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct AxisMoment {
-    /// The axis (unit, object frame).
-    pub direction: Vector3<f64>,
-    /// Moment per kg \[m²\].
-    pub moment_per_kg: f64,
-    /// Its standard deviation \[m²\] (the pendulums' scatter over their number), when two or
-    /// more pendulums give it.
-    pub sigma_per_kg: Option<f64>,
-    /// Pendulum observations about edges along it.
-    pub pendulums: usize,
-    /// Whether `moment_per_kg` is theirs (else the uniform shape's).
-    #[serde(default)]
-    pub from_pendulums: bool,
-    /// Their mean moment per kg \[m²\], when there are any.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub pendulum_moment_per_kg: Option<f64>,
-    /// Why their moment was not used, when it was not.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub not_used: Option<String>,
-}
-
-/// The learnt inertia.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct LearntInertia {
-    /// Inertia tensor per kg about the CoM \[m²\] (times the mass in kg: kg m²), object axes,
-    /// rows.
-    pub per_kg: [[f64; 3]; 3],
-    /// Where it came from.
-    pub source: InertiaSource,
-    /// The moments about the box's axes (a box), or the pendulums' edge directions.
-    pub axes: Vec<AxisMoment>,
-    /// What it assumes.
-    pub note: String,
-}
-
-impl LearntInertia {
-    /// The tensor per kg as a matrix.
-    pub fn matrix(&self) -> Matrix3<f64> {
-        Matrix3::from_fn(|i, j| self.per_kg[i][j])
-    }
-}
 
 /// `(edge direction, q)` of every pendulum observation with a fall ratio.
 fn moments(tree: &Tree, com: &Vector3<f64>) -> Vec<(Vector3<f64>, f64)> {
@@ -274,5 +221,4 @@ pub fn learn(tree: &Tree, shape: &Shape, com: &Vector3<f64>) -> LearntInertia {
 }
 
 #[cfg(test)]
-#[path = "inertia_tests.rs"]
 mod tests;
