@@ -17,7 +17,7 @@
 //! pusher drove through its balance point fits a free pendulum with φ far too low, and such a
 //! pendulum, alone with the others, pulled the CoM by its weight.
 
-use super::com::{com_from_planes, CentreOfMass, ComPlane};
+use super::com_planes::{com_from_planes, CentreOfMass, ComPlane};
 use super::MATCH_ALPHA;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};

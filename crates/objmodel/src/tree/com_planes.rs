@@ -1,0 +1,204 @@
+//! The centre of mass from the pendulums' planes, with its covariance.
+//!
+//! Each pendulum (edge, resting face, φ) puts the CoM `x` in the plane through the edge tilted
+//! by φ from the face's inward normal: `mᵀ (x - p) = 0`, `m` the plane's unit normal, `p` a
+//! point of the edge. Three or more planes of independent normals give `x` by weighted least
+//! squares, each plane weighted by `1/σ²` of its residual `r = mᵀ (x - p)` at the solution,
+//! propagated to first order from everything the plane is made of:
+//!
+//! * φ: turning the plane about the edge by δφ moves it by `l δφ` at `x`, `l` the CoM's
+//!   distance from the edge (`σ_φ` = the pendulum's `phi_sigma`; [`UNKNOWN_PHI_SIGMA_RAD`] when
+//!   it has none);
+//! * the edge's point: `r` changes by `-mᵀ δp` (`Edge::point_cov`);
+//! * the edge's direction (`Edge::direction_cov`) and the resting face's normal (its
+//!   `sigma_normal_own_rad` per axis: the support's level common to every gravity-taught face
+//!   is left out, as it would tilt every plane's face alike): by the numerical derivative of
+//!   `r` along the two axes normal to each.
+//!
+//! The errors of different planes are taken as independent (two pendulums of one edge share the
+//! edge's error: that correlation is left out). The covariance of `x` is `(Σ m mᵀ/σ²)⁻¹`; with
+//! more than three planes it is multiplied by the reduced χ² `Σ r²/σ² / (N - 3)` when that
+//! exceeds 1 (the planes disagree more than their sigmas say; it is never shrunk below the
+//! propagated one). Three planes always meet in a point (χ² is 0): their covariance is the
+//! propagated one alone.
+
+use super::CONDITION_MIN;
+use nalgebra::{Matrix3, SymmetricEigen, Vector3};
+use serde::{Deserialize, Serialize};
+
+/// σ_φ \[rad\] (2°) taken for a pendulum that has no `phi_sigma`.
+pub const UNKNOWN_PHI_SIGMA_RAD: f64 = 0.034_906_585_039_886_59;
+
+/// Where the centre of mass is, from the pendulums (see [`com_from_planes`] and `tree/com.rs`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CentreOfMass {
+    /// The CoM in the object frame \[m\].
+    pub point: Vector3<f64>,
+    /// RMS residual distance of the CoM from the planes \[m\].
+    pub rms_residual_m: f64,
+    /// Pendulums used.
+    pub pendulums: usize,
+    /// Covariance of `point` \[m²\], rows (absent in files written before it was computed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub covariance: Option<[[f64; 3]; 3]>,
+    /// Standard deviation \[m\] of `point` along its worst-known direction: the square root of
+    /// the covariance's largest eigenvalue.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sigma_m: Option<f64>,
+    /// χ² of the planes' residuals per degree of freedom (`N - 3`); absent with three planes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub chi2_per_dof: Option<f64>,
+}
+
+impl CentreOfMass {
+    /// The covariance as a matrix, if known.
+    pub fn covariance_matrix(&self) -> Option<Matrix3<f64>> {
+        self.covariance.map(|r| Matrix3::from_fn(|i, j| r[i][j]))
+    }
+
+    /// The error of the CoM against a true `point`, along each eigen-axis of the covariance in
+    /// its standard deviations (an honest covariance gives independent standard normals: median
+    /// |value| 0.674). `None` without a covariance or with a degenerate one.
+    pub fn standardised_error(&self, truth: &Vector3<f64>) -> Option<Vector3<f64>> {
+        let eig = SymmetricEigen::new(self.covariance_matrix()?);
+        if eig.eigenvalues.min() <= 0.0 {
+            return None;
+        }
+        let e = self.point - truth;
+        Some(Vector3::from_fn(|k, _| {
+            eig.eigenvectors.column(k).dot(&e) / eig.eigenvalues[k].sqrt()
+        }))
+    }
+}
+
+/// One pendulum's plane and what it is made of, with their uncertainties.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ComPlane {
+    /// φ \[rad\] and its standard deviation.
+    pub phi: f64,
+    /// Standard deviation of φ \[rad\].
+    pub phi_sigma: f64,
+    /// A point of the edge \[m\] and its covariance \[m²\].
+    pub point: Vector3<f64>,
+    /// Covariance of `point` \[m²\].
+    pub point_cov: Matrix3<f64>,
+    /// The toppling axis (unit edge direction; `axis × normal` points into the face).
+    pub axis: Vector3<f64>,
+    /// Covariance of `axis` \[rad²\].
+    pub axis_cov: Matrix3<f64>,
+    /// Outward unit normal of the resting face.
+    pub normal: Vector3<f64>,
+    /// Standard deviation of `normal` per axis \[rad\].
+    pub normal_sigma: f64,
+}
+
+impl ComPlane {
+    /// The plane's unit normal `m` for the given axis and face normal.
+    fn plane_normal(&self, axis: &Vector3<f64>, normal: &Vector3<f64>) -> Vector3<f64> {
+        let w = axis.cross(normal).normalize();
+        let d = -normal * self.phi.cos() + w * self.phi.sin();
+        axis.cross(&d).normalize()
+    }
+
+    /// `(m, mᵀp)`: the plane `mᵀx = mᵀp`.
+    pub fn plane(&self) -> (Vector3<f64>, f64) {
+        let m = self.plane_normal(&self.axis, &self.normal);
+        (m, m.dot(&self.point))
+    }
+
+    /// Variance \[m²\] of the plane's residual at `x` (see the module documentation).
+    pub fn residual_variance(&self, x: &Vector3<f64>) -> f64 {
+        let m = self.plane_normal(&self.axis, &self.normal);
+        let r = x - self.point;
+        let l = (r - self.axis * self.axis.dot(&r)).norm();
+        let mut var = (l * self.phi_sigma).powi(2) + (m.transpose() * self.point_cov * m)[0];
+        // Derivatives along the two axes normal to a unit vector, by central differences.
+        let h = 1e-6;
+        let normal_axes = |v: &Vector3<f64>| {
+            let a = v.cross(&Vector3::x());
+            let a = if a.norm() < 0.5 {
+                v.cross(&Vector3::y())
+            } else {
+                a
+            };
+            let a = a.normalize();
+            [a, v.cross(&a)]
+        };
+        let resid = |axis: &Vector3<f64>, normal: &Vector3<f64>| {
+            self.plane_normal(&axis.normalize(), &normal.normalize())
+                .dot(&r)
+        };
+        let g: Vec<Vector3<f64>> = normal_axes(&self.axis)
+            .iter()
+            .map(|a| {
+                let d = (resid(&(self.axis + a * h), &self.normal)
+                    - resid(&(self.axis - a * h), &self.normal))
+                    / (2.0 * h);
+                a * d
+            })
+            .collect();
+        let j = g[0] + g[1];
+        var += (j.transpose() * self.axis_cov * j)[0];
+        for a in normal_axes(&self.normal) {
+            let d = (resid(&self.axis, &(self.normal + a * h))
+                - resid(&self.axis, &(self.normal - a * h)))
+                / (2.0 * h);
+            var += (d * self.normal_sigma).powi(2);
+        }
+        var
+    }
+}
+
+/// The point closest, in the weighted least-squares sense, to the planes, with its covariance
+/// (see the module documentation); `None` with fewer than three planes or when their normals
+/// are too close to parallel to fix a point ([`CONDITION_MIN`] on `Σ m mᵀ`: the geometry decides
+/// whether the planes meet in a point, the weights only how well each is known).
+pub fn com_from_planes(planes: &[ComPlane]) -> Option<CentreOfMass> {
+    if planes.len() < 3 {
+        return None;
+    }
+    let eq: Vec<(Vector3<f64>, f64)> = planes.iter().map(ComPlane::plane).collect();
+    let geometry: Matrix3<f64> = eq.iter().map(|(m, _)| m * m.transpose()).sum();
+    let eig = geometry.symmetric_eigenvalues();
+    if eig.min() < CONDITION_MIN * eig.max() {
+        return None;
+    }
+    let solve = |var: &[f64]| {
+        let (mut a, mut b) = (Matrix3::zeros(), Vector3::zeros());
+        for ((m, d), v) in eq.iter().zip(var) {
+            a += m * m.transpose() / *v;
+            b += m * (d / v);
+        }
+        let inv = a.try_inverse()?;
+        Some((inv * b, inv))
+    };
+    // The residuals' variances depend on where the CoM is (its distance from each edge):
+    // start from the unweighted point, then re-weight.
+    let (mut x, _) = solve(&vec![1.0; eq.len()])?;
+    let mut var = Vec::new();
+    let mut cov = Matrix3::zeros();
+    for _ in 0..4 {
+        var = planes
+            .iter()
+            .map(|p| p.residual_variance(&x).max(1e-18))
+            .collect();
+        (x, cov) = solve(&var)?;
+    }
+    let resid: Vec<f64> = eq.iter().map(|(m, d)| m.dot(&x) - d).collect();
+    let rms = (resid.iter().map(|r| r * r).sum::<f64>() / eq.len() as f64).sqrt();
+    let chi2_per_dof = (eq.len() > 3).then(|| {
+        resid.iter().zip(&var).map(|(r, v)| r * r / v).sum::<f64>() / (eq.len() - 3) as f64
+    });
+    if let Some(c) = chi2_per_dof.filter(|c| *c > 1.0) {
+        cov *= c;
+    }
+    let cov = (cov + cov.transpose()) / 2.0;
+    Some(CentreOfMass {
+        point: x,
+        rms_residual_m: rms,
+        pendulums: eq.len(),
+        covariance: Some(super::rows(&cov)),
+        sigma_m: Some(cov.symmetric_eigenvalues().max().max(0.0).sqrt()),
+        chi2_per_dof,
+    })
+}
