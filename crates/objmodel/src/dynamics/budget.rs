@@ -9,7 +9,7 @@
 //! * instrumented, the same face in the palm frame (`palm_from_object`, averaged over the same
 //!   rest: `(σ_o² + σ_p²)/N`), from which the palm's tilt β is measured;
 //! * instrumented, β where the object starts to turn: the palm's tilt is smoothed (local linear
-//!   regression over ±[`super::SMOOTH_S`]), and its error at one instant, `σ_p/√N_w` over the
+//!   regression over ±[`super::tolerances::SMOOTH_S`]), and its error at one instant, `σ_p/√N_w` over the
 //!   `N_w` samples of the window, is one value for the whole onset.
 //!
 //! The palm's own rotation noise `σ_p` is not measured apart from the object's: the budget
@@ -44,8 +44,8 @@ impl Budget {
     /// Variance \[rad²\] of the smoothed palm tilt at time `at`, from the samples `t` within the
     /// smoothing window.
     pub fn smoothed_tilt(&self, t: &[f64], at: f64) -> f64 {
-        let lo = t.partition_point(|&x| x < at - super::SMOOTH_S);
-        let hi = t.partition_point(|&x| x <= at + super::SMOOTH_S);
+        let lo = t.partition_point(|&x| x < at - super::tolerances::SMOOTH_S);
+        let hi = t.partition_point(|&x| x <= at + super::tolerances::SMOOTH_S);
         self.sigma_palm.powi(2) / (hi - lo).max(1) as f64
     }
 

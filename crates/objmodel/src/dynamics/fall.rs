@@ -4,7 +4,7 @@
 
 use super::budget::Budget;
 use super::series::AngleSeries;
-use super::{passes_with, PENDULUM_TOLERANCE_RAD};
+use super::tolerances::{passes_with, PENDULUM_TOLERANCE_RAD};
 use crate::pendulum::{self, FallFit, Onset};
 
 /// The fall's fit over `series` up to `last_pivot`: from `onset` when there is one (starting

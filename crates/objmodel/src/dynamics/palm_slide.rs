@@ -31,7 +31,7 @@
 use super::palm_stream::without_flips;
 use super::regression::smooth;
 use super::series::palm_at;
-use super::{MAX_REST_FRAMES, REST_MARGIN_S};
+use super::tolerances::{MAX_REST_FRAMES, REST_MARGIN_S};
 use crate::classify::Classification;
 use crate::recording::Recording;
 use nalgebra::Vector3;

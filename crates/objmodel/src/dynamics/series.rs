@@ -59,8 +59,8 @@ pub(super) fn palm_reference<'a>(
     let rest = frames
         .iter()
         .enumerate()
-        .filter(|(i, f)| !outlier[*i] && f.t < first_moving - super::REST_MARGIN_S);
-    for (_, f) in rest.take(super::MAX_REST_FRAMES) {
+        .filter(|(i, f)| !outlier[*i] && f.t < first_moving - super::tolerances::REST_MARGIN_S);
+    for (_, f) in rest.take(super::tolerances::MAX_REST_FRAMES) {
         if let Some(qp) = palm_at(palm, f.t) {
             let palm_from_object = qp.inverse() * f.rotation;
             n_sum += palm_from_object * n;

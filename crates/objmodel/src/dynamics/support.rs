@@ -5,7 +5,7 @@
 use super::budget::Budget;
 use super::regression::{linear_at, smooth};
 use super::series::AngleSeries;
-use super::{
+use super::tolerances::{
     passes_with, ONSET_REST_S, ONSET_WINDOW_RAD, PENDULUM_TOLERANCE_RAD, SMOOTH_S, SUPPORT_FIT_RAD,
 };
 use crate::pendulum::{self, FallFit, Onset};
