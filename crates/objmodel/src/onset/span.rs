@@ -3,11 +3,14 @@
 //! palm's pose between its kept poses (an instrumented demonstration is re-measured in a
 //! world where the palm stays at its first pose, `P₀ · palm⁻¹ · object`).
 
-use super::{HELD_REST, MIN_EDGE_FRAMES};
-use crate::classify::{classify, Classification, Config};
+use crate::classify::{classify, Classification, Config, MIN_EDGE_FRAMES};
 use crate::recording::{RecordedFrame, Recording};
 use crate::trajectory::{Demonstration, StampedPose};
 use nalgebra::{Isometry3, Translation3};
+
+/// Seconds of rest held at the reference pose before a re-measured part, as a multiple of the
+/// classifier's `min_rest_s` (the rest must be long enough to start a segment).
+const HELD_REST: f64 = 1.25;
 
 /// The frames from `reference` to `t_end` (exclusive), after a rest held at the reference
 /// pose, classified; instrumented ones in the palm's first pose. Frame indices are mapped back
