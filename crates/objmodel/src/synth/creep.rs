@@ -81,8 +81,30 @@ pub fn instrumented_creep_topple(
     )
 }
 
+/// An instrumented topple: the box rides on a palm that tilts about a horizontal axis at
+/// `tilt_rate` \[rad/s\]; when the tilt reaches φ the box falls over its downhill edge `side`.
+pub fn instrumented_topple(
+    b: &SynthBox,
+    side: usize,
+    tilt_rate: f64,
+    noise: &SynthNoise,
+    rate: f64,
+    seed: u64,
+) -> SynthDemo {
+    palm_topple(
+        b,
+        side,
+        tilt_rate,
+        &CreepSlip::NONE,
+        noise,
+        rate,
+        seed,
+        "instrumented",
+    )
+}
+
 /// The palm topple of [`instrumented_creep_topple`], named `{name}_{seed}`; with
-/// [`CreepSlip::NONE`] it is [`super::instrumented_topple`].
+/// [`CreepSlip::NONE`] it is [`instrumented_topple`].
 #[allow(clippy::too_many_arguments)]
 pub(super) fn palm_topple(
     b: &SynthBox,

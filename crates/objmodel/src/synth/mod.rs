@@ -30,7 +30,7 @@ mod creep;
 mod toss;
 
 pub use compound::{drop_then_slide, slide_then_topple, topple_then_slide};
-pub use creep::{instrumented_creep_topple, CreepSlip};
+pub use creep::{instrumented_creep_topple, instrumented_topple, CreepSlip};
 pub use toss::{toss, SynthToss, TOSS_G};
 
 use crate::classify::Kind;
@@ -348,28 +348,6 @@ pub fn topple(
             phi: Some(phi),
         },
     }
-}
-
-/// An instrumented topple: the box rides on a palm that tilts about a horizontal axis at
-/// `tilt_rate` \[rad/s\]; when the tilt reaches φ the box falls over its downhill edge `side`.
-pub fn instrumented_topple(
-    b: &SynthBox,
-    side: usize,
-    tilt_rate: f64,
-    noise: &SynthNoise,
-    rate: f64,
-    seed: u64,
-) -> SynthDemo {
-    creep::palm_topple(
-        b,
-        side,
-        tilt_rate,
-        &CreepSlip::NONE,
-        noise,
-        rate,
-        seed,
-        "instrumented",
-    )
 }
 
 /// A slide: over `duration` \[s\] the box translates by up to 15 cm and turns by up to ±60°
