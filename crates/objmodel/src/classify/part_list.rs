@@ -8,43 +8,7 @@
 //! yet measurably moving belong to the part they interrupt (or to the next one, at a segment's
 //! start).
 
-use super::{Classification, Label, LabelRun, MIN_EDGE_FRAMES};
-use serde::{Deserialize, Serialize};
-
-/// One part of a demonstration.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Part {
-    /// What the object did: `rest`, `topple`, `slide`, `general` (carried, rolling, tumbling:
-    /// no contact mode the learner can use), `landing` (after a completed topple), `flight`
-    /// (free fall), `impact` (where a flight breaks) (flights and impacts: see
-    /// [`crate::flight`]) or `roll` (a rotation about a fixed edge inside a motion, measured
-    /// without a rest: see [`crate::roll`]).
-    pub kind: Label,
-    /// Time of the part's first frame \[s\].
-    pub t_start: f64,
-    /// Time of its last frame \[s\].
-    pub t_end: f64,
-    /// Index of its first frame in the object stream.
-    pub first: usize,
-    /// Index of its last frame.
-    pub last: usize,
-    /// Its frames (outliers included).
-    pub frames: u64,
-    /// The motion segment it belongs to (a rest: the segment before it; `None` before the
-    /// first motion).
-    pub segment: Option<usize>,
-    /// What it taught: `"edge"` (a topple's or a roll's), `"face"` (a slide's plane),
-    /// `"resting face"` (a rest on the support, with gravity).
-    #[serde(default)]
-    pub taught: Vec<String>,
-    /// Why a part of a contact mode taught nothing, when the learner said why.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub withheld: Option<String>,
-    /// A flight's centre of mass, when the flight turned enough to determine it (object frame;
-    /// not fused into the tree).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub com_estimate: Option<crate::flight::ComEstimate>,
-}
+use super::{Classification, Label, LabelRun, Part, MIN_EDGE_FRAMES};
 
 /// The parts of a classification's labels, each with what it taught.
 pub(crate) fn parts(c: &Classification) -> Vec<Part> {
@@ -221,5 +185,33 @@ fn mark_taught(c: &Classification, out: &mut [Part]) {
         if taught.get(k).copied().unwrap_or(false) {
             out[j].taught.push("resting face".into());
         }
+    }
+}
+
+impl Classification {
+    /// Teach nothing: every edge, face and rest of the classification is withheld, for the
+    /// reason given (which becomes a warning and [`Self::withheld`]); the labels and votes
+    /// stay.
+    pub fn withhold_all(&mut self, why: &str) {
+        self.topples.clear();
+        for s in &mut self.segments {
+            if s.edge.is_some() || s.face.is_some() {
+                s.withheld = Some(why.to_string());
+            }
+            s.edge = None;
+            s.face = None;
+            s.departs_from_support = false;
+            s.arrives_on_support = false;
+        }
+        self.paper_edge = None;
+        self.withheld = Some(why.to_string());
+        self.warnings
+            .push(format!("{why}; nothing is learnt from it"));
+        self.fill_parts();
+    }
+
+    /// Fill [`Self::parts`] from the labels and what the segments taught.
+    pub fn fill_parts(&mut self) {
+        self.parts = parts(self);
     }
 }

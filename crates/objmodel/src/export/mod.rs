@@ -15,8 +15,8 @@ pub mod mjcf;
 pub mod urdf;
 
 use crate::mass;
-pub use crate::shape::{box_fit, BoxFit, BOX_ANGLE_RAD};
 use crate::shape::Shape;
+pub use crate::shape::{box_fit, BoxFit, BOX_ANGLE_RAD};
 use crate::tree::Tree;
 use crate::{Error, Result};
 use nalgebra::{Matrix3, Vector3};
@@ -176,8 +176,8 @@ pub const BOUND_MARGIN: f64 = 1.1;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::UnitQuaternion;
     use crate::shape::tests_support::box_faces;
+    use nalgebra::UnitQuaternion;
 
     /// A tree holding just these faces.
     fn box_tree(centre: Vector3<f64>, rotation: &UnitQuaternion<f64>, size: &Vector3<f64>) -> Tree {

@@ -249,7 +249,10 @@ fn push_cleaned_frames_with(a: &mut Analyzer, chunk: &[CleanedFrame], index: &mu
         // The parsing thread wrote these frames on the other core: fetched ahead.
         if k % PREFETCH_EVERY == 0 {
             super::prefetch(
-                chunk.as_ptr().wrapping_add(k + PREFETCH_FRAMES_AHEAD).cast(),
+                chunk
+                    .as_ptr()
+                    .wrapping_add(k + PREFETCH_FRAMES_AHEAD)
+                    .cast(),
                 PREFETCH_EVERY * std::mem::size_of::<CleanedFrame>(),
             );
         }

@@ -105,26 +105,6 @@ impl FlightTest {
         }
     }
 
-    /// The flight test of a classified demonstration: gravity from `config`, the noise `c`
-    /// used (or the one given), the tests' `alpha`, and [`MAX_COM_M`]. `None` without gravity
-    /// (`--gravity none`: no flight can be told from a motion), without a noise model, or
-    /// relative to a palm (the support moves).
-    pub(crate) fn of_demonstration(
-        c: &crate::classify::Classification,
-        config: &crate::classify::Config,
-    ) -> Option<Self> {
-        let (g, noise) = (config.gravity?, c.noise.or(config.robust.noise)?);
-        if c.instrumented || g.norm() == 0.0 {
-            return None;
-        }
-        Some(Self::new(
-            g.normalize() * crate::pendulum::G,
-            noise,
-            config.robust.alpha,
-            MAX_COM_M,
-        ))
-    }
-
     fn fit(&self, frames: &[FlightFrame], accel: &Vector3<f64>) -> Option<FlightFit> {
         fit::fit(frames, accel, &self.noise, self.r_max, false)
     }

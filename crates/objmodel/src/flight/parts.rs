@@ -6,9 +6,31 @@
 //! falls with gravity) stay whole. Each flight is followed by its impact: the frames after its last one up to the next
 //! flight, up to [`MAX_IMPACT_S`], and up to a part that stays whole.
 
-use super::{find_flights, ComEstimate, FlightFrame, FlightTest, MAX_IMPACT_S};
+use super::{find_flights, ComEstimate, FlightFrame, FlightTest, MAX_COM_M, MAX_IMPACT_S};
 use crate::classify::{Classification, Config, Label, Part};
 use crate::recording::{RecordedFrame, Recording};
+
+impl FlightTest {
+    /// The flight test of a classified demonstration: gravity from `config`, the noise `c`
+    /// used (or the one given), the tests' `alpha`, and [`MAX_COM_M`]. `None` without gravity
+    /// (`--gravity none`: no flight can be told from a motion), without a noise model, or
+    /// relative to a palm (the support moves).
+    pub(crate) fn of_demonstration(
+        c: &crate::classify::Classification,
+        config: &crate::classify::Config,
+    ) -> Option<Self> {
+        let (g, noise) = (config.gravity?, c.noise.or(config.robust.noise)?);
+        if c.instrumented || g.norm() == 0.0 {
+            return None;
+        }
+        Some(Self::new(
+            g.normalize() * crate::pendulum::G,
+            noise,
+            config.robust.alpha,
+            MAX_COM_M,
+        ))
+    }
+}
 
 /// A flight, an impact or a roll, by frame index in the object stream, and what it taught.
 #[derive(Clone, Debug)]

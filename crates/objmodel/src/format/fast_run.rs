@@ -142,7 +142,10 @@ fn run_with<L: LineScanner>(
     let mut lens = [0; AHEAD];
     loop {
         // Scan a group of lines first (the bytes a few groups on fetched meanwhile) ...
-        crate::fast::prefetch(s.as_ptr().wrapping_add(off + PREFETCH_AHEAD), PREFETCH_BYTES);
+        crate::fast::prefetch(
+            s.as_ptr().wrapping_add(off + PREFETCH_AHEAD),
+            PREFETCH_BYTES,
+        );
         let mut k = 0;
         let mut at = off;
         while k < AHEAD && n + k < max {

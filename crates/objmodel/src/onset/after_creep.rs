@@ -22,9 +22,9 @@
 //! if that teaches no edge, the first pass's edge is withheld: it was measured from a pose the
 //! object had left.
 
+use super::adopt::{adopt, is_outlier, teaches_edge, Remeasured};
 use super::creep::pivot_moved;
 use super::span::{classify_from, largest_turn, mean_frame, support_pose};
-use super::adopt::{adopt, is_outlier, teaches_edge, Remeasured};
 use crate::classify::parts::EDGE_LOCATION_M;
 use crate::classify::{Classification, Config};
 use crate::recording::{RecordedFrame, Recording};

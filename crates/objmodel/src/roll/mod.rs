@@ -34,15 +34,16 @@
 
 mod fit;
 mod parts;
+mod record;
 
 pub use fit::{fit, frame_chi2, RollFit, RollNoise};
 pub use parts::mark_rolls;
+pub use record::Roll;
 
 use crate::edge::EdgeObservation;
 use crate::flight::{FlightFrame, FlightTest};
 use crate::support::SupportObservation;
 use nalgebra::{Rotation3, Vector3};
-use serde::{Deserialize, Serialize};
 
 /// Significance level at which the fixed-line model must explain a window while the window is
 /// grown (the same reasoning as [`crate::flight::FLIGHT_FIT_ALPHA`]: the grown window ends
@@ -77,36 +78,6 @@ pub const MIN_ROLL_FRAMES: usize = crate::flight::MIN_FLIGHT_FRAMES;
 /// a second at 250 Hz and 8 s at 30 Hz, far longer than a roll of a tossed object; a slower
 /// rotation about an edge is a topple, measured from the rest before it.
 pub const MAX_TURN_SEARCH_FRAMES: usize = 256;
-
-/// One roll of a demonstration.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Roll {
-    /// Index of its first frame in the object stream.
-    pub first: usize,
-    /// Index of its last frame.
-    pub last: usize,
-    /// Time of its first frame \[s\].
-    pub t_start: f64,
-    /// Time of its last frame \[s\].
-    pub t_end: f64,
-    /// The edge it turned about, object frame, with its covariance.
-    pub edge: EdgeObservation,
-    /// The angle it turned about the edge \[rad\].
-    pub turn: f64,
-    /// χ² of the fixed-line fit and its degrees of freedom.
-    pub chi2: f64,
-    /// Degrees of freedom of that χ².
-    pub dof: f64,
-    /// Whether its edge is taught (enters the tree).
-    pub taught: bool,
-    /// Why it taught nothing, when it did not.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub withheld: Option<String>,
-    /// The support's height it measured (its edge, on the support, in the world), when it
-    /// taught its edge and gravity is known ([`crate::support`]).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub support: Option<crate::support::SupportObservation>,
-}
 
 /// What the finder needs besides the frames.
 pub struct RollTest<'a> {

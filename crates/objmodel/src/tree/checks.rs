@@ -6,17 +6,7 @@
 //! which features disagree and by how much, so that neither is trusted silently. A pendulum
 //! the others contradict is one too (left out of the CoM: `tree/com_conflicts.rs`).
 
-use super::{Tree, MATCH_ALPHA, SYSTEMATIC_DIRECTION_RAD, SYSTEMATIC_POINT_M};
-use serde::{Deserialize, Serialize};
-
-/// Two (or more) features of the tree that their uncertainties cannot reconcile.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Contradiction {
-    /// The features' ids (`e1`, `f2`, `com`).
-    pub features: Vec<String>,
-    /// What disagrees, with numbers.
-    pub what: String,
-}
+use super::{Contradiction, Tree, MATCH_ALPHA, SYSTEMATIC_DIRECTION_RAD, SYSTEMATIC_POINT_M};
 
 impl Tree {
     /// Every contradiction between the tree's features (see the module documentation).

@@ -32,26 +32,11 @@
 //! covariance ([`Edge::between_sigma_m`]). The test does not use it: an edge off the faces
 //! must not widen the test it is judged by (with it, MuJoCo's wrong roll edges came back).
 
-use super::{Edge, Tree, MATCH_ALPHA, SYSTEMATIC_DIRECTION_RAD, SYSTEMATIC_POINT_M};
+use super::{Edge, Tree, WithheldEdge, MATCH_ALPHA, SYSTEMATIC_DIRECTION_RAD, SYSTEMATIC_POINT_M};
 use crate::face::{FaceObservation, FaceSource};
 use crate::landing::SUPPORT_FLATNESS_M;
 use crate::stats::chi2_threshold;
 use nalgebra::{Matrix3, Vector3};
-use serde::{Deserialize, Serialize};
-
-/// An edge the tree holds back: it contradicts the faces the landings show.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct WithheldEdge {
-    /// The edge, as it would be in the tree.
-    pub edge: Edge,
-    /// Why it is withheld, with numbers.
-    pub why: String,
-    /// The face observations its topples taught (the rests before and after, with offsets
-    /// from this edge), held back with it: a topple whose edge is off the object's faces was
-    /// no topple on the support.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub faces: Vec<FaceObservation>,
-}
 
 /// A face as its confirmed landings show it.
 struct LandedFace {

@@ -34,44 +34,36 @@ mod checks;
 mod com;
 mod com_conflicts;
 mod com_planes;
+mod contradiction;
 mod derived;
 mod edge;
 mod face;
 mod file;
 mod landing;
 mod landing_edges;
+mod pendulum_fusion;
 mod pendulums;
 mod support;
+mod tolerances;
 mod unconfirmed;
-pub use checks::Contradiction;
-pub use com_planes::{com_from_planes, CentreOfMass, ComPlane, UNKNOWN_PHI_SIGMA_RAD};
+mod withheld_edge;
 pub use com_conflicts::{com_without_conflicts, ComConflict};
+pub use com_planes::{com_from_planes, CentreOfMass, ComPlane, UNKNOWN_PHI_SIGMA_RAD};
+pub use contradiction::Contradiction;
 pub use edge::Edge;
 pub use face::{Evidence, Face};
-pub use landing_edges::WithheldEdge;
-use nalgebra::{Matrix3, Vector3};
 pub use pendulums::{Pendulum, PendulumObservation};
 use serde::{Deserialize, Serialize};
+pub(crate) use tolerances::{angle, rows};
+pub use tolerances::{
+    CONDITION_MIN, MATCH_ALPHA, SAME_FACE_RAD, SYSTEMATIC_DIRECTION_RAD, SYSTEMATIC_POINT_M,
+};
+pub use withheld_edge::WithheldEdge;
 
 /// Schema name written into every tree file.
 pub const SCHEMA: &str = "objmodel.tree";
 /// Schema version.
 pub const VERSION: u32 = 1;
-/// Significance level of the test that decides whether an observation is a known feature.
-pub const MATCH_ALPHA: f64 = 1e-4;
-/// Per-demonstration systematic error \[m\] of an edge's position beyond its propagated noise
-/// (pivot micro-slip, rounded edges), used only when matching observations to features.
-pub const SYSTEMATIC_POINT_M: f64 = 3e-3;
-/// Per-demonstration systematic error \[rad\] of a direction (2°), used only when matching.
-pub const SYSTEMATIC_DIRECTION_RAD: f64 = 0.034_906_585_039_886_59;
-/// Smallest ratio of the smallest to the largest eigenvalue of `Σ m mᵀ` over the unit normals
-/// `m` of the pendulums' CoM planes: below it the planes are too close to parallel to fix a
-/// point, and no CoM is reported (the planes' weights do not enter: see `com_from_planes`).
-pub const CONDITION_MIN: f64 = 1e-2;
-/// Resting-face normals closer than this \[rad\] (20°) are one face, for pendulums: faces of a
-/// polyhedron that share an edge differ by far more.
-pub const SAME_FACE_RAD: f64 = 0.349_065_850_398_865_9;
-
 /// How [`Tree::add`] took a demonstration.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Added {
@@ -200,18 +192,6 @@ impl Default for Tree {
             withheld_edges: Vec::new(),
         }
     }
-}
-
-fn rows(m: &Matrix3<f64>) -> [[f64; 3]; 3] {
-    [
-        [m[(0, 0)], m[(0, 1)], m[(0, 2)]],
-        [m[(1, 0)], m[(1, 1)], m[(1, 2)]],
-        [m[(2, 0)], m[(2, 1)], m[(2, 2)]],
-    ]
-}
-
-pub(crate) fn angle(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
-    a.cross(b).norm().atan2(a.dot(b))
 }
 
 impl Tree {

@@ -1,0 +1,355 @@
+//! What classifying a demonstration gives ([`Classification`]): its kind, the labels of its
+//! frames, its motion segments with what each taught, its topples, parts and rolls.
+
+use super::config::Method;
+use crate::edge::EdgeObservation;
+use crate::face::FaceObservation;
+use crate::geometry::Line;
+use crate::noise::NoiseModel;
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+/// The kind of a demonstration or motion segment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Kind {
+    /// Edge rotation trajectory (ERT).
+    Topple,
+    /// Face slide trajectory (FST).
+    Slide,
+    /// Anything else.
+    General,
+}
+
+impl Kind {
+    /// The JSON name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Kind::Topple => "topple",
+            Kind::Slide => "slide",
+            Kind::General => "general",
+        }
+    }
+}
+
+/// The label of one frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Label {
+    /// The object is at rest (no vote).
+    Rest,
+    /// Rejected as a tracking outlier (tag flip) (no vote).
+    Outlier,
+    /// Moving, but not yet measurably displaced from the segment's reference (no vote).
+    Still,
+    /// Consistent with rotation about the segment's edge.
+    Topple,
+    /// Consistent with planar motion on the segment's face.
+    Slide,
+    /// Neither.
+    General,
+    /// After the end of a completed topple's edge rotation: the object leaves its edge, falls
+    /// and lands on the adjacent face (no vote; step 6 above).
+    Landing,
+    /// (Paper method) moving, but neither the axis nor the normal matched the previous frame's
+    /// (no vote).
+    Unlabelled,
+    /// Free flight: the centre of mass falls with gravity (parts only, see [`crate::flight`];
+    /// no vote).
+    Flight,
+    /// Where a flight breaks: the velocity jumps (a bounce, a landing, a catch) (parts only;
+    /// no vote).
+    Impact,
+    /// A rotation about a fixed edge inside a motion, measured without a rest (parts only, see
+    /// [`crate::roll`]; no vote).
+    Roll,
+}
+
+impl Label {
+    /// The kind this label votes for, if it votes.
+    pub fn vote(self) -> Option<Kind> {
+        match self {
+            Label::Topple => Some(Kind::Topple),
+            Label::Slide => Some(Kind::Slide),
+            Label::General => Some(Kind::General),
+            _ => None,
+        }
+    }
+}
+
+/// Frame counts per vote.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Votes {
+    /// Frames labelled topple.
+    pub topple: u64,
+    /// Frames labelled slide.
+    pub slide: u64,
+    /// Frames labelled general.
+    pub general: u64,
+}
+
+impl Votes {
+    /// Add `n` votes for `k`.
+    pub fn add(&mut self, k: Kind, n: u64) {
+        match k {
+            Kind::Topple => self.topple += n,
+            Kind::Slide => self.slide += n,
+            Kind::General => self.general += n,
+        }
+    }
+
+    /// Total votes.
+    pub fn total(&self) -> u64 {
+        self.topple + self.slide + self.general
+    }
+
+    /// The winner (ties broken topple > slide > general); `None` with no votes.
+    pub fn winner(&self) -> Option<Kind> {
+        if self.total() == 0 {
+            return None;
+        }
+        let mut best = (Kind::Topple, self.topple);
+        for (k, n) in [(Kind::Slide, self.slide), (Kind::General, self.general)] {
+            if n > best.1 {
+                best = (k, n);
+            }
+        }
+        Some(best.0)
+    }
+}
+
+/// A run of consecutive frames with one label (run-length encoded per-frame labels).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LabelRun {
+    /// Index (0-based, in the object file) of the first frame of the run.
+    pub first: usize,
+    /// Index of the last frame of the run (inclusive).
+    pub last: usize,
+    /// Time of the first frame \[s\].
+    pub t_start: f64,
+    /// Time of the last frame \[s\].
+    pub t_end: f64,
+    /// Number of frames in the run (fewer than `last - first + 1` if frames were dropped).
+    pub frames: u64,
+    /// The label.
+    pub label: Label,
+    /// Motion segment the run belongs to, if any.
+    pub segment: Option<usize>,
+}
+
+/// A frame of largest rotation: (angle \[rad\], its screw axis, its rotation vector \[rad\]).
+pub(crate) type LargestRotation = (f64, Line, Vector3<f64>);
+
+/// One motion segment: the frames between two rests, analysed against one reference pose.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Segment {
+    /// Pooled line statistics of the frames labelled topple.
+    #[serde(skip)]
+    pub(crate) topple_stats: crate::geometry::LineStats,
+    /// Largest rotation among them.
+    #[serde(skip)]
+    pub(crate) topple_best: Option<LargestRotation>,
+    /// Per-axis variance \[m²\] of the edge point beyond the frames' noise (the split-half
+    /// lack of fit of a pivot that moved), added to the edge's point covariance.
+    #[serde(skip)]
+    pub(crate) topple_systematic_var: f64,
+    /// Per-axis variance \[rad²\] of the edge direction beyond the frames' noise (the
+    /// split-half lack of fit of an axis that turned), added to the direction covariance.
+    #[serde(skip)]
+    pub(crate) topple_systematic_direction_var: f64,
+    /// Time of the first moving frame \[s\].
+    pub t_start: f64,
+    /// Time of the last moving frame \[s\].
+    pub t_end: f64,
+    /// The segment's kind.
+    pub kind: Kind,
+    /// Its votes.
+    pub votes: Votes,
+    /// Largest rotation from the reference \[rad\].
+    pub max_angle: f64,
+    /// The fitted edge, for a topple segment.
+    pub edge: Option<EdgeObservation>,
+    /// The fitted face, for a slide segment.
+    pub face: Option<FaceObservation>,
+    /// Outward normal (object frame) of the face the object rested on before, if known.
+    pub resting_normal_before: Option<Vector3<f64>>,
+    /// Outward normal (object frame) of the face it rested on after, if known.
+    pub resting_normal_after: Option<Vector3<f64>>,
+    /// Why the segment taught no edge (or face) although its frames vote topple (slide):
+    /// the part follows another mode of motion in the same segment and is not measured from
+    /// its own start.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub withheld: Option<String>,
+    /// Frames of the rest before the segment (0 if none, or not counted).
+    #[serde(default)]
+    pub resting_frames_before: u64,
+    /// Frames of the rest after it.
+    #[serde(default)]
+    pub resting_frames_after: u64,
+    /// Where the object frame's origin was in the rest before, in the frame the poses are given
+    /// in (absent when gravity is unknown).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resting_place_before: Option<crate::landing::RestPlace>,
+    /// Where it was in the rest after, likewise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resting_place_after: Option<crate::landing::RestPlace>,
+    /// Whether the rest before was on the support: a contact mode (slide, edge rotation)
+    /// measured from it leaves it and passes its test.
+    #[serde(default)]
+    pub departs_from_support: bool,
+    /// Whether the rest after is on the support: a contact mode that passed its test lasts
+    /// until it (a completed topple's landing aside), or the motion that reaches it, measured
+    /// back from it, is one (set by [`crate::learn`], which keeps the frames to test that).
+    #[serde(default)]
+    pub arrives_on_support: bool,
+    /// When the segment's feature comes from a later part of it, measured again from that
+    /// part's own onset (set by [`crate::learn`], which keeps the frames; see
+    /// [`crate::onset`]): where.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub remeasured: Option<String>,
+    /// The first frame of that later part (its parts start there).
+    #[serde(skip)]
+    pub(crate) onset_frame: Option<usize>,
+    /// Why the part before that onset taught nothing, if the first pass said why.
+    #[serde(skip)]
+    pub(crate) withheld_before_onset: Option<String>,
+}
+
+/// One topple of a demonstration: one or more topple segments about one edge.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Topple {
+    /// Indices of its segments.
+    pub segments: Vec<usize>,
+    /// The edge, from all its segments' frames.
+    pub edge: EdgeObservation,
+    /// Outward normal (object frame) of the face rested on before, if known.
+    pub resting_normal_before: Option<Vector3<f64>>,
+    /// Outward normal (object frame) of the face rested on after, if known.
+    pub resting_normal_after: Option<Vector3<f64>>,
+}
+
+/// The result of classifying one demonstration.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Classification {
+    /// The demonstration's name.
+    pub name: String,
+    /// `"topple"`, `"slide"` or `"general"`.
+    pub kind: Kind,
+    /// Method used.
+    pub method: Method,
+    /// True when the motion analysed is relative to a tracked palm (`palm_from_object`).
+    pub instrumented: bool,
+    /// Frames read (object file).
+    pub frames: u64,
+    /// Frames rejected as tracking outliers.
+    pub outliers: u64,
+    /// Votes over all segments.
+    pub votes: Votes,
+    /// Tracking noise used by the tests.
+    pub noise: Option<NoiseModel>,
+    /// Motion segments.
+    pub segments: Vec<Segment>,
+    /// The topples (segments grouped by edge), with their edges.
+    pub topples: Vec<Topple>,
+    /// Per-frame labels, run-length encoded.
+    pub labels: Vec<LabelRun>,
+    /// The paper's Algorithm 2 edge (line at the frame of largest rotation), for a topple.
+    pub paper_edge: Option<Line>,
+    /// What looked wrong with the input without making it unreadable (e.g. timestamps that do
+    /// not look like seconds), for the user to check.
+    #[serde(default)]
+    pub warnings: Vec<String>,
+    /// Whether a motion looked like a topple or slide under another direction of gravity than
+    /// the one given (see the warnings): then the faces rested on are not taught from gravity.
+    #[serde(default)]
+    pub gravity_doubted: bool,
+    /// The demonstration's parts in time order (rests, and the contact modes within each
+    /// segment), each with what it taught ([`Classification::fill_parts`]).
+    #[serde(default)]
+    pub parts: Vec<Part>,
+    /// The rolls over an edge found inside its motions ([`crate::roll`]), each with its edge
+    /// and whether it taught it.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub rolls: Vec<crate::roll::Roll>,
+    /// Why the demonstration teaches nothing at all ([`Classification::withhold_all`]), if it
+    /// does not.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub withheld: Option<String>,
+}
+
+impl Classification {
+    /// Whether the object frame of index `i` (in the stream) was rejected as an outlier: a
+    /// binary search of the outlier label runs.
+    pub fn is_outlier(&self) -> impl Fn(u64) -> bool {
+        let outliers: Vec<(u64, u64)> = self
+            .labels
+            .iter()
+            .filter(|r| r.label == Label::Outlier)
+            .map(|r| (r.first as u64, r.last as u64))
+            .collect();
+        move |i: u64| {
+            let k = outliers.partition_point(|r| r.1 < i);
+            outliers.get(k).is_some_and(|r| r.0 <= i)
+        }
+    }
+
+    /// Edge observations, one per topple.
+    pub fn edges(&self) -> impl Iterator<Item = &EdgeObservation> {
+        self.topples.iter().map(|t| &t.edge)
+    }
+
+    /// Face observations: slides' planes; for topples, the faces rested on before and after
+    /// (with the offsets their edges give); and [`Classification::rest_faces`].
+    pub fn faces(&self) -> Vec<FaceObservation> {
+        let mut out: Vec<FaceObservation> = self
+            .segments
+            .iter()
+            .filter_map(|s| s.face.clone())
+            .collect();
+        for t in &self.topples {
+            for n in [t.resting_normal_before, t.resting_normal_after]
+                .into_iter()
+                .flatten()
+            {
+                out.push(FaceObservation::from_rest(&n, &t.edge));
+            }
+        }
+        out.extend(self.rest_faces());
+        out
+    }
+}
+
+/// One part of a demonstration.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Part {
+    /// What the object did: `rest`, `topple`, `slide`, `general` (carried, rolling, tumbling:
+    /// no contact mode the learner can use), `landing` (after a completed topple), `flight`
+    /// (free fall), `impact` (where a flight breaks) (flights and impacts: see
+    /// [`crate::flight`]) or `roll` (a rotation about a fixed edge inside a motion, measured
+    /// without a rest: see [`crate::roll`]).
+    pub kind: Label,
+    /// Time of the part's first frame \[s\].
+    pub t_start: f64,
+    /// Time of its last frame \[s\].
+    pub t_end: f64,
+    /// Index of its first frame in the object stream.
+    pub first: usize,
+    /// Index of its last frame.
+    pub last: usize,
+    /// Its frames (outliers included).
+    pub frames: u64,
+    /// The motion segment it belongs to (a rest: the segment before it; `None` before the
+    /// first motion).
+    pub segment: Option<usize>,
+    /// What it taught: `"edge"` (a topple's or a roll's), `"face"` (a slide's plane),
+    /// `"resting face"` (a rest on the support, with gravity).
+    #[serde(default)]
+    pub taught: Vec<String>,
+    /// Why a part of a contact mode taught nothing, when the learner said why.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub withheld: Option<String>,
+    /// A flight's centre of mass, when the flight turned enough to determine it (object frame;
+    /// not fused into the tree).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub com_estimate: Option<crate::flight::ComEstimate>,
+}

@@ -1,0 +1,124 @@
+//! How a demonstration is classified: the method, its thresholds and tolerances, gravity and
+//! the clocks ([`Config`]).
+
+use super::palm::Clocks;
+use crate::noise::NoiseModel;
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+/// Which Algorithm 1 to run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Method {
+    /// The statistical version that works at real tracking noise (default).
+    #[default]
+    Robust,
+    /// The paper's Algorithm 1, literally.
+    Paper,
+}
+
+/// The paper's thresholds (Algorithm 1), used by [`Method::Paper`]; `r_palm` is also used by
+/// the robust method.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PaperThresholds {
+    /// `p_th` \[m/rad\]: |pitch| below this is "no translation along the axis".
+    pub pitch: f64,
+    /// `l_th` \[rad\]: consecutive axes closer than this are "the same axis".
+    pub axis_angle: f64,
+    /// `n_th` \[rad\]: consecutive plane normals closer than this are "the same plane".
+    pub normal_angle: f64,
+    /// `r_palm` \[m\]: an axis farther than this from the object origin is not an edge of it
+    /// (the paper: the size of the palm, known a priori). Default 0.5 m: the tag may sit on the
+    /// far side of a 20 cm box from the edge it topples about.
+    pub r_palm: f64,
+    /// A frame moves if its rotation from g(0) exceeds this \[rad\] ...
+    pub motion_rotation: f64,
+    /// ... or its translation exceeds this \[m\].
+    pub motion_translation: f64,
+}
+
+impl Default for PaperThresholds {
+    fn default() -> Self {
+        Self {
+            pitch: 0.01,
+            axis_angle: 5f64.to_radians(),
+            normal_angle: 5f64.to_radians(),
+            r_palm: 0.5,
+            motion_rotation: 1e-3,
+            motion_translation: 1e-4,
+        }
+    }
+}
+
+/// Parameters of the robust method. Every one is a probability, a duration or a physical
+/// tolerance, not a threshold on a noisy quantity.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RobustConfig {
+    /// Significance level of the per-frame χ² tests (rest, fit to line, fit to plane).
+    pub alpha: f64,
+    /// Significance level of the tag-flip outlier test.
+    pub outlier_alpha: f64,
+    /// Width \[s\] of the window over which the local velocity is fitted for the rest test.
+    pub rest_window_s: f64,
+    /// A rest shorter than this \[s\] inside a motion does not start a new segment.
+    pub min_rest_s: f64,
+    /// Number of frames at the start of each stream used to estimate the noise.
+    pub warmup_frames: usize,
+    /// Tracking noise; `None` estimates it from the data.
+    pub noise: Option<NoiseModel>,
+    /// Model tolerance \[m\]: how far a real contact line may wander (rounded edges, compliant
+    /// surfaces, micro-slip) and still count as one edge; added in quadrature to the noise of
+    /// each frame, and the least systematic error of a topple's edge point (one trajectory per
+    /// demonstration: it does not average down over the frames).
+    pub edge_tolerance_m: f64,
+    /// Model tolerance \[rad\] on directions (edge direction, plane normal).
+    pub edge_tolerance_rad: f64,
+    /// Largest angle \[rad\] between a topple axis and the horizontal, and between a slide's
+    /// plane normal and the vertical, when gravity is known.
+    pub max_axis_tilt_rad: f64,
+}
+
+impl Default for RobustConfig {
+    fn default() -> Self {
+        Self {
+            alpha: 1e-3,
+            outlier_alpha: 1e-6,
+            rest_window_s: 0.6,
+            min_rest_s: 1.0,
+            warmup_frames: 300,
+            noise: None,
+            edge_tolerance_m: 3e-4,
+            edge_tolerance_rad: 0.5f64.to_radians(),
+            max_axis_tilt_rad: 45f64.to_radians(),
+        }
+    }
+}
+
+/// Everything that configures classification.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Config {
+    /// Which algorithm.
+    pub method: Method,
+    /// The paper's thresholds.
+    pub paper: PaperThresholds,
+    /// The robust method's parameters.
+    pub robust: RobustConfig,
+    /// Gravity direction (unit or not) in the tracker's world frame; `None` if unknown.
+    /// Default: -z (z up).
+    pub gravity: Option<Vector3<f64>>,
+    /// The object's and the palm's clocks (offset, pairing tolerance, time units).
+    #[serde(default)]
+    pub clocks: Clocks,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Self {
+            method: Method::Robust,
+            paper: PaperThresholds::default(),
+            robust: RobustConfig::default(),
+            gravity: Some(Vector3::new(0.0, 0.0, -1.0)),
+            clocks: Clocks::default(),
+        }
+    }
+}
