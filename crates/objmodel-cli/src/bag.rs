@@ -121,7 +121,7 @@ pub fn single_source(
     bag.check_files()?;
     Ok(DemoSource::Files {
         object: demo.to_path_buf(),
-        palm: crate::learn::palm_for(demo, palm, no_palm),
+        palm: crate::opts::palm_for(demo, palm, no_palm),
     })
 }
 

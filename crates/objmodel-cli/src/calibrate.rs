@@ -31,8 +31,8 @@ pub fn run(a: &CalibrateArgs) -> Result<()> {
         crate::evaluate::write_page(p, &md)?;
     }
     if a.json {
-        crate::out(&(serde_json::to_string_pretty(&samples)? + "\n"))
+        crate::output::out(&(serde_json::to_string_pretty(&samples)? + "\n"))
     } else {
-        crate::out(&md)
+        crate::output::out(&md)
     }
 }

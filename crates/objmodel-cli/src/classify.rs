@@ -75,7 +75,7 @@ pub fn run(a: &ClassifyArgs) -> Result<()> {
             }
             json.push(v);
         } else {
-            crate::out(&crate::text::classification(c, a.frames))?;
+            crate::output::out(&crate::text::classification(c, a.frames))?;
         }
     }
     if a.json {
@@ -84,7 +84,7 @@ pub fn run(a: &ClassifyArgs) -> Result<()> {
         } else {
             json.remove(0)
         };
-        crate::out(&(serde_json::to_string_pretty(&v)? + "\n"))?;
+        crate::output::out(&(serde_json::to_string_pretty(&v)? + "\n"))?;
     }
     Ok(())
 }

@@ -59,9 +59,9 @@ pub fn run(a: &EvaluateArgs) -> Result<()> {
         write_page(p, &md)?;
     }
     if a.json {
-        crate::out(&(serde_json::to_string_pretty(&e)? + "\n"))
+        crate::output::out(&(serde_json::to_string_pretty(&e)? + "\n"))
     } else {
-        crate::out(&md)
+        crate::output::out(&md)
     }
 }
 

@@ -2,11 +2,11 @@
 //! through the library's pipeline (`objmodel::learn`).
 
 use crate::bag::{is_bag_path, BagArgs, DemoSource};
-use crate::opts::ClassifyOpts;
+use crate::opts::{palm_for, ClassifyOpts};
 use crate::text::print_warnings;
 use anyhow::{bail, Context, Result};
 use objmodel::classify::{Config, Kind};
-use objmodel::format::{is_palm_file, palm_path_for};
+use objmodel::format::is_palm_file;
 use objmodel::learn::Learner;
 use objmodel::observation::Observation;
 use objmodel::tree::Tree;
@@ -37,15 +37,6 @@ pub struct LearnArgs {
     pub bag: BagArgs,
     #[command(flatten)]
     pub opts: ClassifyOpts,
-}
-
-/// The palm file of `demo`: the one given, else NAME.palm.* beside it unless `ignore`.
-pub fn palm_for(demo: &Path, explicit: Option<&Path>, ignore: bool) -> Option<PathBuf> {
-    match explicit {
-        Some(p) => Some(p.to_path_buf()),
-        None if ignore => None,
-        None => palm_path_for(demo),
-    }
 }
 
 /// The sources of the demonstration files given on the command line: each object file with
@@ -159,7 +150,7 @@ pub fn run(a: &LearnArgs) -> Result<()> {
         }
     };
     if a.json {
-        crate::out(&(tree.to_json() + "\n"))?;
+        crate::output::out(&(tree.to_json() + "\n"))?;
     } else {
         for c in reports.iter().map(|r| &r.classification) {
             let n_edges = c.edges().count();
@@ -174,7 +165,7 @@ pub fn run(a: &LearnArgs) -> Result<()> {
                 }
             );
         }
-        crate::out(&crate::text::tree(&tree))?;
+        crate::output::out(&crate::text::tree(&tree))?;
         match (wrote, &a.into) {
             (Some(out), _) => println!("wrote {}", out.display()),
             (None, Some(model)) => println!("nothing learnt: {} left as it was", model.display()),

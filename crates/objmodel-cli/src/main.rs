@@ -16,6 +16,7 @@ mod evaluate;
 mod export;
 mod learn;
 mod opts;
+mod output;
 mod plan;
 mod plot;
 mod progress;
@@ -26,6 +27,7 @@ mod text;
 mod view;
 
 use clap::{Parser, Subcommand};
+use output::out_bytes;
 use std::process::ExitCode;
 
 /// Learn models of objects (edges, faces, dynamics) from demonstrations in which they are
@@ -123,18 +125,4 @@ fn is_broken_pipe(e: &anyhow::Error) -> bool {
         c.downcast_ref::<std::io::Error>()
             .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
     })
-}
-
-/// Write `s` to standard output, reporting a closed pipe as an error instead of panicking.
-pub fn out(s: &str) -> anyhow::Result<()> {
-    out_bytes(s.as_bytes())
-}
-
-/// [`out`] for bytes.
-fn out_bytes(b: &[u8]) -> anyhow::Result<()> {
-    use std::io::Write;
-    let mut o = std::io::stdout().lock();
-    o.write_all(b)?;
-    o.flush()?;
-    Ok(())
 }

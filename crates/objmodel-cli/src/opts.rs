@@ -3,6 +3,8 @@
 use anyhow::{bail, Result};
 use nalgebra::Vector3;
 use objmodel::classify::{Config, Method};
+use objmodel::format::palm_path_for;
+use std::path::{Path, PathBuf};
 
 /// Parse "x,y,z" into a vector ([`objmodel::args::vec3`]).
 pub fn parse_vec3(s: &str) -> Result<Vector3<f64>> {
@@ -141,5 +143,14 @@ impl ClassifyOpts {
         c.clocks.max_dt_s = self.max_dt;
         c.clocks.detect_time_unit = !self.stamps_in_seconds;
         Ok(c)
+    }
+}
+
+/// The palm file of `demo`: the one given, else NAME.palm.* beside it unless `ignore`.
+pub fn palm_for(demo: &Path, explicit: Option<&Path>, ignore: bool) -> Option<PathBuf> {
+    match explicit {
+        Some(p) => Some(p.to_path_buf()),
+        None if ignore => None,
+        None => palm_path_for(demo),
     }
 }

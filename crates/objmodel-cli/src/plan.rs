@@ -119,7 +119,7 @@ pub fn run(a: &PlanArgs) -> Result<()> {
     };
     let p = plan(&tree, &req)?;
     if a.json {
-        crate::out(&(serde_json::to_string_pretty(&p)? + "\n"))
+        crate::output::out(&(serde_json::to_string_pretty(&p)? + "\n"))
     } else {
         let v = |x: &nalgebra::Vector3<f64>| format!("[{:+.4}, {:+.4}, {:+.4}]", x.x, x.y, x.z);
         let edge = if p.predicted {
@@ -132,7 +132,7 @@ pub fn run(a: &PlanArgs) -> Result<()> {
         } else {
             p.edge.clone()
         };
-        crate::out(&format!(
+        crate::output::out(&format!(
             "tilt the palm by {:.2} deg about the line through {} m along {} (palm frame)\n  edge {}, phi {:.2} deg, margin {:.2} deg, already tilted {:.2} deg; the object falls towards {}\n",
             p.tilt.to_degrees(),
             v(&p.axis_point),

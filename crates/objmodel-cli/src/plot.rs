@@ -84,12 +84,12 @@ fn plot_one(
         });
         let (svg, png) = objmodel_plot::plot_angles(&fig8(&c.name, d), &path)
             .map_err(|e| anyhow::anyhow!("{e}"))?;
-        crate::out(&format!("{}\n{}\n", svg.display(), png.display()))?;
+        crate::output::out(&format!("{}\n{}\n", svg.display(), png.display()))?;
         if let Some(phi) = d.phi {
             let onset = d.onset.map_or(String::new(), |o| {
                 format!(", onset at {:.3} s", o.t - d.series.t[0])
             });
-            crate::out(&format!(
+            crate::output::out(&format!(
                 "  phi {:.2} deg ±{:.2}{onset}\n",
                 phi.to_degrees(),
                 d.phi_sigma.unwrap_or(f64::NAN).to_degrees()

@@ -257,7 +257,7 @@ pub fn run(a: &TaskArgs) -> Result<()> {
         v["planning_speed"] = json!(speed);
         v["wall_s"] = json!(elapsed);
         v["pictures"] = json!(pictures);
-        crate::out(&format!("{}\n", serde_json::to_string_pretty(&v)?))?;
+        crate::output::out(&format!("{}\n", serde_json::to_string_pretty(&v)?))?;
         return Ok(());
     }
     let mut s = String::new();
@@ -290,5 +290,5 @@ pub fn run(a: &TaskArgs) -> Result<()> {
         ));
     }
     s.push_str(&format!("wall time {elapsed:.1} s\n"));
-    crate::out(&s)
+    crate::output::out(&s)
 }

@@ -4,8 +4,9 @@
 use nalgebra::Vector3;
 
 use crate::canvas::{Canvas, Shape2, Tag};
-use crate::fig9a::{View, INK, LEFT, ORIGIN_GREEN, SIDE, TOP};
-use crate::model::{FeatureKind, Known, ModelDrawing};
+use crate::feature::{FeatureKind, Known};
+use crate::fig9a_view::{View, INK, LEFT, ORIGIN_GREEN, SIDE, TOP};
+use crate::model::ModelDrawing;
 
 /// The object frame's axes, small, in the lower left corner.
 pub(crate) fn axes(c: &mut Canvas, view: &View) {

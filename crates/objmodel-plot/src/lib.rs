@@ -48,111 +48,25 @@
 mod angles;
 mod canvas;
 mod common;
+mod error;
+mod feature;
 mod fig9a;
 mod fig9a_legend;
+mod fig9a_view;
+mod figures;
 mod model;
 mod model_edges;
 mod side_view;
 mod view;
 mod xy;
 
-pub use model::{Feature, FeatureKind, Known, ModelDrawing};
+pub use error::PlotError;
+pub use feature::{Feature, FeatureKind, Known};
+pub use figures::{AngleSeries, Fig8, Outline, SideView};
+pub use model::ModelDrawing;
 pub use view::{MAX_PLAYBACK_FRAMES, THREE_VERSION};
 
 use std::path::{Path, PathBuf};
-
-/// One angle signal sampled over time, for [`Fig8`].
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct AngleSeries {
-    /// Name shown in the legend, e.g. `"box angle relative to palm"`.
-    pub label: String,
-    /// Sample times (s); same length as `angle_rad`.
-    pub t: Vec<f64>,
-    /// Angle at each sample (rad); plotted in degrees.
-    pub angle_rad: Vec<f64>,
-}
-
-/// Data for the paper's Fig. 8: angles over time around a topple.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct Fig8 {
-    /// Figure title, drawn above the chart.
-    pub title: String,
-    /// Angle signals, overlaid on one chart (e.g. box angle relative to the palm, palm tilt).
-    pub series: Vec<AngleSeries>,
-    /// Time of the topple onset (s): drawn as a dashed vertical line.
-    pub onset_t: Option<f64>,
-    /// CoM angle φ from the edge (rad): drawn as a dashed horizontal line.
-    pub phi_rad: Option<f64>,
-    /// Marked points `(label, t [s], angle [rad])`: drawn as red dots with their label
-    /// and value, e.g. the box and palm angles at the onset.
-    pub marks: Vec<(String, f64, f64)>,
-}
-
-/// A closed polygon in the plane of a [`SideView`].
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct Outline {
-    /// Name of the body, e.g. `"box"` or `"palm"`; outlines with the same label get the same
-    /// colour in every panel.
-    pub label: String,
-    /// Vertices `[horizontal, vertical]` (m) in the plane normal to the edge, vertical pointing
-    /// up; the polygon is closed (the last vertex joins the first).
-    pub points: Vec<[f64; 2]>,
-}
-
-/// Data for the paper's Fig. 5: body outlines in the plane normal to an edge at several
-/// instants.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct SideView {
-    /// Figure title, drawn above the panels.
-    pub title: String,
-    /// One panel per entry: the time (s) and the outlines at that time.
-    pub frames: Vec<(f64, Vec<Outline>)>,
-}
-
-/// Why a figure could not be made; every message names the file concerned.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum PlotError {
-    /// The data cannot be plotted as given (e.g. times and angles of different lengths).
-    #[error("{}: invalid plot data: {reason}", .path.display())]
-    InvalidInput {
-        /// File that was to be written.
-        path: PathBuf,
-        /// What is wrong with the data.
-        reason: String,
-    },
-    /// The embedded font could not be registered with plotters.
-    #[error("{}: the embedded font could not be loaded", .path.display())]
-    Font {
-        /// File that was to be written.
-        path: PathBuf,
-    },
-    /// Plotters failed while drawing.
-    #[error("{}: drawing failed: {reason}", .path.display())]
-    Draw {
-        /// File that was being drawn.
-        path: PathBuf,
-        /// Plotters' message.
-        reason: String,
-    },
-    /// The PNG encoder failed.
-    #[error("{}: PNG encoding failed: {reason}", .path.display())]
-    Encode {
-        /// File that was being encoded.
-        path: PathBuf,
-        /// The encoder's message.
-        reason: String,
-    },
-    /// Creating the folder, writing the temporary file or renaming it failed.
-    #[error("{}: {source}", .path.display())]
-    Io {
-        /// File (or folder) concerned.
-        path: PathBuf,
-        /// The underlying error.
-        #[source]
-        source: std::io::Error,
-    },
-}
 
 /// Draws the paper's Fig. 8: each series' angle (°) over time (s) on one chart, a dashed
 /// vertical line at `onset_t`, a dashed horizontal line at `phi_rad`, and red dots at `marks`.

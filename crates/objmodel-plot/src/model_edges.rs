@@ -2,7 +2,7 @@
 //! meet), each matched to the learnt edge that lies along it, if any, and the learnt edges
 //! that match none (see [`crate::model`]).
 
-use crate::model::{arr, mm, v3, Feature, FeatureKind, Known};
+use crate::feature::{arr, mm, v3, Feature, FeatureKind, Known};
 use nalgebra::Vector3;
 use objmodel::shape::Shape;
 use objmodel::tree::{Edge, Tree, SYSTEMATIC_DIRECTION_RAD, SYSTEMATIC_POINT_M};

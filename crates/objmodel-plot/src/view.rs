@@ -11,7 +11,8 @@
 //! the centre of mass (or the first vertex) and writes the picked feature's id into
 //! `data-picked`, and plays the first demonstration to its middle and writes `data-playback`.
 
-use crate::model::{Known, ModelDrawing};
+use crate::feature::Known;
+use crate::model::ModelDrawing;
 use crate::PlotError;
 use objmodel::tree::Tree;
 use objmodel::Demonstration;

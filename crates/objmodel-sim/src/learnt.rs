@@ -11,19 +11,10 @@
 //! The tag frame is the object frame, so the truth the scenes write is in the model's frame.
 
 use crate::rigid::{Geometry, RigidModel};
+pub use crate::spec::Learnt;
 use crate::spec::{BoxFace, BoxSpec, TagMount};
 use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
 use objmodel::export::Body;
-use serde::{Deserialize, Serialize};
-
-/// A learnt object as a scene's box: its body in the box frame, and where its tag is.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Learnt {
-    /// The rigid body, box frame.
-    pub body: RigidModel,
-    /// The tag (object) frame in the box frame.
-    pub box_from_tag: Isometry3<f64>,
-}
 
 /// The box frame the scenes use for `model` (object frame): `box_from_object`, and the half
 /// extents in it.

@@ -8,7 +8,6 @@
 //! body carries them.
 
 use crate::convert::{pose_from_na, vec_from_na};
-use crate::spec::BoxSpec;
 use ::nalgebra::{Isometry3, Matrix3, Point3, Vector3};
 use rapier3d_f64::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -47,20 +46,6 @@ pub struct RigidModel {
 }
 
 impl RigidModel {
-    /// The box of `spec` in its box frame (centre, axes along its edges).
-    pub fn of_box(spec: &BoxSpec) -> RigidModel {
-        RigidModel {
-            geometry: Geometry::Cuboid {
-                body_from_box: Isometry3::identity(),
-                half_extents: spec.half_extents(),
-            },
-            mass: spec.mass,
-            com: spec.com_box().coords,
-            inertia: Matrix3::from_diagonal(&spec.principal_inertia()),
-            friction: spec.friction,
-        }
-    }
-
     /// The learnt object of an export body, in the object frame.
     pub fn of_body(body: &objmodel::export::Body) -> RigidModel {
         let geometry = match &body.box_fit {
@@ -164,6 +149,7 @@ impl RigidModel {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::spec::BoxSpec;
     use ::nalgebra::{Translation3, UnitQuaternion};
 
     /// Moving a body into another frame and back changes nothing; its corners and CoM move

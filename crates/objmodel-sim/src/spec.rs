@@ -7,6 +7,7 @@
 //! face's outward normal, and it is turned about that normal. The learner only ever sees poses
 //! of `tag`; `box_from_tag` maps tag coordinates to box coordinates.
 
+use crate::rigid::{Geometry, RigidModel};
 use crate::{Result, SimError};
 use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
 use rand::Rng;
@@ -141,7 +142,7 @@ pub struct BoxSpec {
     /// replace those the numbers above describe (which then give its extents and CoM for the
     /// scenes' scripts).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub learnt: Option<crate::learnt::Learnt>,
+    pub learnt: Option<Learnt>,
 }
 
 impl BoxSpec {
@@ -260,6 +261,31 @@ impl BoxSpec {
             }
         }
         Ok(())
+    }
+}
+
+/// A learnt object as a scene's box: its body in the box frame, and where its tag is.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Learnt {
+    /// The rigid body, box frame.
+    pub body: RigidModel,
+    /// The tag (object) frame in the box frame.
+    pub box_from_tag: Isometry3<f64>,
+}
+
+impl RigidModel {
+    /// The box of `spec` in its box frame (centre, axes along its edges).
+    pub fn of_box(spec: &BoxSpec) -> RigidModel {
+        RigidModel {
+            geometry: Geometry::Cuboid {
+                body_from_box: Isometry3::identity(),
+                half_extents: spec.half_extents(),
+            },
+            mass: spec.mass,
+            com: spec.com_box().coords,
+            inertia: Matrix3::from_diagonal(&spec.principal_inertia()),
+            friction: spec.friction,
+        }
     }
 }
 

@@ -9,7 +9,7 @@
 //!
 //! One edge direction gives one such quadratic form of `J`, which has six unknowns:
 //!
-//! * **a box** (the shape is one, [`crate::export::box_fit`]): its edges have three directions,
+//! * **a box** (the shape is one, [`crate::shape::box_fit`]): its edges have three directions,
 //!   its axes. Assuming its principal axes of inertia are its own axes (true at uniform density,
 //!   and for any weight inside on its axes), the three principal moments are the mean `q` of the
 //!   pendulums about edges along each axis (within [`AXIS_RAD`]); an axis without one takes the

@@ -29,7 +29,7 @@ use serde::{Deserialize, Serialize};
 /// σ_φ \[rad\] (2°) taken for a pendulum that has no `phi_sigma`.
 pub const UNKNOWN_PHI_SIGMA_RAD: f64 = 0.034_906_585_039_886_59;
 
-/// Where the centre of mass is, from the pendulums (see [`com_from_planes`] and `tree/com.rs`).
+/// Where the centre of mass is, from the pendulums (see [`com_from_planes`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CentreOfMass {
     /// The CoM in the object frame \[m\].
