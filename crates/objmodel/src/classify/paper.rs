@@ -24,6 +24,48 @@ type Best = (f64, Vector3<f64>, Vector3<f64>, Vector3<f64>);
 /// The reference pose `g(0)`: orientation, position \[m\], and "down" in its frame if known.
 type Reference = (UnitQuaternion<f64>, Vector3<f64>, Option<Vector3<f64>>);
 
+/// Label runs kept before the runs are coarsened ([`coarsen`]): a noisy slow turn changes label
+/// every few frames (the benchmark's 10⁷-pose turn: ~10⁶ runs and, from them, ~10⁵ parts, which
+/// took `learn --method paper` to 79 MB against 17-26 MB at 10⁶ poses), so the runs would grow
+/// with the file. With this bound they take at most 1 MB, and `learn --method paper` peaks at
+/// 20 MB at 10⁶ poses and 25 MB at 10⁷ (its tree unchanged); files whose labels change fewer
+/// times keep every run (every file of the standard data set).
+pub(super) const MAX_LABEL_RUNS: usize = 1 << 14;
+
+/// Halve the number of label runs: each two neighbours become one run over both, with the label
+/// of the one with more frames (the first on a tie), and neighbours of one label are joined.
+/// The frames and times the runs cover are unchanged; only the labels of the shorter runs give
+/// way.
+fn coarsen(runs: &mut Vec<LabelRun>) {
+    let mut out: Vec<LabelRun> = Vec::with_capacity(runs.len() / 2 + 1);
+    for pair in runs.chunks(2) {
+        let run = match pair {
+            [a, b] => LabelRun {
+                last: b.last,
+                t_end: b.t_end,
+                frames: a.frames + b.frames,
+                label: if b.frames > a.frames {
+                    b.label
+                } else {
+                    a.label
+                },
+                ..*a
+            },
+            [a] => *a,
+            _ => unreachable!("chunks of two"),
+        };
+        match out.last_mut() {
+            Some(prev) if prev.label == run.label => {
+                prev.last = run.last;
+                prev.t_end = run.t_end;
+                prev.frames += run.frames;
+            }
+            _ => out.push(run),
+        }
+    }
+    *runs = out;
+}
+
 /// Streaming state of the literal algorithm.
 pub(super) struct PaperMethod {
     config: Config,
@@ -72,6 +114,9 @@ impl PaperMethod {
                 r.frames += 1;
                 return;
             }
+        }
+        if self.runs.len() == MAX_LABEL_RUNS {
+            coarsen(&mut self.runs);
         }
         self.runs.push(LabelRun {
             first: index,
@@ -275,5 +320,66 @@ impl PaperMethod {
         };
         c.fill_parts();
         Ok(c)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// However often the label changes, the runs stay within [`MAX_LABEL_RUNS`], cover every
+    /// frame once and in order, and keep the label of the majority where one label dominates.
+    #[test]
+    fn label_runs_stay_bounded_and_cover_every_frame() {
+        let mut m = PaperMethod::new(&Config::default());
+        let n = 3 * MAX_LABEL_RUNS + 17;
+        // Topple on two frames of three, slide on the third: a run change every frame or two.
+        for i in 0..n {
+            let label = if i % 3 == 2 {
+                Label::Slide
+            } else {
+                Label::Topple
+            };
+            m.label(i, i as f64 * 0.01, label);
+            assert!(
+                m.runs.len() <= MAX_LABEL_RUNS,
+                "{} runs at frame {i}",
+                m.runs.len()
+            );
+        }
+        let runs = &m.runs;
+        assert!(runs.len() < n / 4, "{} runs", runs.len());
+        assert_eq!(runs.iter().map(|r| r.frames).sum::<u64>(), n as u64);
+        assert_eq!((runs[0].first, runs.last().unwrap().last), (0, n - 1));
+        for w in runs.windows(2) {
+            assert_eq!(w[1].first, w[0].last + 1);
+            assert_eq!(w[1].t_start, w[1].first as f64 * 0.01);
+            assert_ne!(w[0].label, w[1].label);
+        }
+        let topple: u64 = runs
+            .iter()
+            .filter(|r| r.label == Label::Topple)
+            .map(|r| r.frames)
+            .sum();
+        assert!(topple as f64 > 0.6 * n as f64, "{topple} of {n}");
+    }
+
+    /// Files whose labels change fewer than [`MAX_LABEL_RUNS`] times keep every run.
+    #[test]
+    fn few_label_changes_keep_every_run() {
+        let mut m = PaperMethod::new(&Config::default());
+        for i in 0..1000 {
+            m.label(
+                i,
+                i as f64,
+                if (i / 10) % 2 == 0 {
+                    Label::Topple
+                } else {
+                    Label::Slide
+                },
+            );
+        }
+        assert_eq!(m.runs.len(), 100);
+        assert!(m.runs.iter().all(|r| r.frames == 10));
     }
 }
