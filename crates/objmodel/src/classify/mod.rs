@@ -27,9 +27,11 @@
 //!   6. the frames after a completed topple's edge rotation (it ended at rest on the adjacent
 //!      face across the edge) are its landing and do not vote (see `analysis::completed_topple`).
 //!
-//! The modules, in the order the data flows through them (each imports only modules above it,
-//! and the result and configuration types here):
+//! The modules, in the order the data flows through them (each imports only modules above it;
+//! `tests/import_circles.rs` checks that no two files import each other through any path):
 //!
+//! * `config`, `classification`: the configuration ([`Config`]) and the result
+//!   ([`Classification`]) that every stage below uses;
 //! * `sample`: a kept frame or the place of a rejected one, as the stages pass them on;
 //! * `cleaning`: noise warm-up and tag-flip rejection per stream; `palm`: the motion relative
 //!   to a tracked palm;
