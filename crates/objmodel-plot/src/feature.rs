@@ -4,7 +4,8 @@
 use nalgebra::Vector3;
 use serde::Serialize;
 
-/// How a drawn part of the object is known (see the module documentation).
+/// How a drawn part of the object is known (each kind is described in `model.rs`, the drawing
+/// of the object).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Known {
