@@ -227,10 +227,12 @@ impl Learner {
     /// given) from first frames whose motion dominates their second differences
     /// ([`Learner::noise_unmeasurable`]), it may be the motion's (10 mm for 1 mm at 30 Hz, for
     /// a thrown object whose file starts in flight), and then every test passes everything, a
-    /// 3-frame "topple" among them. Without a rest as long as the rest test's window, the noise
-    /// is unmeasurable. With one, the longest rest measures it (its first half window dropped:
+    /// 3-frame "topple" among them. The longest rest measures it if it lasts the rest test's
+    /// window, or if, shorter, the frames of its second half are at least one
+    /// [`crate::noise::SCATTER_WINDOW`] (a tracker at 100-250 Hz; 30 Hz needs the window);
+    /// otherwise the noise is unmeasurable. Its first half window (or first half) is dropped:
     /// with the motion's noise a motion's end is found late or early, and its last frames may
-    /// still be in the "rest"), and where the first frames' estimate exceeds the rest's beyond
+    /// still be in the "rest". Where the first frames' estimate exceeds the rest's beyond
     /// their sampling errors ([`crate::noise::exceeds`]), the rest's is the noise. Otherwise
     /// the first frames' estimate stands (a demonstration shorter than the warm-up holds its
     /// motion among the first frames, and its rests keep the estimate at the noise).
@@ -240,16 +242,19 @@ impl Learner {
         }
         let robust = &self.config.robust;
         let window = robust.rest_window_s;
-        let Some((t0, t1)) = longest_rest(c, recording).filter(|(a, b)| b - a >= window) else {
+        let Some((t0, t1)) = longest_rest(c, recording) else {
             return NoiseCheck::Unmeasurable;
         };
-        let measured = (t0 + 0.5 * window, t1);
+        let measured = (t0 + 0.5 * window.min(t1 - t0), t1);
         let samples: Vec<crate::noise::PoseSample> = recording
             .object
             .iter()
             .filter(|f| f.t > measured.0 && f.t < measured.1)
             .map(|f| (f.t, f.rotation, f.position))
             .collect();
+        if t1 - t0 < window && samples.len() < crate::noise::SCATTER_WINDOW {
+            return NoiseCheck::Unmeasurable;
+        }
         let tolerance = (robust.edge_tolerance_m, robust.edge_tolerance_rad);
         let first_frames = recording.object.len().min(robust.warmup_frames.max(3));
         match (crate::noise::estimate(&samples), c.noise) {
