@@ -393,7 +393,10 @@ fn a_short_rest_at_a_high_rate_measures_the_noise() {
         );
         // Where the first frames measured the motion (beyond the model tolerance the tests
         // add), the noise is the rest's.
-        if c.warnings.iter().any(|w| w.contains("measured on the rest")) {
+        if c.warnings
+            .iter()
+            .any(|w| w.contains("measured on the rest"))
+        {
             let n = c.noise.unwrap();
             let ratio = (
                 n.sigma_position / truth.sigma_position,
@@ -406,8 +409,15 @@ fn a_short_rest_at_a_high_rate_measures_the_noise() {
             ratios.push(ratio);
         }
     }
-    assert!(ratios.len() >= 20, "{} of 30 measured on the rest", ratios.len());
+    assert!(
+        ratios.len() >= 20,
+        "{} of 30 measured on the rest",
+        ratios.len()
+    );
     let mean = |f: fn(&(f64, f64)) -> f64| ratios.iter().map(f).sum::<f64>() / ratios.len() as f64;
     let (p, r) = (mean(|r| r.0), mean(|r| r.1));
-    assert!((0.8..1.3).contains(&p) && (0.8..1.3).contains(&r), "{p:.2}, {r:.2}");
+    assert!(
+        (0.8..1.3).contains(&p) && (0.8..1.3).contains(&r),
+        "{p:.2}, {r:.2}"
+    );
 }
