@@ -25,8 +25,11 @@
 //! 3. turns about a level line, when gravity is known (an edge rolled over lies in the face on
 //!    the level support: `direction_off_level`, χ²₁ at `alpha`);
 //! 4. the free-flight model does not explain (χ² at `alpha`), or explains only with a centre of
-//!    mass that the demonstration's flights rule out: a spinning object in flight turns about a
-//!    moving axis, which over a short window can pass for a fixed one.
+//!    mass that the object cannot have: farther from its origin than a flight's may be
+//!    (`flight::MAX_COM_M`, beyond its σ), or other than the one the demonstration's flights
+//!    determined. A spinning object in flight turns about a moving axis, which over a short
+//!    window can pass for a fixed one; and a roll's frames pass for a flight of the point that
+//!    accelerates with gravity, its centre of acceleration, about 0.3 m from the edge.
 //!
 //! Such a window is a `roll` part. It teaches its edge when the edge is located well enough to
 //! be a feature: within 5 mm and 3° of its estimate but with probability `alpha`
@@ -129,18 +132,28 @@ impl RollTest<'_> {
         fit(frames, &self.noise).filter(|f| self.passes(f, ROLL_FIT_ALPHA.max(self.alpha)))
     }
 
-    /// Whether the centre of mass the demonstration's flights determined rules out a flight
-    /// fitted to a window: the flight needs another point of the object to fall with gravity
-    /// (χ²₃ at `alpha` on their difference, under both covariances). A roll's frames pass the
-    /// flight model over a short window with a point near its centre of acceleration, which
-    /// is not the centre of mass; without a known centre of mass nothing is ruled out.
+    /// Whether the flight fitted to a window needs a centre of mass the object cannot have. A
+    /// roll's frames pass the flight model over a short window with a point near its centre
+    /// of acceleration (`flight::MAX_COM_M`: about 0.3 m from the edge in a fall), which is
+    /// not the centre of mass. Ruled out: a point farther from the object's origin than a
+    /// flight's centre of mass may be (the flight test's `r_max`) by more than its standard
+    /// deviation along that distance times the normal quantile of `alpha` (one-sided); and,
+    /// when the demonstration's flights determined the centre of mass, a point other than it
+    /// (χ²₃ at `alpha` on their difference, under both covariances).
     fn com_rules_out(&self, f: &crate::flight::FlightFit) -> bool {
-        self.com.is_some_and(|(c, cov)| {
-            let d = f.com - c;
-            (f.com_cov + cov)
-                .try_inverse()
-                .is_some_and(|w| d.dot(&(w * d)) > crate::stats::chi2_threshold(3.0, self.alpha))
-        })
+        let r = f.com.norm();
+        let off_object = self.flight.is_some_and(|t| {
+            let u = f.com / r.max(1e-12);
+            let sigma = u.dot(&(f.com_cov * u)).max(0.0).sqrt();
+            r - t.r_max > crate::stats::normal_quantile(1.0 - self.alpha) * sigma
+        });
+        off_object
+            || self.com.is_some_and(|(c, cov)| {
+                let d = f.com - c;
+                (f.com_cov + cov).try_inverse().is_some_and(|w| {
+                    d.dot(&(w * d)) > crate::stats::chi2_threshold(3.0, self.alpha)
+                })
+            })
     }
 
     /// The fit as the edge observation of demonstration `demo`, with the contact's wander
