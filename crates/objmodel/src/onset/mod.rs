@@ -74,9 +74,15 @@ pub fn later_onset(labels: &[LabelRun], k: usize) -> Option<f64> {
 /// Measure the later parts of the segments that taught nothing from their own start, and add
 /// what they teach to the classification (see the module documentation).
 pub fn remeasure_later_parts(c: &mut Classification, recording: &Recording, config: &Config) {
+    // Without gravity a flight cannot be told from a contact mode (`crate::flight`), and the
+    // part before a later one may have been a throw: a tossed box's flight passed for a
+    // slide, measured from its onset, and taught a face 25° off (MuJoCo tosses learnt with
+    // `--gravity none`). Relative to a palm nothing flies.
+    let world_without_gravity = config.gravity.is_none() && !c.instrumented;
     if config.method != crate::classify::Method::Robust
         || recording.object_stride > 1
         || recording.palm_stride > 1
+        || world_without_gravity
     {
         return;
     }
