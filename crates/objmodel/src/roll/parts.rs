@@ -36,9 +36,7 @@ pub fn mark_rolls(c: &mut Classification, recording: &Recording, config: &Config
         return;
     }
     let robust = &config.robust;
-    let down = Some(down);
-    let flight =
-        down.map(|d| FlightTest::new(d * crate::pendulum::G, noise, robust.alpha, MAX_COM_M));
+    let flight = FlightTest::new(down * crate::pendulum::G, noise, robust.alpha, MAX_COM_M);
     // The χ² is the tracking noise's alone: a contact's own wander is what the turn a roll
     // needs covers (`tolerance_m` below). Added per frame to the noise, the wander hid a box
     // pivoting on a vertex and a slipping edge: on 500 simulated tosses at motion-capture
@@ -51,8 +49,8 @@ pub fn mark_rolls(c: &mut Classification, recording: &Recording, config: &Config
             tolerance_rad: 0.0,
         },
         alpha: robust.alpha,
-        down,
-        flight: flight.as_ref(),
+        down: Some(down),
+        flight: Some(&flight),
         tolerance_m: robust.edge_tolerance_m,
         r_max: config.paper.r_palm,
         com: known_com(&c.parts),
@@ -82,9 +80,7 @@ pub fn mark_rolls(c: &mut Classification, recording: &Recording, config: &Config
             let taught = r.withheld.is_none();
             // A taught roll's edge lies on the support: its world line's height is the
             // support's.
-            let support = down
-                .filter(|_| taught)
-                .map(|d| test.support(&r.fit, &d, &c.name));
+            let support = taught.then(|| test.support(&r.fit, &down, &c.name));
             c.rolls.push(Roll {
                 first: a.index as usize,
                 last: b.index as usize,
