@@ -138,6 +138,19 @@ impl Sym3 {
     }
 }
 
+/// Two unit vectors normal to the unit `v` and to each other (`[a, v × a]`, `a` from `v × x`,
+/// or `v × y` where `v` is near x).
+pub fn normal_axes(v: &Vector3<f64>) -> [Vector3<f64>; 2] {
+    let a = v.cross(&Vector3::x());
+    let a = if a.norm() < 0.5 {
+        v.cross(&Vector3::y())
+    } else {
+        a
+    };
+    let a = a.normalize();
+    [a, v.cross(&a)]
+}
+
 /// Eigen-decomposition of a symmetric 3×3 matrix, eigenvalues ascending.
 pub fn sym_eigen(m: &Matrix3<f64>) -> ([f64; 3], [Vector3<f64>; 3]) {
     let e = SymmetricEigen::new(0.5 * (m + m.transpose()));

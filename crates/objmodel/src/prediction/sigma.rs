@@ -10,6 +10,7 @@
 //! it (left out).
 
 use super::{ObservedPendulum, PredictedPendulum};
+use crate::geometry::normal_axes;
 use crate::shape::{Shape, ShapeFace};
 use crate::tree::{Tree, SAME_FACE_RAD};
 use nalgebra::{Matrix3, Vector3};
@@ -41,18 +42,6 @@ fn phi_lp(
     let r = r - u * u.dot(&r);
     let w = u.cross(&n1);
     (r.dot(&w).atan2(-r.dot(&n1)), r.norm())
-}
-
-/// Two unit vectors normal to `v`.
-fn normal_axes(v: &Vector3<f64>) -> [Vector3<f64>; 2] {
-    let a = v.cross(&Vector3::x());
-    let a = if a.norm() < 0.5 {
-        v.cross(&Vector3::y())
-    } else {
-        a
-    };
-    let a = a.normalize();
-    [a, v.cross(&a)]
 }
 
 /// Standard deviations of (φ, l_p) of the pendulum `p` of `shape`, for the CoM `com` with

@@ -242,6 +242,25 @@ fn without_gravity_no_roll_is_found() {
     assert_eq!(rolls, 0);
 }
 
+/// The tests' roll test under `noise`: the tracking noise alone in the χ², α = 10⁻³, the
+/// contact's 0.3 mm, edges within 0.5 m, no known centre of mass; with gravity along −z and
+/// its flight test when `flight` is given.
+fn roll_test(noise: NoiseModel, flight: Option<&FlightTest>) -> RollTest<'_> {
+    RollTest {
+        noise: RollNoise {
+            noise,
+            tolerance_m: 0.0,
+            tolerance_rad: 0.0,
+        },
+        alpha: 1e-3,
+        down: flight.map(|_| -Vector3::z()),
+        flight,
+        tolerance_m: 3e-4,
+        r_max: 0.5,
+        com: None,
+    }
+}
+
 /// `poses` with `noise` added, as the frames a roll is fitted to.
 fn noisy_frames(poses: &[StampedPose], noise: &SynthNoise, rng: &mut StdRng) -> Vec<FlightFrame> {
     synth::add_noise(poses, noise, rng)
@@ -341,19 +360,7 @@ fn a_roll_that_turns_back_is_cut_where_it_turns() {
         sigma_position: 4e-4,
         sigma_rotation: 0.3f64.to_radians(),
     };
-    let test = RollTest {
-        noise: RollNoise {
-            noise,
-            tolerance_m: 0.0,
-            tolerance_rad: 0.0,
-        },
-        alpha: 1e-3,
-        down: None,
-        flight: None,
-        tolerance_m: 3e-4,
-        r_max: 0.5,
-        com: None,
-    };
+    let test = roll_test(noise, None);
     let start = Isometry3::from_parts(
         Translation3::new(0.2, 0.1, 0.05),
         UnitQuaternion::from_euler_angles(0.3, -0.2, 0.5),
@@ -409,19 +416,7 @@ fn a_contact_that_wanders_is_in_the_edge_sigma() {
         sigma_position: 1e-4,
         sigma_rotation: 0.05f64.to_radians(),
     };
-    let test = RollTest {
-        noise: RollNoise {
-            noise,
-            tolerance_m: 0.0,
-            tolerance_rad: 0.0,
-        },
-        alpha: 1e-3,
-        down: None,
-        flight: None,
-        tolerance_m: 3e-4,
-        r_max: 0.5,
-        com: None,
-    };
+    let test = roll_test(noise, None);
     let synth_noise = SynthNoise {
         sigma_position: noise.sigma_position,
         sigma_rotation: noise.sigma_rotation,
@@ -488,19 +483,7 @@ fn a_flight_whose_centre_of_mass_is_off_the_object_is_no_alternative() {
     };
     let gravity = Vector3::new(0.0, 0.0, -crate::pendulum::G);
     let flight = FlightTest::new(gravity, noise, 1e-3, crate::flight::MAX_COM_M);
-    let test = RollTest {
-        noise: RollNoise {
-            noise,
-            tolerance_m: 0.0,
-            tolerance_rad: 0.0,
-        },
-        alpha: 1e-3,
-        down: Some(-Vector3::z()),
-        flight: Some(&flight),
-        tolerance_m: 3e-4,
-        r_max: 0.5,
-        com: None,
-    };
+    let test = roll_test(noise, Some(&flight));
     // A 0.1 m x 0.2 m box on its edge, its centre of mass (the origin) l from the edge:
     // θ'' = (m g l / I_edge) sin θ, θ from the balance; from 23° before it at 5 rad/s.
     let (a, b) = (0.05f64, 0.1f64);

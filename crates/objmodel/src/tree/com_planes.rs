@@ -23,6 +23,7 @@
 //! propagated one alone.
 
 use super::CONDITION_MIN;
+use crate::geometry::normal_axes;
 use nalgebra::{Matrix3, SymmetricEigen, Vector3};
 use serde::{Deserialize, Serialize};
 
@@ -114,16 +115,6 @@ impl ComPlane {
         let mut var = (l * self.phi_sigma).powi(2) + (m.transpose() * self.point_cov * m)[0];
         // Derivatives along the two axes normal to a unit vector, by central differences.
         let h = 1e-6;
-        let normal_axes = |v: &Vector3<f64>| {
-            let a = v.cross(&Vector3::x());
-            let a = if a.norm() < 0.5 {
-                v.cross(&Vector3::y())
-            } else {
-                a
-            };
-            let a = a.normalize();
-            [a, v.cross(&a)]
-        };
         let resid = |axis: &Vector3<f64>, normal: &Vector3<f64>| {
             self.plane_normal(&axis.normalize(), &normal.normalize())
                 .dot(&r)
