@@ -3,7 +3,6 @@
 
 use crate::bag::{is_bag_path, BagArgs, DemoSource};
 use crate::opts::{palm_for, ClassifyOpts};
-use crate::text::print_warnings;
 use anyhow::{bail, Context, Result};
 use objmodel::classify::{Config, Kind};
 use objmodel::format::is_palm_file;
@@ -108,18 +107,40 @@ pub fn learn_sources_into(
     config: &Config,
 ) -> Result<Vec<Observation>> {
     let learner = Learner::new(*config);
-    let mut out = Vec::new();
     let bar = crate::progress::bar(sources.len() as u64);
-    for s in sources {
-        bar.set_message(s.path().display().to_string());
-        for o in learner.learn(tree, &[s.source()])? {
-            bar.suspend(|| print_warnings(s.path(), &o.classification));
-            out.push(o);
+    let wrapped: Vec<_> = sources.iter().map(|s| s.source()).collect();
+    let reports = learner.learn_with_progress(tree, &wrapped, |k| {
+        if let Some(next) = sources.get(k + 1) {
+            bar.set_message(next.path().display().to_string());
         }
         bar.inc(1);
-    }
+    });
     bar.finish_and_clear();
-    Ok(out)
+    let reports = reports?;
+    print_all_warnings(&reports);
+    Ok(reports)
+}
+
+/// Print the reports' warnings, each demonstration's own under its name, and a warning that
+/// every one of several demonstrations was given (the gravity check's) once.
+fn print_all_warnings(reports: &[Observation]) {
+    let shared = |w: &String| {
+        reports.len() > 1
+            && reports
+                .iter()
+                .all(|r| r.classification.warnings.contains(w))
+    };
+    if let Some(first) = reports.first() {
+        for w in first.classification.warnings.iter().filter(|w| shared(w)) {
+            eprintln!("warning: all {} demonstrations: {w}", reports.len());
+        }
+    }
+    for r in reports {
+        let c = &r.classification;
+        for w in c.warnings.iter().filter(|w| !shared(w)) {
+            eprintln!("warning: {}: {w}", c.name);
+        }
+    }
 }
 
 /// Run `objmodel learn`.

@@ -8,47 +8,17 @@
 use objmodel::classify::Config;
 use objmodel::learn::{Learner, Source};
 use objmodel::tree::Tree;
-use objmodel::Demonstration;
-use objmodel_sim::dataset::standard_boxes;
-use objmodel_sim::demo::{clean_demo, run_scene};
 use objmodel_sim::eval_precision::face_is_true;
-use objmodel_sim::noise::TrackerNoise;
-use objmodel_sim::{SceneKind, SimOptions};
-use rand::{rngs::StdRng, SeedableRng};
+
+mod common;
 
 /// Tosses of the first standard box at one noise level, learnt together: the tree and the
 /// box's features.
 fn learn_tosses(level: &str, n: u64) -> (Tree, objmodel_sim::truth::BoxFeatures) {
-    let spec = &standard_boxes()[0];
-    let mut demos = Vec::new();
-    let mut features = None;
-    let mut given = None;
-    for seed in 1..=n {
-        let out = run_scene(SceneKind::Toss, spec, seed, &SimOptions::default()).expect("runs");
-        let mut rng = StdRng::seed_from_u64(seed);
-        let (noise, rate) = match level {
-            "mocap" => (TrackerNoise::mocap_drawn(&mut rng), 240.0),
-            _ => (TrackerNoise::real(), 30.0),
-        };
-        let opts = SimOptions {
-            rate_hz: rate,
-            ..SimOptions::default()
-        };
-        // At 30 Hz a toss's first frames measure its motion, and its short rests cannot
-        // measure the noise: such a file teaches nothing unless the tracker's noise is given,
-        // as a user of a camera tracker gives it (`--noise-position`, `--noise-rotation`).
-        if level != "mocap" {
-            given = Some(noise.sigma);
-        }
-        let clean = clean_demo(SceneKind::Toss, spec, seed, &out, &opts).expect("truth");
-        let sim = clean.with_noise(&noise);
-        features = Some(sim.truth.features.clone());
-        demos.push(Demonstration {
-            name: format!("toss_{level}_{seed}"),
-            object: sim.object.clone(),
-            palm: None,
-        });
-    }
+    // At 30 Hz a toss's short rests cannot measure the noise: such a file teaches nothing
+    // unless the tracker's noise is given, as a user of a camera tracker gives it
+    // (`--noise-position`, `--noise-rotation`).
+    let (demos, features, given) = common::tosses(level, n);
     let sources: Vec<Source> = demos.iter().map(Source::Memory).collect();
     let mut tree = Tree::default();
     let mut config = Config::default();
@@ -56,7 +26,7 @@ fn learn_tosses(level: &str, n: u64) -> (Tree, objmodel_sim::truth::BoxFeatures)
     Learner::new(config)
         .learn(&mut tree, &sources)
         .expect("learns");
-    (tree, features.expect("at least one toss"))
+    (tree, features)
 }
 
 #[test]

@@ -482,25 +482,109 @@ impl Learner {
     /// demonstration's report. A demonstration that shows no motion teaches nothing
     /// ([`Observation::teaches_nothing`]): it is not added, and its report says so. On an
     /// error, the demonstrations before the one that failed are in the tree.
+    ///
+    /// Before anything is fused, the gravity given is checked against the vertical that the
+    /// rests of all the demonstrations turn about ([`crate::vertical`]): where they contradict
+    /// it, every demonstration is analysed again without gravity (what needs it, rests' faces,
+    /// landings, flights, rolls and pendulums, is not learnt), and each report says why and
+    /// which vertical the rests show.
     pub fn learn(&self, tree: &mut Tree, sources: &[Source]) -> Result<Vec<Observation>> {
-        let mut out = Vec::new();
-        for s in sources {
-            for mut o in self.observe_all(s)? {
-                if o.teaches_nothing() {
-                    let why = nothing_to_learn(&o.classification);
-                    o.classification
-                        .warnings
-                        .push(format!("{why}; not added to the model"));
-                } else {
-                    let added = tree.add(&o);
-                    o.classification
-                        .warnings
-                        .extend(added.note(&o.classification.name));
+        self.learn_with_progress(tree, sources, |_| {})
+    }
+
+    /// [`Self::learn`], calling `analysed` with each source's index once it is analysed.
+    pub fn learn_with_progress(
+        &self,
+        tree: &mut Tree,
+        sources: &[Source],
+        mut analysed: impl FnMut(usize),
+    ) -> Result<Vec<Observation>> {
+        let mut per_source = Vec::new();
+        let mut failure = None;
+        for (k, s) in sources.iter().enumerate() {
+            match self.observe_all(s) {
+                Ok(o) => per_source.push(o),
+                Err(e) => {
+                    failure = Some(e);
+                    break;
                 }
-                out.push(o);
+            }
+            analysed(k);
+        }
+        if let Some(warning) = self.vertical_contradiction(per_source.iter().flatten()) {
+            let mut config = self.config;
+            config.gravity = None;
+            let without = Learner {
+                config,
+                capacity: self.capacity,
+            };
+            per_source = sources[..per_source.len()]
+                .iter()
+                .map(|s| without.observe_all(s))
+                .collect::<Result<_>>()?;
+            for o in per_source.iter_mut().flatten() {
+                o.classification.warnings.insert(0, warning.clone());
             }
         }
-        Ok(out)
+        let mut out = Vec::new();
+        for mut o in per_source.into_iter().flatten() {
+            if o.teaches_nothing() {
+                let why = nothing_to_learn(&o.classification);
+                o.classification
+                    .warnings
+                    .push(format!("{why}; not added to the model"));
+            } else {
+                let added = tree.add(&o);
+                o.classification
+                    .warnings
+                    .extend(added.note(&o.classification.name));
+            }
+            out.push(o);
+        }
+        match failure {
+            Some(e) => Err(e),
+            None => Ok(out),
+        }
+    }
+
+    /// Whether the rests of `observations` contradict the gravity given
+    /// ([`crate::vertical::contradiction`], at the classifier's α, with the support's level
+    /// allowed): what their reports are told.
+    fn vertical_contradiction<'o>(
+        &self,
+        observations: impl Iterator<Item = &'o Observation>,
+    ) -> Option<String> {
+        let gravity = self.config.gravity?;
+        let up = -gravity.try_normalize(0.0)?;
+        let rests: Vec<_> = observations
+            .flat_map(|o| o.classification.world_rests())
+            .collect();
+        let c = crate::vertical::contradiction(
+            &rests,
+            &up,
+            self.config.robust.alpha,
+            crate::face::SUPPORT_LEVEL_SIGMA_RAD,
+        )?;
+        let v = |v: &nalgebra::Vector3<f64>| {
+            let c = |x: f64| if x.abs() < 5e-4 { 0.0 } else { x };
+            format!("{:.3},{:.3},{:.3}", c(v.x), c(v.y), c(v.z))
+        };
+        Some(format!(
+            "learnt without gravity: the rests of the demonstrations learnt together turn about \
+             ({}) ± {:.3} deg, {:.1} deg from the up given ({}), as rests on one level support \
+             do ({} pairs of {} rests at various headings; {} pairs turn about the up given); \
+             give the tracker's gravity: --gravity {} or --gravity {} (the rests do not tell \
+             its sign)",
+            v(&c.axis),
+            c.sigma_rad.to_degrees(),
+            c.angle_rad.to_degrees(),
+            v(&up),
+            c.pairs,
+            c.rests,
+            c.pairs_about_given,
+            v(&-c.axis),
+            v(&c.axis),
+        ))
     }
 }
 

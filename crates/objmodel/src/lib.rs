@@ -28,6 +28,8 @@
 //!   landing of another demonstration agrees in down and place; [`support`]: the height of
 //!   the plane the object rests on, from the edges it turned about on it, which gives the
 //!   landings' faces their offsets.
+//! * [`vertical`]: the vertical that the rests of many demonstrations turn about, which
+//!   checks the gravity given (a motion-capture frame with y up, learnt as z up).
 //! * [`dynamics`], [`pendulum`]: each topple's angles, onset, φ and pendulum fit.
 //! * [`observation`]: what one demonstration shows (classification and dynamics).
 //! * [`tree`]: the object description tree, its JSON schema and incremental fusion.
@@ -85,6 +87,7 @@ pub mod synth;
 mod testing;
 pub mod trajectory;
 pub mod tree;
+pub mod vertical;
 
 #[doc(hidden)]
 pub use fast::bench;

@@ -438,6 +438,8 @@ pub(super) fn analyse_segment(
         resting_frames_after: seg.rest_after_frames as u64,
         resting_place_before: seg.rest_before_place,
         resting_place_after: seg.rest_after_place,
+        resting_rotation_before: seg.rest_before_rotation,
+        resting_rotation_after: seg.rest_after_rotation,
         departs_from_support,
         arrives_on_support,
         withheld,

@@ -6,7 +6,7 @@ use crate::edge::EdgeObservation;
 use crate::face::FaceObservation;
 use crate::geometry::Line;
 use crate::noise::NoiseModel;
-use nalgebra::Vector3;
+use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
 /// The kind of a demonstration or motion segment.
@@ -193,6 +193,13 @@ pub struct Segment {
     /// Where it was in the rest after, likewise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub resting_place_after: Option<crate::landing::RestPlace>,
+    /// The object's orientation over the rest before (`world_from_object`, the mean over the
+    /// rest's frames, as the quaternion `[x, y, z, w]`), when its down is known (gravity given).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resting_rotation_before: Option<UnitQuaternion<f64>>,
+    /// The orientation over the rest after, likewise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resting_rotation_after: Option<UnitQuaternion<f64>>,
     /// Whether the rest before was on the support: a contact mode (slide, edge rotation)
     /// measured from it leaves it and passes its test.
     #[serde(default)]

@@ -303,6 +303,8 @@ impl PaperMethod {
                 resting_frames_after: 0,
                 resting_place_before: None,
                 resting_place_after: None,
+                resting_rotation_before: None,
+                resting_rotation_after: None,
                 departs_from_support: false,
                 arrives_on_support: false,
                 withheld: None,

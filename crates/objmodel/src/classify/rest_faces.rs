@@ -51,6 +51,34 @@ impl Classification {
             .filter(|_| !self.gravity_doubted && !self.instrumented && self.withheld.is_none())
     }
 
+    /// The rests in the world of at least `MIN_FACE_FRAMES` frames whose orientation is known
+    /// (gravity given, poses not a palm's, noise known), each known to the noise's σ over the
+    /// square root of its frames: what [`crate::vertical`] compares.
+    pub fn world_rests(&self) -> Vec<crate::vertical::Rest> {
+        let Some(noise) = self.noise.filter(|_| !self.instrumented) else {
+            return Vec::new();
+        };
+        let first = self
+            .segments
+            .first()
+            .map(|s| (s.resting_rotation_before, s.resting_frames_before));
+        let after = self
+            .segments
+            .iter()
+            .map(|s| (s.resting_rotation_after, s.resting_frames_after));
+        first
+            .into_iter()
+            .chain(after)
+            .filter(|(_, frames)| *frames as f64 >= analysis::MIN_FACE_FRAMES)
+            .filter_map(|(rotation, frames)| {
+                Some(crate::vertical::Rest {
+                    rotation: rotation?,
+                    sigma_rad: noise.sigma_rotation / (frames as f64).sqrt(),
+                })
+            })
+            .collect()
+    }
+
     /// The demonstration's landings ([`crate::landing`]): its rests of at least
     /// `MIN_FACE_FRAMES` frames that a flight leads to (in the motion segment before them) and
     /// that taught no face themselves (no contact mode showed the support, no topple's edge

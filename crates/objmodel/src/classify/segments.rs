@@ -45,6 +45,9 @@ pub(super) struct MotionSegment {
     /// Where those rests were, if gravity is known.
     pub rest_before_place: Option<RestPlace>,
     pub rest_after_place: Option<RestPlace>,
+    /// The orientations (`world_from_object`) over those rests (their mean).
+    pub rest_before_rotation: Option<UnitQuaternion<f64>>,
+    pub rest_after_rotation: Option<UnitQuaternion<f64>>,
 }
 
 /// Segments and blocks: consumes the rest front end's output ([`Verdict`]).
@@ -280,10 +283,12 @@ impl Segmenter {
         let rest_place = start
             .zip(self.down)
             .map(|((_, p, _), d)| RestPlace::new(&p, &d));
+        let rest_rotation = start.filter(|_| rest_down.is_some()).map(|(q, _, _)| q);
         if let Some(prev) = self.segments.last_mut() {
             prev.rest_after = rest_down;
             prev.rest_after_frames = rest_frames;
             prev.rest_after_place = rest_place;
+            prev.rest_after_rotation = rest_rotation;
         }
         let (ref_q, ref_p, n_ref) = start.unwrap_or((f.q, f.p, 1.0));
         let down_ref = rest_down.or_else(|| self.down.map(|d| (f.q.inverse() * d).normalize()));
@@ -302,6 +307,8 @@ impl Segmenter {
             rest_after_frames: 0.0,
             rest_before_place: rest_place,
             rest_after_place: None,
+            rest_before_rotation: rest_rotation,
+            rest_after_rotation: None,
         });
     }
 
@@ -380,9 +387,15 @@ impl Segmenter {
                 .mean()
                 .zip(self.down)
                 .map(|((_, p), d)| RestPlace::new(&p, &d));
+            let rest_rotation = self
+                .rest
+                .mean()
+                .filter(|_| rest_down.is_some())
+                .map(|(q, _)| q);
             if let Some(prev) = self.segments.last_mut() {
                 prev.rest_after = rest_down;
                 prev.rest_after_place = rest_place;
+                prev.rest_after_rotation = rest_rotation;
                 prev.rest_after_frames = if rest_down.is_some() {
                     self.rest.n()
                 } else {
