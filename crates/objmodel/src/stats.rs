@@ -59,6 +59,19 @@ pub fn normal_quantile(p: f64) -> f64 {
     }
 }
 
+/// The two-sided p-value of the sign test: the probability that `n` fair coin flips give at
+/// least `max(k, n − k)` of one side or of the other (1 when `n` is 0).
+pub fn sign_test(k: u64, n: u64) -> f64 {
+    let m = k.max(n - k.min(n));
+    let ln_choose = |i: u64| {
+        ln_gamma(n as f64 + 1.0) - ln_gamma(i as f64 + 1.0) - ln_gamma((n - i) as f64 + 1.0)
+    };
+    let tail: f64 = (m..=n)
+        .map(|i| (ln_choose(i) - n as f64 * std::f64::consts::LN_2).exp())
+        .sum();
+    (2.0 * tail).min(1.0)
+}
+
 /// ln Γ(x) for x > 0 (Lanczos approximation, g = 7, n = 9; relative error ~1e-15).
 pub fn ln_gamma(x: f64) -> f64 {
     const G: [f64; 9] = [
@@ -207,6 +220,26 @@ pub fn robust_sigma_zero_mean(abs_values: &mut [f64]) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sign_test_against_exact_binomial_tails() {
+        // n = 10: P(X >= 9) = 11/1024, two-sided 22/1024; P(X >= 5) two-sided > 1 -> 1.
+        assert!((sign_test(9, 10) - 22.0 / 1024.0).abs() < 1e-12);
+        assert!((sign_test(1, 10) - 22.0 / 1024.0).abs() < 1e-12);
+        assert_eq!(sign_test(5, 10), 1.0);
+        assert!((sign_test(11, 11) - 2.0 / 2048.0).abs() < 1e-14);
+        assert_eq!(sign_test(0, 0), 1.0);
+        // Against a direct sum of binomial coefficients for every k of n = 30.
+        let choose = |n: u64, k: u64| (0..k).fold(1.0, |c, i| c * (n - i) as f64 / (i + 1) as f64);
+        for k in 0..=30u64 {
+            let m = k.max(30 - k);
+            let exact: f64 = (m..=30).map(|i| choose(30, i)).sum::<f64>() / 2f64.powi(30);
+            assert!(
+                (sign_test(k, 30) - (2.0 * exact).min(1.0)).abs() < 1e-12,
+                "k = {k}"
+            );
+        }
+    }
 
     #[test]
     fn known_quantiles() {

@@ -60,6 +60,8 @@ use crate::Result;
 use std::borrow::Cow;
 use std::path::Path;
 
+mod gravity_check;
+
 /// Where a demonstration comes from.
 #[derive(Clone, Copy, Debug)]
 pub enum Source<'a> {
@@ -511,17 +513,10 @@ impl Learner {
             }
             analysed(k);
         }
-        if let Some(warning) = self.vertical_contradiction(per_source.iter().flatten()) {
-            let mut config = self.config;
-            config.gravity = None;
-            let without = Learner {
-                config,
-                capacity: self.capacity,
-            };
-            per_source = sources[..per_source.len()]
-                .iter()
-                .map(|s| without.observe_all(s))
-                .collect::<Result<_>>()?;
+        if let Some(c) = self.vertical_contradiction(per_source.iter().flatten()) {
+            let observed = &sources[..per_source.len()];
+            let warning = self.contradicted_gravity(&c, observed)?;
+            per_source = self.with_gravity(None).observe_all_of(observed)?;
             for o in per_source.iter_mut().flatten() {
                 o.classification.warnings.insert(0, warning.clone());
             }
@@ -545,46 +540,6 @@ impl Learner {
             Some(e) => Err(e),
             None => Ok(out),
         }
-    }
-
-    /// Whether the rests of `observations` contradict the gravity given
-    /// ([`crate::vertical::contradiction`], at the classifier's α, with the support's level
-    /// allowed): what their reports are told.
-    fn vertical_contradiction<'o>(
-        &self,
-        observations: impl Iterator<Item = &'o Observation>,
-    ) -> Option<String> {
-        let gravity = self.config.gravity?;
-        let up = -gravity.try_normalize(0.0)?;
-        let rests: Vec<_> = observations
-            .flat_map(|o| o.classification.world_rests())
-            .collect();
-        let c = crate::vertical::contradiction(
-            &rests,
-            &up,
-            self.config.robust.alpha,
-            crate::face::SUPPORT_LEVEL_SIGMA_RAD,
-        )?;
-        let v = |v: &nalgebra::Vector3<f64>| {
-            let c = |x: f64| if x.abs() < 5e-4 { 0.0 } else { x };
-            format!("{:.3},{:.3},{:.3}", c(v.x), c(v.y), c(v.z))
-        };
-        Some(format!(
-            "learnt without gravity: the rests of the demonstrations learnt together turn about \
-             ({}) ± {:.3} deg, {:.1} deg from the up given ({}), as rests on one level support \
-             do ({} pairs of {} rests at various headings; {} pairs turn about the up given); \
-             give the tracker's gravity: --gravity {} or --gravity {} (the rests do not tell \
-             its sign)",
-            v(&c.axis),
-            c.sigma_rad.to_degrees(),
-            c.angle_rad.to_degrees(),
-            v(&up),
-            c.pairs,
-            c.rests,
-            c.pairs_about_given,
-            v(&-c.axis),
-            v(&c.axis),
-        ))
     }
 }
 
