@@ -3,7 +3,8 @@
 //! in a frame with y up (as motion-capture systems often are) and learnt with the default
 //! gravity (z up), the learner says which vertical the rests show and which way along it the
 //! flights fall, and learns nothing that needs gravity; given the right gravity, it learns what
-//! it learns from the z-up poses.
+//! it learns from the z-up poses. Given gravity upside down, the rests agree with its line and
+//! the flights fall against it: that is caught too.
 
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 use objmodel::classify::Config;
@@ -73,7 +74,10 @@ fn a_tracker_with_y_up_learnt_as_z_up_is_caught_and_teaches_nothing_from_gravity
             .expect("every report says it");
         // The rests show the line; the flights, which way along it things fall.
         assert!(said.contains("turn about (0.000,"), "{said}");
-        assert!(said.ends_with("give --gravity 0.000,-1.000,0.000"), "{said}");
+        assert!(
+            said.ends_with("give --gravity 0.000,-1.000,0.000"),
+            "{said}"
+        );
     }
     // Nothing that needs gravity: no face from rests, landings or rolls; whatever the poses
     // teach without it is on the box.
@@ -102,5 +106,35 @@ fn a_tracker_with_y_up_learnt_as_z_up_is_caught_and_teaches_nothing_from_gravity
     );
     for f in &right.faces {
         assert!(face_is_true(f, &features), "face {} off the box", f.id);
+    }
+}
+
+#[test]
+fn a_gravity_given_upside_down_is_caught_by_the_flights() {
+    let (demos, features, _) = common::tosses("mocap", 24);
+    let (tree, warnings) = learn(&demos, Vector3::new(0.0, 0.0, 1.0));
+    for w in &warnings {
+        let said = w
+            .iter()
+            .find(|w| w.contains(CHECKED))
+            .expect("every report says it");
+        assert!(said.contains("points up"), "{said}");
+        assert!(
+            said.ends_with("give --gravity 0.000,0.000,-1.000"),
+            "{said}"
+        );
+    }
+    assert!(tree.landings.is_empty() && tree.supports.is_empty());
+    for f in &tree.faces {
+        assert_eq!(
+            f.evidence.landing + f.evidence.rest,
+            0,
+            "face {} from gravity",
+            f.id
+        );
+        assert!(face_is_true(f, &features), "face {} off the box", f.id);
+    }
+    for e in &tree.edges {
+        assert!(edge_is_true(e, &features), "edge {} off the box", e.id);
     }
 }

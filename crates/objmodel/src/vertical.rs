@@ -7,7 +7,7 @@
 //! the rests of many demonstrations (tosses landing at any heading, boxes pushed and turned on
 //! a table) the axes of the pairs' relative rotations pile up at the vertical of the poses'
 //! frame, and nowhere else. Nothing in this uses gravity: it measures the vertical the
-//! demonstrations show, and [`contradiction`] compares it with the one given.
+//! demonstrations show ([`shown`]), and compares it with the one given.
 //!
 //! Why it is needed: a rest's face is taught from gravity's direction in the object frame
 //! ("down"). Given the wrong vertical (a motion-capture frame with y up, learnt with the
@@ -52,9 +52,9 @@ pub struct Rest {
     pub sigma_rad: f64,
 }
 
-/// The vertical the rests show, where it contradicts the one given.
+/// The vertical the rests show, and whether it contradicts the one given.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Contradiction {
+pub struct Vertical {
     /// The axis the rests turn about (unit; its sign is not determined by the rests: it is
     /// the one nearer the given up).
     pub axis: Vector3<f64>,
@@ -70,6 +70,8 @@ pub struct Contradiction {
     pub pairs_about_given: usize,
     /// Rests compared.
     pub compared: usize,
+    /// Whether it contradicts the given up (see [`shown`]).
+    pub contradicts: bool,
 }
 
 /// A generic pair's relative rotation: its axis (unit, towards `up`), the σ \[rad\] per axis of
@@ -166,19 +168,18 @@ fn mean_axis(pairs: &[&Pair], reference: &Vector3<f64>) -> (Vector3<f64>, f64) {
     (v, (birge * shared.max(1.0) / wsum).sqrt())
 }
 
-/// Whether the rests show a vertical that contradicts `up` (unit, against gravity): the axis
-/// most generic pairs turn about (at least [`MIN_PAIRS`] of them, from [`MIN_RESTS`] rests, by
-/// [`MIN_ANGLES`] distinct angles),
-/// its angle from `up` beyond the χ²₂ test at `alpha` with its own σ and the support's level
-/// (`level_sigma_rad` per axis: tables are level to about that), and fewer than half as many
-/// pairs turned about `up` itself. `None` when the rests agree with `up`, or show no vertical
-/// (too few rests, or all at one heading).
-pub fn contradiction(
+/// The vertical the rests show, if they show one: the axis most generic pairs turn about (at
+/// least [`MIN_PAIRS`] of them, from [`MIN_RESTS`] rests, by [`MIN_ANGLES`] distinct angles).
+/// It contradicts `up` (unit, against gravity) when its angle from `up` is beyond the χ²₂ test
+/// at `alpha` with its own σ and the support's level (`level_sigma_rad` per axis: tables are
+/// level to about that), and fewer than half as many pairs turn about `up` itself. `None`
+/// when the rests show no vertical (too few rests, or all at one heading).
+pub fn shown(
     rests: &[Rest],
     up: &Vector3<f64>,
     alpha: f64,
     level_sigma_rad: f64,
-) -> Option<Contradiction> {
+) -> Option<Vertical> {
     let chosen: Vec<Rest> = if rests.len() > MAX_RESTS {
         (0..MAX_RESTS)
             .map(|k| rests[k * rests.len() / MAX_RESTS])
@@ -214,7 +215,7 @@ pub fn contradiction(
     let given = about(&pairs, up, q, level_sigma_rad).len();
     let contradicts = angle2_up > q * (sigma * sigma + level_sigma_rad * level_sigma_rad)
         && 2 * given < inliers.len();
-    contradicts.then(|| Contradiction {
+    Some(Vertical {
         axis: if axis.dot(up) < 0.0 { -axis } else { axis },
         angle_rad: angle2_up.sqrt(),
         sigma_rad: sigma,
@@ -222,7 +223,18 @@ pub fn contradiction(
         rests: rests_in(&inliers),
         pairs_about_given: given,
         compared: chosen.len(),
+        contradicts,
     })
+}
+
+/// The vertical the rests show where it contradicts `up` ([`shown`]).
+pub fn contradiction(
+    rests: &[Rest],
+    up: &Vector3<f64>,
+    alpha: f64,
+    level_sigma_rad: f64,
+) -> Option<Vertical> {
+    shown(rests, up, alpha, level_sigma_rad).filter(|v| v.contradicts)
 }
 
 #[cfg(test)]

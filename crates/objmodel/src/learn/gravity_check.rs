@@ -1,13 +1,15 @@
-//! The gravity given, checked against the demonstrations learnt together: the vertical their
-//! rests turn about ([`crate::vertical`]) and, where that contradicts it, the sign along which
-//! their flights fall. Where the rests contradict the gravity given, [`Learner::learn`] learns
-//! everything again without gravity, and each report says what the rests and the flights show:
-//! the check tells the user the gravity to give, it does not learn with a gravity it guessed.
+//! The gravity given, checked against the demonstrations learnt together: the line of the
+//! vertical their rests turn about ([`crate::vertical`]), and the sign along which their
+//! flights fall. Where either contradicts the gravity given (a tracker with y up learnt as z
+//! up; a gravity given upside down), [`Learner::learn`] learns everything again without
+//! gravity, and each report says what the rests and the flights show: the check tells the user
+//! the gravity to give, it does not learn with a gravity it measured. The sign costs up to
+//! [`MAX_SIGN_SOURCES`] more analyses, and only where the rests show a vertical (at many
+//! headings): a set of 60 motion-capture tosses is learnt in 0.77 s instead of 0.40 s.
 
 use super::{Learner, Source};
 use crate::classify::Label;
 use crate::observation::Observation;
-use crate::vertical::Contradiction;
 use crate::Result;
 use nalgebra::Vector3;
 
@@ -27,106 +29,155 @@ impl Learner {
         sources.iter().map(|s| self.observe_all(s)).collect()
     }
 
-    /// Whether the rests of `observations` contradict the gravity given
-    /// ([`crate::vertical::contradiction`], at the classifier's α, with the support's level
-    /// allowed).
-    pub(super) fn vertical_contradiction<'o>(
+    /// Check the gravity given against the demonstrations `observed` from `sources` (each
+    /// source's in its own list): what every report is told when they contradict it, `None`
+    /// when they agree with it or cannot tell. The rests show the vertical's line
+    /// ([`crate::vertical::shown`]); the flights show its sign ([`Self::flights_fall`]): where
+    /// the rests contradict the line given, along which sign of theirs; where they agree,
+    /// whether along the gravity given or against it (given upside down).
+    pub(super) fn check_gravity(
         &self,
-        observations: impl Iterator<Item = &'o Observation>,
-    ) -> Option<Contradiction> {
-        let up = -self.config.gravity?.try_normalize(0.0)?;
-        let rests: Vec<_> = observations
+        sources: &[Source],
+        observed: &[Vec<Observation>],
+    ) -> Result<Option<String>> {
+        let Some(gravity) = self.config.gravity.filter(|g| g.norm() > 0.0) else {
+            return Ok(None);
+        };
+        let up = -gravity.normalize();
+        let rests: Vec<_> = observed
+            .iter()
+            .flatten()
             .flat_map(|o| o.classification.world_rests())
             .collect();
-        crate::vertical::contradiction(
+        let Some(shown) = crate::vertical::shown(
             &rests,
             &up,
             self.config.robust.alpha,
             crate::face::SUPPORT_LEVEL_SIGMA_RAD,
-        )
-    }
-
-    /// What the reports are told when the rests contradict the gravity given: the vertical
-    /// they show, and the gravity to give along it where the flights tell its sign
-    /// ([`Self::falling_sign`]).
-    pub(super) fn contradicted_gravity(
-        &self,
-        c: &Contradiction,
-        sources: &[Source],
-    ) -> Result<String> {
-        let gravity = self.config.gravity.unwrap_or_default();
-        let up = -gravity.normalize();
-        let v = |v: &Vector3<f64>| {
-            let c = |x: f64| if x.abs() < 5e-4 { 0.0 } else { x };
-            format!("{:.3},{:.3},{:.3}", c(v.x), c(v.y), c(v.z))
+        ) else {
+            return Ok(None);
         };
-        let shown = format!(
-            "learnt without gravity: the rests of the demonstrations learnt together turn about \
-             ({}) ± {:.3} deg, {:.1} deg from the up given ({}), as rests on one level support \
-             do ({} pairs of {} rests at various headings; {} pairs turn about the up given)",
-            v(&c.axis),
-            c.sigma_rad.to_degrees(),
-            c.angle_rad.to_degrees(),
+        let rests_say = format!(
+            "the rests of the demonstrations learnt together turn about ({}) ± {:.3} deg, \
+             {:.1} deg from the up given ({}), as rests on one level support do ({} pairs of {} \
+             rests at various headings; {} pairs turn about the up given)",
+            v(&shown.axis),
+            shown.sigma_rad.to_degrees(),
+            shown.angle_rad.to_degrees(),
             v(&up),
-            c.pairs,
-            c.rests,
-            c.pairs_about_given,
+            shown.pairs,
+            shown.rests,
+            shown.pairs_about_given,
         );
         let g = gravity.norm();
-        let (down, up_along) = (-c.axis * g, c.axis * g);
-        Ok(match self.falling_sign(&c.axis, g, sources)? {
-            Fall::Along { down_axis, k, n, p } => {
-                let given = if down_axis { down } else { up_along };
-                format!(
-                    "{shown}; the flights of {k} of {n} demonstrations fall along ({0}) rather \
-                     than against it (sign test p = {p:.1e}): give --gravity {0}",
-                    v(&given),
-                )
-            }
-            Fall::Untold { n } => format!(
-                "{shown}; give the tracker's gravity, --gravity {} or --gravity {} (the rests \
-                 do not tell its sign, and the flights of {n} demonstrations do not either)",
-                v(&down),
-                v(&up_along),
-            ),
+        if shown.contradicts {
+            let (down, up_along) = (-shown.axis * g, shown.axis * g);
+            let fall = self.flights_fall(&down, None, &up_along, sources)?;
+            let advice = match fall {
+                Fall::Along {
+                    first: true,
+                    k,
+                    n,
+                    p,
+                } => format!(
+                    "the flights of {k} of {n} demonstrations fall along ({0}) rather than \
+                     against it (sign test p = {p:.1e}): give --gravity {0}",
+                    v(&down)
+                ),
+                Fall::Along {
+                    first: false,
+                    k,
+                    n,
+                    p,
+                } => format!(
+                    "the flights of {k} of {n} demonstrations fall along ({0}) rather than \
+                     against it (sign test p = {p:.1e}): give --gravity {0}",
+                    v(&up_along)
+                ),
+                Fall::Untold { n } => format!(
+                    "give the tracker's gravity, --gravity {} or --gravity {} (the rests do \
+                     not tell its sign, and the flights of {n} demonstrations do not either)",
+                    v(&down),
+                    v(&up_along)
+                ),
+            };
+            return Ok(Some(format!(
+                "learnt without gravity: {rests_say}; {advice}"
+            )));
+        }
+        // The rests agree with the line given: do the flights fall along it, or against it?
+        let flipped = self.flights_fall(&gravity, Some(observed), &-gravity, sources)?;
+        Ok(match flipped {
+            Fall::Along {
+                first: false,
+                k,
+                n,
+                p,
+            } => Some(format!(
+                "learnt without gravity: the gravity given ({}) points up: {rests_say}, but \
+                 the flights of {k} of {n} demonstrations fall against it rather than along \
+                 it (sign test p = {p:.1e}): give --gravity {}",
+                v(&gravity),
+                v(&-gravity)
+            )),
+            _ => None,
         })
     }
 
-    /// Along which sign of `axis` the demonstrations' flights fall: each source learnt with
-    /// gravity `g` \[m/s²\] along `-axis` and along `axis`, the sign whose flights
-    /// ([`crate::flight`]) cover more of its frames counted per source, and the two-sided sign
-    /// test over the sources where the two differ, at the classifier's α. (Objects do not fall
-    /// upwards; a hand that throws may lift one at about `g` for a few frames.)
-    fn falling_sign(&self, axis: &Vector3<f64>, g: f64, sources: &[Source]) -> Result<Fall> {
-        let flight_frames = |gravity: Vector3<f64>| -> Result<Vec<u64>> {
-            let learner = self.with_gravity(Some(gravity));
-            Ok(learner
-                .observe_all_of(sources)?
-                .iter()
-                .map(|obs| {
-                    obs.iter()
-                        .flat_map(|o| &o.classification.parts)
-                        .filter(|p| p.kind == Label::Flight)
-                        .map(|p| p.frames)
-                        .sum()
-                })
-                .collect())
+    /// Which of `first` and `second` (gravity, \[m/s²\] or a unit direction) the flights of
+    /// the demonstrations fall along: at most [`MAX_SIGN_SOURCES`] of `sources` (evenly
+    /// chosen) analysed with each (or taken from `first_observed`, already analysed with
+    /// `first`); in each, the one whose flights ([`crate::flight`]) cover more frames wins; the
+    /// two-sided sign test over those where the two differ decides, at the classifier's α.
+    /// (Objects do not fall upwards; a hand that throws lifts one at about g for a few frames,
+    /// so the wrong sign finds short flights too.)
+    fn flights_fall(
+        &self,
+        first: &Vector3<f64>,
+        first_observed: Option<&[Vec<Observation>]>,
+        second: &Vector3<f64>,
+        sources: &[Source],
+    ) -> Result<Fall> {
+        let chosen: Vec<usize> = if sources.len() > MAX_SIGN_SOURCES {
+            (0..MAX_SIGN_SOURCES)
+                .map(|k| k * sources.len() / MAX_SIGN_SOURCES)
+                .collect()
+        } else {
+            (0..sources.len()).collect()
         };
-        let (down, up) = (flight_frames(-axis * g)?, flight_frames(axis * g)?);
-        let differ: Vec<bool> = down
+        let frames = |obs: &[Observation]| -> u64 {
+            obs.iter()
+                .flat_map(|o| &o.classification.parts)
+                .filter(|p| p.kind == Label::Flight)
+                .map(|p| p.frames)
+                .sum()
+        };
+        let with = |gravity: &Vector3<f64>| -> Result<Vec<u64>> {
+            let learner = self.with_gravity(Some(*gravity));
+            chosen
+                .iter()
+                .map(|&k| Ok(frames(&learner.observe_all(&sources[k])?)))
+                .collect()
+        };
+        let a = match first_observed {
+            Some(observed) => chosen.iter().map(|&k| frames(&observed[k])).collect(),
+            None => with(first)?,
+        };
+        let b = with(second)?;
+        let differ: Vec<bool> = a
             .iter()
-            .zip(&up)
-            .filter(|(d, u)| d != u)
-            .map(|(d, u)| d > u)
+            .zip(&b)
+            .filter(|(x, y)| x != y)
+            .map(|(x, y)| x > y)
             .collect();
         let n = differ.len() as u64;
-        let k_down = differ.iter().filter(|&&d| d).count() as u64;
-        let p = crate::stats::sign_test(k_down, n);
+        let k_first = differ.iter().filter(|&&d| d).count() as u64;
+        let p = crate::stats::sign_test(k_first, n);
         Ok(if p < self.config.robust.alpha {
-            let down_axis = 2 * k_down > n;
+            let first = 2 * k_first > n;
             Fall::Along {
-                down_axis,
-                k: if down_axis { k_down } else { n - k_down },
+                first,
+                k: if first { k_first } else { n - k_first },
                 n,
                 p,
             }
@@ -136,16 +187,21 @@ impl Learner {
     }
 }
 
-/// Which way the flights fall along the rests' axis.
+/// Most demonstrations analysed again to tell the sign of gravity from their flights (evenly
+/// chosen beyond): 11 that agree already pass the sign test at α = 10⁻³.
+pub const MAX_SIGN_SOURCES: usize = 32;
+
+/// A vector as the command line takes it (`--gravity x,y,z`).
+fn v(v: &Vector3<f64>) -> String {
+    let c = |x: f64| if x.abs() < 5e-4 { 0.0 } else { x };
+    format!("{:.3},{:.3},{:.3}", c(v.x), c(v.y), c(v.z))
+}
+
+/// Which of two gravities the flights fall along.
 enum Fall {
-    /// Along `-axis` (`down_axis`) or `axis`: in `k` of the `n` sources whose flights differ
-    /// between the two, with the sign test's p-value.
-    Along {
-        down_axis: bool,
-        k: u64,
-        n: u64,
-        p: f64,
-    },
-    /// Not told, by `n` sources whose flights differ.
+    /// Along the first (`first`) or the second: in `k` of the `n` demonstrations whose flights
+    /// differ between the two, with the sign test's p-value.
+    Along { first: bool, k: u64, n: u64, p: f64 },
+    /// Not told, by `n` demonstrations whose flights differ.
     Untold { n: u64 },
 }

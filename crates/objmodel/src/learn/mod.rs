@@ -486,10 +486,11 @@ impl Learner {
     /// error, the demonstrations before the one that failed are in the tree.
     ///
     /// Before anything is fused, the gravity given is checked against the vertical that the
-    /// rests of all the demonstrations turn about ([`crate::vertical`]): where they contradict
-    /// it, every demonstration is analysed again without gravity (what needs it, rests' faces,
-    /// landings, flights, rolls and pendulums, is not learnt), and each report says why and
-    /// which vertical the rests show.
+    /// rests of all the demonstrations turn about ([`crate::vertical`]) and the sign along
+    /// which their flights fall (`gravity_check.rs`): where they contradict it, every
+    /// demonstration is analysed again without gravity (what needs it, rests' faces, landings,
+    /// flights, rolls and pendulums, is not learnt), and each report says why and which
+    /// gravity to give.
     pub fn learn(&self, tree: &mut Tree, sources: &[Source]) -> Result<Vec<Observation>> {
         self.learn_with_progress(tree, sources, |_| {})
     }
@@ -513,9 +514,8 @@ impl Learner {
             }
             analysed(k);
         }
-        if let Some(c) = self.vertical_contradiction(per_source.iter().flatten()) {
-            let observed = &sources[..per_source.len()];
-            let warning = self.contradicted_gravity(&c, observed)?;
+        let observed = &sources[..per_source.len()];
+        if let Some(warning) = self.check_gravity(observed, &per_source)? {
             per_source = self.with_gravity(None).observe_all_of(observed)?;
             for o in per_source.iter_mut().flatten() {
                 o.classification.warnings.insert(0, warning.clone());
