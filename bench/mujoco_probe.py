@@ -14,7 +14,7 @@ sphere) pushes a box on a table:
   downhill edge; the palm's pose (small noise, no flips) is written beside it as NAME.palm.tum.
 
 The tracked frame is a tag on the top face (offset and turned, as a real tag is), recorded at
-30 Hz with tracking noise of 1 mm / 0.5 deg per axis, 3% dropped frames, 5% quaternion sign
+30 Hz (RATE) with tracking noise of 1 mm / 0.5 deg per axis, 3% dropped frames, 5% quaternion sign
 flips and 1% single-frame mirror flips (40 deg about the tag's x axis). Prints per kind the
 kinds classified right, the learnt edge's direction and offset errors (topples) and the face
 normal errors (slides), and the error of the pendulum's CoM angle φ against the homogeneous box's
@@ -25,6 +25,7 @@ atan(half length / half height) (topples).
     NOISE=0 python3 bench/mujoco_probe.py      (exact poses: what is the physics, what the noise)
     KINDS=instrumented python3 bench/mujoco_probe.py 20    (only some kinds; comma-separated)
     SEED=12 python3 bench/mujoco_probe.py 20    (another random stream; default 11)
+    RATE=120 NOISE=0.1 python3 bench/mujoco_probe.py 20    (a motion-capture rate [Hz]; default 30)
     EXACT_TOO=1 ...    (also write the tag's exact poses as NAME.exact.tum, for diagnosis)
 
 Needs numpy, scipy and mujoco (pip install mujoco). Writes into $PROBE_DIR (default
@@ -43,7 +44,7 @@ from scipy.spatial.transform import Rotation as R
 BIN = os.environ.get("OBJMODEL", "target/release/objmodel")
 DIR = os.environ.get("PROBE_DIR", "/tmp/objmodel-mujoco")
 DEG = math.pi / 180
-RATE = 30.0
+RATE = float(os.environ.get("RATE", "30"))
 # Tracking noise, as a multiple of 1 mm / 0.5 deg (and of the flip rates): NOISE=0 for exact poses.
 NOISE = float(os.environ.get("NOISE", "1"))
 

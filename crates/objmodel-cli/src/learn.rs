@@ -150,7 +150,15 @@ pub fn run(a: &LearnArgs) -> Result<()> {
         let reports = demo_sources(&a.demos, a.palm.as_deref(), &a.bag)
             .and_then(|sources| learn_sources_into(tree, &sources, &config))
             .map_err(|e| objmodel::Error::Data(format!("{e:#}")))?;
-        let changed = reports.iter().any(|r| !r.teaches_nothing());
+        // Kept out by the gravity check: an error, with the gravity to give in the warning.
+        if reports.iter().any(|r| r.not_learnt.is_some()) {
+            return Err(objmodel::Error::Data(
+                "nothing learnt: the gravity given contradicts the demonstrations (the warning \
+                 above says which gravity they show)"
+                    .into(),
+            ));
+        }
+        let changed = reports.iter().any(|r| r.learnt());
         Ok(((reports, tree.clone()), changed))
     };
     // Into a model file: read, learn and write it under its lock, and leave it as it was when
@@ -158,7 +166,7 @@ pub fn run(a: &LearnArgs) -> Result<()> {
     let (reports, tree, wrote) = match &a.into {
         Some(model) => {
             let (reports, tree) = Tree::update(model, learnt)?;
-            let wrote = reports.iter().any(|r| !r.teaches_nothing());
+            let wrote = reports.iter().any(|r| r.learnt());
             (reports, tree, wrote.then_some(model))
         }
         None => {

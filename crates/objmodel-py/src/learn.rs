@@ -160,7 +160,7 @@ pub fn learn(
                     Tree::update(&path, |tree| {
                         let sources: Vec<Source> = prepared.iter().map(Prepared::source).collect();
                         let reports = learner.learn(tree, &sources)?;
-                        let changed = reports.iter().any(|r| !r.teaches_nothing());
+                        let changed = reports.iter().any(|r| r.learnt());
                         Ok(((reports, tree.clone()), changed))
                     })
                 })

@@ -24,6 +24,11 @@ pub struct Observation {
     /// object slid instead of toppling; [`crate::dynamics::palm_slide`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub palm_slide: Option<crate::dynamics::PalmSlide>,
+    /// Why the demonstration was not added to the model although it shows motion: the
+    /// demonstrations learnt with it contradict the gravity given
+    /// ([`crate::learn::Learner::learn`]). `None` when it was added, or teaches nothing.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub not_learnt: Option<String>,
 }
 
 impl Observation {
@@ -34,6 +39,12 @@ impl Observation {
         self.classification.segments.is_empty()
     }
 
+    /// Whether [`crate::learn::Learner::learn`] added the demonstration to the model: it
+    /// shows motion ([`Self::teaches_nothing`]) and was not kept out ([`Self::not_learnt`]).
+    pub fn learnt(&self) -> bool {
+        !self.teaches_nothing() && self.not_learnt.is_none()
+    }
+
     /// A demonstration's geometry alone, without dynamics.
     pub fn geometry(classification: Classification) -> Self {
         Self {
@@ -41,6 +52,7 @@ impl Observation {
             dynamics: Vec::new(),
             fingerprint: None,
             palm_slide: None,
+            not_learnt: None,
         }
     }
 }

@@ -62,6 +62,8 @@ use std::path::Path;
 
 mod gravity_check;
 
+pub use gravity_check::NOT_LEARNT;
+
 /// Where a demonstration comes from.
 #[derive(Clone, Copy, Debug)]
 pub enum Source<'a> {
@@ -477,6 +479,7 @@ impl Learner {
             dynamics,
             fingerprint,
             palm_slide,
+            not_learnt: None,
         }
     }
 
@@ -487,10 +490,10 @@ impl Learner {
     ///
     /// Before anything is fused, the gravity given is checked against the vertical that the
     /// rests of all the demonstrations turn about ([`crate::vertical`]) and the sign along
-    /// which their flights fall (`gravity_check.rs`): where they contradict it, every
-    /// demonstration is analysed again without gravity (what needs it, rests' faces, landings,
-    /// flights, rolls and pendulums, is not learnt), and each report says why and which
-    /// gravity to give.
+    /// which their flights fall (`gravity_check.rs`): where they contradict it, no
+    /// demonstration is added ([`Observation::not_learnt`]: a topple's axis, a slide's plane,
+    /// a rest's face, a flight are all told by gravity, and without it pushed demonstrations
+    /// teach edges off the object), and each report says why and which gravity to give.
     pub fn learn(&self, tree: &mut Tree, sources: &[Source]) -> Result<Vec<Observation>> {
         self.learn_with_progress(tree, sources, |_| {})
     }
@@ -515,15 +518,13 @@ impl Learner {
             analysed(k);
         }
         let observed = &sources[..per_source.len()];
-        if let Some(warning) = self.check_gravity(observed, &per_source)? {
-            per_source = self.with_gravity(None).observe_all_of(observed)?;
-            for o in per_source.iter_mut().flatten() {
-                o.classification.warnings.insert(0, warning.clone());
-            }
-        }
+        let contradicted = self.check_gravity(observed, &per_source)?;
         let mut out = Vec::new();
         for mut o in per_source.into_iter().flatten() {
-            if o.teaches_nothing() {
+            if let Some(why) = &contradicted {
+                o.classification.warnings.insert(0, why.clone());
+                o.not_learnt = Some(why.clone());
+            } else if o.teaches_nothing() {
                 let why = nothing_to_learn(&o.classification);
                 o.classification
                     .warnings
