@@ -89,6 +89,10 @@ fn learn_all(
 
 /// Each report's warnings, as the command line prints them.
 fn warn_reports(py: Python<'_>, prepared: &[Prepared], reports: &[Observation]) -> PyResult<()> {
+    // Kept out by the gravity check: an error that says which gravity the demonstrations show.
+    if let Some(why) = reports.iter().find_map(|r| r.not_learnt.as_ref()) {
+        return Err(err(format!("nothing learnt: {why}")));
+    }
     for (p, r) in prepared.iter().zip(reports) {
         for w in &r.classification.warnings {
             warn(py, &p.label(), w)?;

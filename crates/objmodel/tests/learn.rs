@@ -108,19 +108,31 @@ fn dynamics_of_a_demonstration_longer_than_the_record() {
     assert!(b.series.t.len() * 3 <= n);
 }
 
-/// Without gravity there are no dynamics, and the report says why.
+/// Without gravity there are no dynamics, and the report says why; and a topple in the world
+/// teaches no edge (a slide turning about a fixed point is the same motion about a vertical
+/// line), while one relative to a palm does.
 #[test]
 fn without_gravity_the_dynamics_are_not_guessed() {
     let b = the_box();
-    let d = topple(&b, 0, 21).demo;
     let config = Config {
         gravity: None,
         ..Config::default()
     };
+    let learner = Learner::new(config);
+
+    let d = topple(&b, 0, 21).demo;
     let mut tree = Tree::default();
-    let reports = Learner::new(config)
-        .learn(&mut tree, &[Source::Memory(&d)])
-        .unwrap();
+    let reports = learner.learn(&mut tree, &[Source::Memory(&d)]).unwrap();
+    assert!(tree.edges.is_empty());
+    let why = reports[0].classification.segments[0].withheld.as_deref();
+    assert!(
+        why.is_some_and(|w| w.contains("without gravity")),
+        "{why:?}"
+    );
+
+    let d = synth::instrumented_topple(&b, 0, 0.2, &SynthNoise::REAL, 30.0, 21).demo;
+    let mut tree = Tree::default();
+    let reports = learner.learn(&mut tree, &[Source::Memory(&d)]).unwrap();
     assert!(reports[0].dynamics.is_empty());
     assert!(reports[0]
         .classification
