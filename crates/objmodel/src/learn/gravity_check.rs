@@ -6,9 +6,9 @@
 //! user the gravity to give; it does not learn with a gravity it measured (a tilted table would
 //! pass its normal for the vertical), nor without gravity (which tells a topple's axis, a
 //! slide's plane and a rest's face: the standard data set's pushes learnt without it taught
-//! edges off the box). The sign costs up to
-//! [`MAX_SIGN_SOURCES`] more analyses, and only where the rests show a vertical (at many
-//! headings): a set of 60 motion-capture tosses is learnt in 0.77 s instead of 0.40 s.
+//! edges off the box). The sign costs up to [`MAX_SIGN_SOURCES`] more analyses, and only where
+//! the rests show a vertical (at many headings): a set of 60 motion-capture tosses is learnt in
+//! 0.77 s instead of 0.40 s.
 
 use super::{Learner, Source};
 use crate::classify::Label;
@@ -72,25 +72,10 @@ impl Learner {
             let (down, up_along) = (-shown.axis * g, shown.axis * g);
             let fall = self.flights_fall(&down, None, &up_along, sources)?;
             let advice = match fall {
-                Fall::Along {
-                    first: true,
-                    k,
-                    n,
-                    p,
-                } => format!(
+                Fall::Along { first, k, n, p } => format!(
                     "the flights of {k} of {n} demonstrations fall along ({0}) rather than \
                      against it (sign test p = {p:.1e}): give --gravity {0}",
-                    v(&down)
-                ),
-                Fall::Along {
-                    first: false,
-                    k,
-                    n,
-                    p,
-                } => format!(
-                    "the flights of {k} of {n} demonstrations fall along ({0}) rather than \
-                     against it (sign test p = {p:.1e}): give --gravity {0}",
-                    v(&up_along)
+                    v(if first { &down } else { &up_along })
                 ),
                 Fall::Untold { n } => format!(
                     "give the tracker's gravity, --gravity {} or --gravity {} (the rests do \
