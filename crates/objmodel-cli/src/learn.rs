@@ -117,7 +117,10 @@ pub fn learn_sources_into(
     });
     bar.finish_and_clear();
     let reports = reports?;
-    print_all_warnings(&reports);
+    // Kept out by the gravity check: the caller fails with the reason, and only that.
+    if reports.iter().all(|r| r.not_learnt.is_none()) {
+        print_all_warnings(&reports);
+    }
     Ok(reports)
 }
 
@@ -150,13 +153,12 @@ pub fn run(a: &LearnArgs) -> Result<()> {
         let reports = demo_sources(&a.demos, a.palm.as_deref(), &a.bag)
             .and_then(|sources| learn_sources_into(tree, &sources, &config))
             .map_err(|e| objmodel::Error::Data(format!("{e:#}")))?;
-        // Kept out by the gravity check: an error, with the gravity to give in the warning.
-        if reports.iter().any(|r| r.not_learnt.is_some()) {
-            return Err(objmodel::Error::Data(
-                "nothing learnt: the gravity given contradicts the demonstrations (the warning \
-                 above says which gravity they show)"
-                    .into(),
-            ));
+        // Kept out by the gravity check: an error that says which gravity to give.
+        if let Some(why) = reports.iter().find_map(|r| r.not_learnt.as_ref()) {
+            return Err(objmodel::Error::Data(format!(
+                "{} demonstrations {why}",
+                reports.len()
+            )));
         }
         let changed = reports.iter().any(|r| r.learnt());
         Ok(((reports, tree.clone()), changed))

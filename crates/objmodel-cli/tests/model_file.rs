@@ -241,3 +241,75 @@ fn export_writes_simulation_models_or_says_what_is_missing() {
         "simulating an open model names it and says why",
     );
 }
+
+/// The poses of a TUM file turned into a tracker frame whose y axis is the file's z (up):
+/// `tracker_from_world` is a quarter turn about x, so (x, y, z) -> (x, -z, y) ... taken the
+/// other way: the world's z goes to the tracker's y.
+fn to_y_up(from: &std::path::Path, to: &std::path::Path) {
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let text = std::fs::read_to_string(from).unwrap();
+    let mut out = String::new();
+    for line in text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+    {
+        let v: Vec<f64> = line
+            .split_whitespace()
+            .map(|x| x.parse().unwrap())
+            .collect();
+        let (t, x, y, z) = (v[0], v[1], v[2], v[3]);
+        let (qx, qy, qz, qw) = (v[4], v[5], v[6], v[7]);
+        // r = (−h, 0, 0, h) (x y z w): a quarter turn about x taking z to y; r * q.
+        let (ax, aw) = (-h, h);
+        let q = (
+            aw * qx + ax * qw,
+            aw * qy - ax * qz,
+            aw * qz + ax * qy,
+            aw * qw - ax * qx,
+        );
+        out += &format!("{t} {x} {} {} {} {} {} {}\n", z, -y, q.0, q.1, q.2, q.3);
+    }
+    std::fs::write(to, out).unwrap();
+}
+
+/// Demonstrations tracked with y up and learnt with the default gravity (z up): `learn` fails,
+/// says which gravity the demonstrations show, and leaves the model as it was.
+#[test]
+fn a_wrong_gravity_fails_and_leaves_the_model_as_it_was() {
+    let d = TempDir::new("gravity");
+    let mut demos = synth("slide", &d.join("demos"), 6, 7, &[]);
+    demos.extend(synth("topple", &d.join("demos"), 6, 7, &[]));
+    let model = d.join("box.json");
+    run(&[
+        "learn".to_string(),
+        s(&demos[0]),
+        "--into".into(),
+        s(&model),
+    ])
+    .ok();
+    let before = std::fs::read(&model).unwrap();
+    std::fs::create_dir_all(d.join("y_up")).unwrap();
+    let y_up: Vec<String> = demos
+        .iter()
+        .map(|f| {
+            let to = d.join("y_up").join(f.file_name().unwrap());
+            to_y_up(f, &to);
+            s(&to)
+        })
+        .collect();
+    let mut args = vec!["learn".to_string()];
+    args.extend(y_up.iter().cloned());
+    args.extend(["--into".to_string(), s(&model)]);
+    let r = run(&args).fails();
+    r.check(
+        r.stderr
+            .contains("not learnt, the gravity given contradicts the demonstrations")
+            && r.stderr.contains("--gravity 0.000,-1.000,0.000"),
+        "the error should say which gravity the demonstrations show",
+    );
+    assert_eq!(std::fs::read(&model).unwrap(), before);
+    // With that gravity they are learnt.
+    args.extend(["--gravity".to_string(), "0,-1,0".into()]);
+    run(&args).ok();
+    assert_ne!(std::fs::read(&model).unwrap(), before);
+}
