@@ -242,9 +242,8 @@ fn export_writes_simulation_models_or_says_what_is_missing() {
     );
 }
 
-/// The poses of a TUM file turned into a tracker frame whose y axis is the file's z (up):
-/// `tracker_from_world` is a quarter turn about x, so (x, y, z) -> (x, -z, y) ... taken the
-/// other way: the world's z goes to the tracker's y.
+/// The poses of a TUM file in a tracker frame whose y axis is the file's z (up):
+/// `tracker_from_world` is a quarter turn about x, positions (x, y, z) -> (x, z, -y).
 fn to_y_up(from: &std::path::Path, to: &std::path::Path) {
     let h = std::f64::consts::FRAC_1_SQRT_2;
     let text = std::fs::read_to_string(from).unwrap();
