@@ -32,6 +32,10 @@ pub struct LearnArgs {
     /// Print the tree as JSON on standard output instead of a summary.
     #[arg(long)]
     pub json: bool,
+    /// Do not check the gravity given against the demonstrations (their rests' vertical and
+    /// their flights' fall): for a gravity known to be right that the check refuses.
+    #[arg(long)]
+    pub no_gravity_check: bool,
     #[command(flatten)]
     pub bag: BagArgs,
     #[command(flatten)]
@@ -96,17 +100,16 @@ pub fn learn_into(
     config: &Config,
 ) -> Result<Vec<Observation>> {
     let sources = demo_sources(demos, palm, &BagArgs::default())?;
-    learn_sources_into(tree, &sources, config)
+    learn_sources_into(tree, &sources, &Learner::new(*config))
 }
 
-/// Learn every demonstration of `sources` into `tree` through the library's pipeline,
-/// printing each one's warnings; returns their reports.
+/// Learn every demonstration of `sources` into `tree` with `learner`, printing each one's
+/// warnings; returns their reports.
 pub fn learn_sources_into(
     tree: &mut Tree,
     sources: &[DemoSource],
-    config: &Config,
+    learner: &Learner,
 ) -> Result<Vec<Observation>> {
-    let learner = Learner::new(*config);
     let bar = crate::progress::bar(sources.len() as u64);
     let wrapped: Vec<_> = sources.iter().map(|s| s.source()).collect();
     let reports = learner.learn_with_progress(tree, &wrapped, |k| {
@@ -149,14 +152,19 @@ fn print_all_warnings(reports: &[Observation]) {
 /// Run `objmodel learn`.
 pub fn run(a: &LearnArgs) -> Result<()> {
     let config = a.opts.config()?;
+    let learner = if a.no_gravity_check {
+        Learner::new(config).without_gravity_check()
+    } else {
+        Learner::new(config)
+    };
     let learnt = |tree: &mut Tree| -> objmodel::Result<_> {
         let reports = demo_sources(&a.demos, a.palm.as_deref(), &a.bag)
-            .and_then(|sources| learn_sources_into(tree, &sources, &config))
+            .and_then(|sources| learn_sources_into(tree, &sources, &learner))
             .map_err(|e| objmodel::Error::Data(format!("{e:#}")))?;
         // Kept out by the gravity check: an error that says which gravity to give.
         if let Some(why) = reports.iter().find_map(|r| r.not_learnt.as_ref()) {
             return Err(objmodel::Error::Data(format!(
-                "{} demonstrations {why}",
+                "{} demonstrations {why} (for a gravity known to be right: --no-gravity-check)",
                 reports.len()
             )));
         }

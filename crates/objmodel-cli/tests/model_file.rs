@@ -307,6 +307,13 @@ fn a_wrong_gravity_fails_and_leaves_the_model_as_it_was() {
         "the error should say which gravity the demonstrations show",
     );
     assert_eq!(std::fs::read(&model).unwrap(), before);
+    // Unchecked, they are learnt (with the wrong gravity: the user's call).
+    let unchecked = d.join("unchecked.json");
+    let mut a = args.clone();
+    a.truncate(a.len() - 1);
+    a.extend([s(&unchecked), "--no-gravity-check".to_string()]);
+    run(&a).ok();
+    assert!(unchecked.exists());
     // With that gravity they are learnt.
     args.extend(["--gravity".to_string(), "0,-1,0".into()]);
     run(&args).ok();

@@ -23,7 +23,7 @@ impl Learner {
         config.gravity = gravity;
         Learner {
             config,
-            capacity: self.capacity,
+            ..self.clone()
         }
     }
 

@@ -113,6 +113,8 @@ impl<'a> Source<'a> {
 pub struct Learner {
     config: Config,
     capacity: usize,
+    /// Whether [`Learner::learn`] checks the gravity given against the demonstrations.
+    gravity_checked: bool,
 }
 
 impl Learner {
@@ -121,7 +123,16 @@ impl Learner {
         Self {
             config,
             capacity: DEFAULT_CAPACITY,
+            gravity_checked: true,
         }
+    }
+
+    /// Learn without checking the gravity given against the demonstrations (see
+    /// [`Learner::learn`]): for a gravity known to be right that the check doubts (a support
+    /// tilted by more than a few degrees, hands that lift objects at about g).
+    pub fn without_gravity_check(mut self) -> Self {
+        self.gravity_checked = false;
+        self
     }
 
     /// Keep at most `frames` frames per stream for the dynamics (default
@@ -220,7 +231,7 @@ impl Learner {
         };
         let learner = Learner {
             config: rest.config(&self.config),
-            capacity: self.capacity,
+            ..self.clone()
         };
         let mut c = rest.reclassified(again(&learner.config)?);
         learner.check(&mut c, recording, false);
@@ -518,7 +529,11 @@ impl Learner {
             analysed(k);
         }
         let observed = &sources[..per_source.len()];
-        let contradicted = self.check_gravity(observed, &per_source)?;
+        let contradicted = if self.gravity_checked {
+            self.check_gravity(observed, &per_source)?
+        } else {
+            None
+        };
         let mut out = Vec::new();
         for mut o in per_source.into_iter().flatten() {
             if let Some(why) = &contradicted {
