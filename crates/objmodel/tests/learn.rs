@@ -129,6 +129,11 @@ fn without_gravity_the_dynamics_are_not_guessed() {
         why.is_some_and(|w| w.contains("without gravity")),
         "{why:?}"
     );
+    assert!(reports[0]
+        .classification
+        .warnings
+        .iter()
+        .any(|w| w.contains("gravity is unknown") && w.contains("taught no edge")));
 
     let d = synth::instrumented_topple(&b, 0, 0.2, &SynthNoise::REAL, 30.0, 21).demo;
     let mut tree = Tree::default();

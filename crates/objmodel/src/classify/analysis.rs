@@ -359,11 +359,8 @@ pub(super) fn analyse_segment(
     // direct demonstrations at camera noise learnt without gravity, 20 of 99 edges were 3.5-42
     // cm off the box, each from a slide. Relative to a palm the box rests on the palm, which
     // turns it over, not about its normal.
-    let unknown_vertical = (edge.is_some() && up.is_none() && !instrumented).then(|| {
-        "without gravity a rotation about a fixed line may be a slide turning about a fixed \
-         point (give --gravity to tell)"
-            .to_string()
-    });
+    let unknown_vertical =
+        (edge.is_some() && up.is_none() && !instrumented).then(|| UNKNOWN_VERTICAL.to_string());
     // An edge rotation that passed every test but turned too little to locate its edge is
     // still a contact mode measured from the rest: it shows the rest was on the support.
     let small_rotation = turned_too_little.is_some() && off_level.is_none();
@@ -460,6 +457,10 @@ pub(super) fn analyse_segment(
     };
     (segment, warning)
 }
+
+/// Why a rotation about a fixed line in the world teaches no edge without gravity.
+pub const UNKNOWN_VERTICAL: &str = "without gravity a rotation about a fixed line may be a slide \
+     turning about a fixed point (give --gravity to tell)";
 
 /// Fraction of a general segment's measurably moving frames that a line or plane fitted
 /// without the gravity constraints must explain for [`gravity_warning`] to speak.

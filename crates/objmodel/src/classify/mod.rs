@@ -72,7 +72,7 @@ pub(crate) mod rotation_sum;
 pub(crate) mod sample;
 mod segments;
 
-pub use analysis::{MIN_EDGE_FRAMES, MIN_FACE_FRAMES};
+pub use analysis::{MIN_EDGE_FRAMES, MIN_FACE_FRAMES, UNKNOWN_VERTICAL};
 pub use analyzer::Analyzer;
 pub(crate) use classification::LargestRotation;
 pub use classification::{Classification, Kind, Label, LabelRun, Part, Segment, Topple, Votes};

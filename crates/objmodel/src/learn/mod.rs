@@ -457,6 +457,22 @@ impl Learner {
         let gravity = self.config.gravity;
         let fingerprint = Some(recording.fingerprint(classification.frames));
         let mut dynamics = Vec::new();
+        let unknown_vertical = classification
+            .segments
+            .iter()
+            .filter(|s| {
+                s.withheld
+                    .as_deref()
+                    .is_some_and(|w| w.contains(crate::classify::UNKNOWN_VERTICAL))
+            })
+            .count();
+        if gravity.is_none() && unknown_vertical > 0 {
+            classification.warnings.push(format!(
+                "gravity is unknown (--gravity none): {unknown_vertical} rotation(s) about a \
+                 fixed line taught no edge (without gravity a topple cannot be told from a \
+                 slide turning about a fixed point)"
+            ));
+        }
         if !classification.topples.is_empty() {
             match gravity {
                 Some(g) => {
