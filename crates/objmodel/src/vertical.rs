@@ -13,15 +13,15 @@
 //! ("down"). Given the wrong vertical (a motion-capture frame with y up, learnt with the
 //! default z up), downs of rests on different faces can agree by the box's symmetry, and the
 //! faces they teach are off the object (tracked with y up and learnt with z up, MuJoCo tosses
-//! of three seeds taught 13 of 15 features off the box).
+//! of three seeds taught 14 of 15 features off the box).
 //!
 //! Only pairs turned by a *generic* angle count as evidence: at least [`GENERIC_MARGIN_RAD`]
 //! from every multiple of a quarter turn. A box's faces are a quarter or half turn apart, so
 //! under a wrong vertical its rests agree by coincidence at those angles (and a pair at no
 //! angle agrees with any vertical); rests at any heading turn by every angle. A pair's axis is
-//! known to `σ / sin(θ/2)` for rests known to `σ` per axis and turned by `θ` (the axis of a
-//! rotation by `θ` moves by `δ / (2 sin(θ/2))` for a perturbation `δ` across it, from each of
-//! the two rests).
+//! known to `√(σ₁² + σ₂²) / (2 sin(θ/2))` per axis for rests known to `σ₁`, `σ₂` per axis and
+//! turned by `θ` (the axis of a rotation by `θ` moves by `δ / (2 sin(θ/2))` for a perturbation
+//! `δ` across it).
 
 use nalgebra::{UnitQuaternion, Vector3};
 
