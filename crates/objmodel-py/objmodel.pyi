@@ -53,7 +53,7 @@ def learn(demos: Union[Poses, Sequence[Poses]], *,
           gravity: Gravity = (0.0, 0.0, -1.0),
           into: Union[Tree, PathLike, None] = None,
           no_palm: bool = False, quat_order: str = "xyzw", method: str = "robust",
-          **options: float) -> Tree: ...
+          gravity_check: bool = True, **options: float) -> Tree: ...
 
 def classify(demo: Poses, *, palm: Optional[Poses] = None,
              times: Optional[npt.ArrayLike] = None, name: Optional[str] = None,

@@ -91,7 +91,7 @@ fn learn_all(
 fn warn_reports(py: Python<'_>, prepared: &[Prepared], reports: &[Observation]) -> PyResult<()> {
     // Kept out by the gravity check: an error that says which gravity the demonstrations show.
     if let Some(why) = reports.iter().find_map(|r| r.not_learnt.as_ref()) {
-        return Err(err(format!("nothing learnt: {why}")));
+        return Err(err(why.clone()));
     }
     for (p, r) in prepared.iter().zip(reports) {
         for w in &r.classification.warnings {
@@ -115,15 +115,18 @@ fn warn_reports(py: Python<'_>, prepared: &[Prepared], reports: &[Observation]) 
 /// `gravity`: in the tracking frame, default (0, 0, -1) (z up); None if unknown.
 /// `into`: a Tree to fuse into (changed in place and returned) or a tree file (read, updated
 /// and written back atomically under a lock, as `objmodel learn --into`; left as it was when
-/// nothing is learnt). `method`: "robust" (default) or "paper"; `**options`: the command
-/// line's thresholds (`alpha`, `min_rest`, `noise_position`, ...).
+/// nothing is learnt). `method`: "robust" (default) or "paper"; `gravity_check`: check the
+/// gravity given against the demonstrations (their rests' vertical, their flights' fall) and
+/// raise, naming the gravity they show, where they contradict it (False: learn anyway, as
+/// `--no-gravity-check`); `**options`: the command line's thresholds (`alpha`, `min_rest`,
+/// `noise_position`, ...).
 ///
 /// Returns the Tree. Warnings are ObjmodelWarning; errors ObjmodelError, with the command
 /// line's messages. All demonstrations are learnt or, on an error, none.
 #[pyfunction]
 #[pyo3(
-    signature = (demos, *, palms=None, times=None, names=None, gravity=Gravity::default(), into=None, no_palm=false, quat_order="xyzw", method="robust", **options),
-    text_signature = "(demos, *, palms=None, times=None, names=None, gravity=(0, 0, -1), into=None, no_palm=False, quat_order='xyzw', method='robust', **options)"
+    signature = (demos, *, palms=None, times=None, names=None, gravity=Gravity::default(), into=None, no_palm=false, quat_order="xyzw", method="robust", gravity_check=true, **options),
+    text_signature = "(demos, *, palms=None, times=None, names=None, gravity=(0, 0, -1), into=None, no_palm=False, quat_order='xyzw', method='robust', gravity_check=True, **options)"
 )]
 #[allow(clippy::too_many_arguments)]
 pub fn learn(
@@ -137,10 +140,16 @@ pub fn learn(
     no_palm: bool,
     quat_order: &str,
     method: &str,
+    gravity_check: bool,
     options: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyTree>> {
     let order = QuatOrder::parse(quat_order)?;
     let learner = Learner::new(config(gravity, method, options)?);
+    let learner = if gravity_check {
+        learner
+    } else {
+        learner.without_gravity_check()
+    };
     let prepared = demonstrations(demos, palms, times, names, no_palm, order)?;
     match into {
         None => {

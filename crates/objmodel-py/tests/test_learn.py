@@ -167,3 +167,31 @@ def test_the_librarys_synthetic_topples(noise, metres, radians):
         assert dist < metres and ang < radians, (d["name"], dist, ang)
     with pytest.raises(objmodel.ObjmodelError, match='noise must be "clean" or "real"'):
         objmodel.synthetic_topples(noise="loud")
+
+
+def _y_up(rows):
+    # The poses in a tracker frame whose y axis is the world's z (up): a quarter turn about x,
+    # positions (x, y, z) -> (x, z, -y), quaternions r * q with r = (-h, 0, 0, h) (x y z w).
+    h = np.sqrt(0.5)
+    out = rows.copy()
+    out[:, 2], out[:, 3] = rows[:, 3], -rows[:, 2]
+    qx, qy, qz, qw = rows[:, 4], rows[:, 5], rows[:, 6], rows[:, 7]
+    out[:, 4] = h * qx - h * qw
+    out[:, 5] = h * qy + h * qz
+    out[:, 6] = h * qz - h * qy
+    out[:, 7] = h * qw + h * qx
+    return out
+
+
+def test_a_gravity_the_demonstrations_contradict_raises_and_names_theirs():
+    # Topples at many headings, tracked with y up, learnt with the default z up.
+    demos = objmodel.synthetic_topples(noise="real", seed=0) + objmodel.synthetic_topples(
+        noise="real", seed=10)
+    rows = [_y_up(d["poses"]) for d in demos]
+    with pytest.raises(objmodel.ObjmodelError, match=r"gravity given contradicts.*--gravity 0\.000,-?1\.000,"):
+        objmodel.learn(rows)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        right = objmodel.learn(rows, gravity=(0, -1, 0))
+        unchecked = objmodel.learn(rows, gravity_check=False)
+    assert right.edges.shape[0] > 0 and len(unchecked.demos) == len(demos)
