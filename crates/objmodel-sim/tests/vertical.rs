@@ -56,14 +56,7 @@ fn a_tracker_with_y_up_learnt_as_z_up_is_caught_and_teaches_nothing_from_gravity
     assert!((tracker_from_world * Vector3::z() - Vector3::y()).norm() < 1e-12);
     let y_up: Vec<Demonstration> = demos
         .iter()
-        .map(|d| Demonstration {
-            object: d
-                .object
-                .iter()
-                .map(|p| objmodel::StampedPose::new(p.t, tracker_from_world * p.pose))
-                .collect(),
-            ..d.clone()
-        })
+        .map(|d| d.in_frame(&tracker_from_world))
         .collect();
 
     let (wrong, warnings) = learn(&y_up, z_up);

@@ -351,14 +351,7 @@ fn gravity_in_a_camera_frame() {
                 2 => synth::slide(&b, &SynthNoise::REAL, 30.0, seed),
                 _ => synth::general(&b, &SynthNoise::REAL, 30.0, seed),
             };
-            for p in d
-                .demo
-                .object
-                .iter_mut()
-                .chain(d.demo.palm.iter_mut().flatten())
-            {
-                p.pose = camera_from_world * p.pose;
-            }
+            d.demo = d.demo.in_frame(&camera_from_world);
             let c = classify(&d.demo, &config).unwrap();
             assert_eq!(c.kind, d.truth.kind, "kind {kind} seed {seed}");
             assert!(c.warnings.is_empty(), "{:?}", c.warnings);

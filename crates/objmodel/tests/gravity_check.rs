@@ -9,7 +9,7 @@ use objmodel::learn::{Config, Learner, Source, NOT_LEARNT};
 use objmodel::observation::Observation;
 use objmodel::synth::{self, SynthBox, SynthNoise, ToppleParams};
 use objmodel::tree::Tree;
-use objmodel::{Demonstration, StampedPose};
+use objmodel::Demonstration;
 use rand::{rngs::StdRng, SeedableRng};
 
 fn demos() -> Vec<Demonstration> {
@@ -56,14 +56,7 @@ fn pushes_tracked_with_y_up_learnt_as_z_up_are_refused_and_the_vertical_named() 
     );
     let y_up: Vec<Demonstration> = demos
         .iter()
-        .map(|d| Demonstration {
-            object: d
-                .object
-                .iter()
-                .map(|p| StampedPose::new(p.t, tracker_from_world * p.pose))
-                .collect(),
-            ..d.clone()
-        })
+        .map(|d| d.in_frame(&tracker_from_world))
         .collect();
 
     let (tree, reports) = learn(&y_up, Vector3::new(0.0, 0.0, -1.0));
