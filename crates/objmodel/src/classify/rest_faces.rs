@@ -5,7 +5,7 @@
 use super::{analysis, Classification, Label};
 use crate::face::FaceObservation;
 use crate::noise::NoiseModel;
-use nalgebra::Vector3;
+use nalgebra::{UnitQuaternion, Vector3};
 
 impl Classification {
     /// The faces the object rested on, from gravity, other than those before and after a
@@ -58,22 +58,13 @@ impl Classification {
         let Some(noise) = self.noise.filter(|_| !self.instrumented) else {
             return Vec::new();
         };
-        let first = self
-            .segments
-            .first()
-            .map(|s| (s.resting_rotation_before, s.resting_frames_before));
-        let after = self
-            .segments
-            .iter()
-            .map(|s| (s.resting_rotation_after, s.resting_frames_after));
-        first
+        self.rests()
             .into_iter()
-            .chain(after)
-            .filter(|(_, frames)| *frames as f64 >= analysis::MIN_FACE_FRAMES)
-            .filter_map(|(rotation, frames)| {
+            .filter(|r| r.frames as f64 >= analysis::MIN_FACE_FRAMES)
+            .filter_map(|r| {
                 Some(crate::vertical::Rest {
-                    rotation: rotation?,
-                    sigma_rad: noise.sigma_rotation / (frames as f64).sqrt(),
+                    rotation: r.rotation?,
+                    sigma_rad: noise.sigma_rotation / (r.frames as f64).sqrt(),
                 })
             })
             .collect()
@@ -148,13 +139,19 @@ impl Classification {
     fn rests(&self) -> Vec<RestSummary> {
         // Rest k is the one before segment k; the rest after segment i is rest i + 1 (the one
         // before segment i + 1 when a rest split them).
-        type Rest = (Option<Vector3<f64>>, u64, Option<crate::landing::RestPlace>);
+        type Rest = (
+            Option<Vector3<f64>>,
+            u64,
+            Option<crate::landing::RestPlace>,
+            Option<UnitQuaternion<f64>>,
+        );
         let mut rests: Vec<Rest> = Vec::new();
         if let Some(s) = self.segments.first() {
             rests.push((
                 s.resting_normal_before,
                 s.resting_frames_before,
                 s.resting_place_before,
+                s.resting_rotation_before,
             ));
         }
         rests.extend(self.segments.iter().map(|s| {
@@ -162,6 +159,7 @@ impl Classification {
                 s.resting_normal_after,
                 s.resting_frames_after,
                 s.resting_place_after,
+                s.resting_rotation_after,
             )
         }));
         // Rest k is on the support when segment k departs from it in a contact mode, or
@@ -177,10 +175,11 @@ impl Classification {
         rests
             .into_iter()
             .enumerate()
-            .map(|(k, (normal, frames, place))| RestSummary {
+            .map(|(k, (normal, frames, place, rotation))| RestSummary {
                 normal,
                 frames,
                 place,
+                rotation,
                 supported: (k < n && self.segments[k].departs_from_support)
                     || (k >= 1 && self.segments[k - 1].arrives_on_support),
                 with_edge: with_edge[k],
@@ -194,6 +193,8 @@ struct RestSummary {
     normal: Option<Vector3<f64>>,
     frames: u64,
     place: Option<crate::landing::RestPlace>,
+    /// The orientation over it (`world_from_object`), when its down is known.
+    rotation: Option<UnitQuaternion<f64>>,
     /// On the support: a contact mode leaves it or reaches it.
     supported: bool,
     /// A topple's edge gives its face.

@@ -382,16 +382,11 @@ impl Segmenter {
         self.close_block();
         if !self.in_motion {
             let rest_down = self.rest.down(self.down);
-            let rest_place = self
-                .rest
-                .mean()
+            let mean = self.rest.mean();
+            let rest_place = mean
                 .zip(self.down)
                 .map(|((_, p), d)| RestPlace::new(&p, &d));
-            let rest_rotation = self
-                .rest
-                .mean()
-                .filter(|_| rest_down.is_some())
-                .map(|(q, _)| q);
+            let rest_rotation = mean.filter(|_| rest_down.is_some()).map(|(q, _)| q);
             if let Some(prev) = self.segments.last_mut() {
                 prev.rest_after = rest_down;
                 prev.rest_after_place = rest_place;
