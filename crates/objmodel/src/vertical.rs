@@ -227,15 +227,5 @@ pub fn shown(
     })
 }
 
-/// The vertical the rests show where it contradicts `up` ([`shown`]).
-pub fn contradiction(
-    rests: &[Rest],
-    up: &Vector3<f64>,
-    alpha: f64,
-    level_sigma_rad: f64,
-) -> Option<Vertical> {
-    shown(rests, up, alpha, level_sigma_rad).filter(|v| v.contradicts)
-}
-
 #[cfg(test)]
 mod tests;

@@ -6,6 +6,11 @@ use rand_distr::{Distribution, StandardNormal};
 
 const ALPHA: f64 = 1e-3;
 
+/// The vertical the rests show where it contradicts `up`.
+fn contradiction(rests: &[Rest], up: &Vector3<f64>, alpha: f64, level: f64) -> Option<Vertical> {
+    shown(rests, up, alpha, level).filter(|v| v.contradicts)
+}
+
 fn unit(rng: &mut StdRng) -> Vector3<f64> {
     let v: Vector3<f64> = Vector3::from_fn(|_, _| StandardNormal.sample(rng));
     v.normalize()
