@@ -242,33 +242,17 @@ fn export_writes_simulation_models_or_says_what_is_missing() {
     );
 }
 
-/// The poses of a TUM file in a tracker frame whose y axis is the file's z (up):
-/// `tracker_from_world` is a quarter turn about x, positions (x, y, z) -> (x, z, -y).
+/// The poses of a TUM file in a tracker frame whose y axis is the file's z (up): a quarter
+/// turn about x (`tracker_from_world`), written as TUM.
 fn to_y_up(from: &std::path::Path, to: &std::path::Path) {
-    let h = std::f64::consts::FRAC_1_SQRT_2;
-    let text = std::fs::read_to_string(from).unwrap();
-    let mut out = String::new();
-    for line in text
-        .lines()
-        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
-    {
-        let v: Vec<f64> = line
-            .split_whitespace()
-            .map(|x| x.parse().unwrap())
-            .collect();
-        let (t, x, y, z) = (v[0], v[1], v[2], v[3]);
-        let (qx, qy, qz, qw) = (v[4], v[5], v[6], v[7]);
-        // r = (−h, 0, 0, h) (x y z w): a quarter turn about x taking z to y; r * q.
-        let (ax, aw) = (-h, h);
-        let q = (
-            aw * qx + ax * qw,
-            aw * qy - ax * qz,
-            aw * qz + ax * qy,
-            aw * qw - ax * qx,
-        );
-        out += &format!("{t} {x} {} {} {} {} {} {}\n", z, -y, q.0, q.1, q.2, q.3);
-    }
-    std::fs::write(to, out).unwrap();
+    use nalgebra::{Isometry3, UnitQuaternion, Vector3};
+    let tracker_from_world = Isometry3::from_parts(
+        Default::default(),
+        UnitQuaternion::from_axis_angle(&Vector3::x_axis(), -std::f64::consts::FRAC_PI_2),
+    );
+    let d = objmodel::format::read_demonstration(from, None).unwrap();
+    let y_up = d.in_frame(&tracker_from_world);
+    objmodel::format::write_tum(to, &y_up.object, "tracked with y up").unwrap();
 }
 
 /// Demonstrations tracked with y up and learnt with the default gravity (z up): `learn` fails,
