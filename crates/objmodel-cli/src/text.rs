@@ -140,6 +140,7 @@ pub fn classification(c: &Classification, frames: bool) -> String {
                 Label::Flight => "flight",
                 Label::Impact => "impact",
                 Label::Roll => "roll",
+                Label::Creep => "creep",
             };
             s += &format!(
                 "    {:>6}-{:<6} {:>8.3}-{:<8.3} s  {label}\n",

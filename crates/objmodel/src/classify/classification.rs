@@ -63,6 +63,10 @@ pub enum Label {
     /// A rotation about a fixed edge inside a motion, measured without a rest (parts only, see
     /// [`crate::roll`]; no vote).
     Roll,
+    /// Relative to a palm, before an edge rotation measured from the stop before its fall: the
+    /// object settled, crept or slipped on the palm, turned from its rest by less than a turn
+    /// that locates an edge (parts only, see [`crate::onset`]; no vote).
+    Creep,
 }
 
 impl Label {

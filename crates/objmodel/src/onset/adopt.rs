@@ -23,6 +23,12 @@ pub(super) struct Remeasured {
     pub(super) sub: Classification,
     /// How it was measured, for `Segment::remeasured` (`None`: from the onset).
     pub(super) note: Option<String>,
+    /// Whether it was measured from the stop before a fall on a palm (`super::before_fall`;
+    /// then its edge is taught by [`teaches_edge_before_landing`]).
+    pub(super) before_fall: bool,
+    /// Whether the segment's moving frames before the reference are a creep on the palm
+    /// (labelled [`Label::Creep`], which does not vote; see `super::before_fall`).
+    pub(super) creep: bool,
 }
 
 /// Whether the first pass labelled a kept frame an outlier.
@@ -37,6 +43,7 @@ pub(super) fn is_outlier(c: &Classification, f: &RecordedFrame) -> bool {
 /// from there on (it is followed by its landing, or by a rest): an "edge" whose frames turn by
 /// less than [`CARRIED_FRACTION`] of it explains a part of the motion that is not the topple
 /// (a slide's first frames pass for rotations about a distant line).
+///
 pub(super) fn teaches_edge(sub: &Classification) -> bool {
     sub.segments.first().is_some_and(|s| {
         s.edge.as_ref().is_some_and(|e| {
@@ -44,6 +51,29 @@ pub(super) fn teaches_edge(sub: &Classification) -> bool {
             s.remeasured.is_some() || e.max_angle >= CARRIED_FRACTION * s.max_angle
         })
     })
+}
+
+/// Whether a part re-measured from the stop before a fall on a palm (`super::before_fall`)
+/// teaches an edge: its first segment's, if the frames after the edge's are the topple's
+/// landing (the classifier found the rests before and after on faces that meet at the edge's
+/// direction, turned in its sense; `classify::analysis`). The rest of the rotation is then the
+/// fall onto the next face, over which the pivot slides down the tilted palm: on MuJoCo's
+/// palm topples it stays within about 1 mm of the edge up to 35-45°, and is 9-19 mm off at
+/// 85°, so the edge's frames carry less than [`CARRIED_FRACTION`] of the rotation.
+///
+/// Only from that stop: measured from an earlier reference (a later part's onset before the
+/// creep has ended), an edge of three frames 8 mm off the box passed so (MuJoCo's palm topples
+/// at 30 Hz).
+pub(super) fn teaches_edge_before_landing(sub: &Classification) -> bool {
+    teaches_edge(sub) || sub.segments.first().is_some_and(|s| s.edge.is_some()) && lands(sub)
+}
+
+/// Whether the classifier labelled frames of a re-measured part's first segment the landing
+/// of a completed topple.
+fn lands(sub: &Classification) -> bool {
+    sub.labels
+        .iter()
+        .any(|r| r.segment == Some(0) && r.label == Label::Landing)
 }
 
 /// Add what a re-measured part teaches to segment `r.segment`: its first segment's edge or
@@ -58,7 +88,12 @@ pub(super) fn adopt(c: &mut Classification, r: Remeasured, recording: &Recording
     if first.edge.is_none() && first.face.is_none() {
         return;
     }
-    if first.edge.is_some() && !teaches_edge(&r.sub) {
+    let teaches = if r.before_fall {
+        teaches_edge_before_landing
+    } else {
+        teaches_edge
+    };
+    if first.edge.is_some() && !teaches(&r.sub) {
         return;
     }
     // The labels from the reference on are the re-measured ones, in segment k.
@@ -85,6 +120,23 @@ pub(super) fn adopt(c: &mut Classification, r: Remeasured, recording: &Recording
     let mut labels: Vec<LabelRun> = Vec::with_capacity(c.labels.len() + r.sub.labels.len());
     let mut votes = Votes::default();
     let mut inserted = false;
+    let creep = |mut run: LabelRun| {
+        if r.creep && matches!(run.label, Label::Topple | Label::General | Label::Still) {
+            run.label = Label::Creep;
+        }
+        run
+    };
+    // Measured from the stop before a fall up to where it first reached its largest turn,
+    // a completed topple's frames after that are still its landing (the classifier labels
+    // every frame after a completed topple's rotation that is not on its edge so): the
+    // object lies on the next face and may slide on down the tilted palm.
+    let landed = r.before_fall && lands(&r.sub);
+    let landing = |mut run: LabelRun| {
+        if landed && run.label.vote().is_some() {
+            run.label = Label::Landing;
+        }
+        run
+    };
     let keep = |run: LabelRun, labels: &mut Vec<LabelRun>, votes: &mut Votes| {
         if let Some(v) = run.label.vote() {
             votes.add(v, run.frames);
@@ -96,14 +148,18 @@ pub(super) fn adopt(c: &mut Classification, r: Remeasured, recording: &Recording
             labels.push(run);
             continue;
         }
-        if run.last <= i_ref || run.first > i_sub_end {
-            keep(run, &mut labels, &mut votes);
+        if run.last <= i_ref {
+            keep(creep(run), &mut labels, &mut votes);
             continue;
         }
-        // Up to the reference: the first pass's; then the re-measured labels; after them,
-        // the first pass's again.
+        if run.first > i_sub_end {
+            keep(landing(run), &mut labels, &mut votes);
+            continue;
+        }
+        // Up to the reference: the first pass's (or the creep's); then the re-measured
+        // labels; after them, the first pass's again.
         if let Some(head) = clip(&run, 0, i_ref) {
-            keep(head, &mut labels, &mut votes);
+            keep(creep(head), &mut labels, &mut votes);
         }
         if !inserted {
             inserted = true;
@@ -113,7 +169,7 @@ pub(super) fn adopt(c: &mut Classification, r: Remeasured, recording: &Recording
             }
         }
         if let Some(tail) = clip(&run, i_sub_end + 1, usize::MAX) {
-            keep(tail, &mut labels, &mut votes);
+            keep(landing(tail), &mut labels, &mut votes);
         }
     }
     c.labels = labels;

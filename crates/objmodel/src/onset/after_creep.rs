@@ -155,6 +155,8 @@ pub(super) fn remeasure_after_creep(
                      it: {why}",
                     reference.t
                 )),
+                before_fall: false,
+                creep: false,
             }),
             None => withheld.push((k, why)),
         }

@@ -29,6 +29,7 @@
 
 mod adopt;
 mod after_creep;
+mod before_fall;
 pub mod creep;
 mod span;
 
@@ -88,6 +89,7 @@ pub fn remeasure_later_parts(c: &mut Classification, recording: &Recording, conf
     }
     remeasure(c, recording, config, MAX_DEPTH);
     after_creep::remeasure_after_creep(c, recording, config);
+    before_fall::remeasure_from_the_stop(c, recording, config);
 }
 
 fn remeasure(c: &mut Classification, recording: &Recording, config: &Config, depth: usize) {
@@ -151,6 +153,8 @@ fn remeasure(c: &mut Classification, recording: &Recording, config: &Config, dep
                      s",
                     span_end.min(c.segments[k].t_end)
                 )),
+                before_fall: false,
+                creep: false,
             });
             continue;
         }
@@ -161,6 +165,8 @@ fn remeasure(c: &mut Classification, recording: &Recording, config: &Config, dep
             t_onset,
             sub,
             note: None,
+            before_fall: false,
+            creep: false,
         });
     }
     for r in done {
