@@ -43,7 +43,6 @@ pub(super) fn is_outlier(c: &Classification, f: &RecordedFrame) -> bool {
 /// from there on (it is followed by its landing, or by a rest): an "edge" whose frames turn by
 /// less than [`CARRIED_FRACTION`] of it explains a part of the motion that is not the topple
 /// (a slide's first frames pass for rotations about a distant line).
-///
 pub(super) fn teaches_edge(sub: &Classification) -> bool {
     sub.segments.first().is_some_and(|s| {
         s.edge.as_ref().is_some_and(|e| {
@@ -157,7 +156,7 @@ pub(super) fn adopt(c: &mut Classification, r: Remeasured, recording: &Recording
             continue;
         }
         // Up to the reference: the first pass's (or the creep's); then the re-measured
-        // labels; after them, the first pass's again.
+        // labels; after them, the first pass's again (or the landing's).
         if let Some(head) = clip(&run, 0, i_ref) {
             keep(creep(head), &mut labels, &mut votes);
         }

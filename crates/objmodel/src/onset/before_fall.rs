@@ -25,7 +25,7 @@
 //! The frames from the rest to the stop are a creep ([`crate::classify::Label::Creep`], no
 //! vote) when none of them turned from the rest by a turn that locates an edge (the chord
 //! `edge_tolerance / EDGE_LOCATION_M`, 8.6° at the defaults): the object moved on the palm
-//! without tipping.
+//! without tipping. (Frames the first pass called a slide stay a slide.)
 //!
 //! Only instrumented demonstrations are measured so: the palm moves under a box at rest on it,
 //! and nothing else moves the box before it falls. (A pushed box is moved by the push, whose

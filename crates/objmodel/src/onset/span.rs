@@ -85,8 +85,6 @@ pub(super) fn classify_span(
         palm: None,
     };
     let mut sub = classify(&demo, config).ok()?;
-    // Measured relative to the palm, as the demonstration is (in the palm's first pose).
-    sub.instrumented = c.instrumented;
     // Back to the first pass's frame indices, without the held rest and the reference (they
     // keep the first pass's labels).
     sub.labels.retain_mut(|r| {
