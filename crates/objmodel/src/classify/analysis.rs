@@ -11,7 +11,8 @@ use super::msac::{
     Thresholds,
 };
 use super::parts::{
-    after_other_motion, edge_off_level, edge_turns_too_little, face_off_level, part_end,
+    after_other_motion, edge_off_level, edge_on_support, edge_turns_too_little, face_off_level,
+    part_end,
 };
 use super::segments::MotionSegment;
 use super::{Config, Kind, Label, Segment, Votes};
@@ -248,8 +249,11 @@ pub(super) fn analyse_segment(
         };
         blocks[i].label = label;
     }
-    if let (Some(l), Some(end)) = (line, rotation_end) {
-        if completed_topple(&l, &blocks[end], seg, sin_tilt) {
+    let completed = line
+        .zip(rotation_end)
+        .is_some_and(|(l, end)| completed_topple(&l, &blocks[end], seg, sin_tilt));
+    if let Some(end) = rotation_end.filter(|_| completed) {
+        {
             for &i in &idx {
                 if blocks[i].t0 > blocks[end].t1 && blocks[i].label == Label::General {
                     blocks[i].label = Label::Landing;
@@ -353,6 +357,23 @@ pub(super) fn analyse_segment(
         .as_ref()
         .zip(seg.down_ref)
         .and_then(|(e, d)| edge_off_level(e, &d, alpha));
+    // A completed topple in the world: the edge lies on the support in both rests; where the
+    // rests leave it there, what they do not explain is the edge's own error.
+    let mut off_support = None;
+    if let (Some(e), Some(down), Some(noise), true) = (
+        edge.as_mut(),
+        config.gravity.and_then(|g| g.try_normalize(1e-12)),
+        config.robust.noise,
+        completed && !instrumented,
+    ) {
+        match edge_on_support(e, seg, &-down, &noise, alpha) {
+            Ok(var) => {
+                e.add_systematic_point_var(var);
+                topple_systematic_var += var;
+            }
+            Err(why) => off_support = Some(why),
+        }
+    }
     // Without gravity a rotation about a fixed line is a topple about an edge or a slide that
     // turns about a fixed point (both are planar motions about one line; gravity says whether
     // the line is horizontal): in the world, no edge is taught. On the standard data set's
@@ -364,7 +385,11 @@ pub(super) fn analyse_segment(
     // An edge rotation that passed every test but turned too little to locate its edge is
     // still a contact mode measured from the rest: it shows the rest was on the support.
     let small_rotation = turned_too_little.is_some() && off_level.is_none();
-    if let Some(w) = turned_too_little.or(off_level).or(unknown_vertical) {
+    if let Some(w) = turned_too_little
+        .or(off_level)
+        .or(off_support)
+        .or(unknown_vertical)
+    {
         withheld = Some(format!("edge not taught: {w}"));
         edge = None;
         // Nor grouped into a topple of the demonstration.
