@@ -253,11 +253,9 @@ pub(super) fn analyse_segment(
         .zip(rotation_end)
         .is_some_and(|(l, end)| completed_topple(&l, &blocks[end], seg, sin_tilt));
     if let Some(end) = rotation_end.filter(|_| completed) {
-        {
-            for &i in &idx {
-                if blocks[i].t0 > blocks[end].t1 && blocks[i].label == Label::General {
-                    blocks[i].label = Label::Landing;
-                }
+        for &i in &idx {
+            if blocks[i].t0 > blocks[end].t1 && blocks[i].label == Label::General {
+                blocks[i].label = Label::Landing;
             }
         }
     }
