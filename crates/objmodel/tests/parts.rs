@@ -1,6 +1,8 @@
 //! The parts of a demonstration (`Classification::parts`) and the later parts measured from
 //! their own onset (`objmodel::onset`), through the learning pipeline.
 
+mod common;
+
 use nalgebra::Vector3;
 use objmodel::classify::{Config, Label};
 use objmodel::learn::{Learner, Source};
@@ -94,24 +96,11 @@ fn a_topple_s_parts_say_what_they_taught() {
 fn classify_mujoco_palm_topple(
     name: &str,
 ) -> (objmodel::classify::Classification, objmodel::geometry::Line) {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
-    let truth: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(dir.join(format!("{name}.truth.json"))).unwrap(),
-    )
-    .unwrap();
-    let v = |k: &str| {
-        let a = truth["edge"][k].as_array().unwrap();
-        Vector3::new(
-            a[0].as_f64().unwrap(),
-            a[1].as_f64().unwrap(),
-            a[2].as_f64().unwrap(),
-        )
-    };
-    let truth = objmodel::geometry::Line::through(v("point"), v("direction"));
+    let truth = common::truth_edge(name);
     let c = Learner::new(Config::default())
         .classify(&Source::Files {
-            object: &dir.join(format!("{name}.tum")),
-            palm: Some(&dir.join(format!("{name}.palm.tum"))),
+            object: &common::data(&format!("{name}.tum")),
+            palm: Some(&common::data(&format!("{name}.palm.tum"))),
         })
         .unwrap();
     (c, truth)
@@ -175,6 +164,36 @@ fn a_file_that_starts_moving_is_not_known_to_start_from_a_rest() {
     }
 }
 
+/// Ten palm topples on a soft, sticky contact (`synth::instrumented_creep_topple` with the
+/// default creep, lag and slip) of random boxes, sides and tilt rates, on exact poses and
+/// again at 0.1 mm / 0.05°, tracked at `rate` \[Hz\]; the random stream starts at `seed`.
+fn precise_creep_topples(rate: f64, seed: u64) -> Vec<synth::SynthDemo> {
+    let precise = SynthNoise {
+        sigma_position: 1e-4,
+        sigma_rotation: 0.05f64.to_radians(),
+        ..SynthNoise::CLEAN
+    };
+    let mut out = Vec::new();
+    for noise in [SynthNoise::CLEAN, precise] {
+        for k in 0..10u64 {
+            let mut rng = StdRng::seed_from_u64(seed + k);
+            let b = SynthBox::random(&mut rng);
+            let side = rng.random_range(0..4);
+            let tilt_rate = rng.random_range(10.0..25.0f64).to_radians();
+            out.push(synth::instrumented_creep_topple(
+                &b,
+                side,
+                tilt_rate,
+                &synth::CreepSlip::default(),
+                &noise,
+                rate,
+                k,
+            ));
+        }
+    }
+    out
+}
+
 /// A precise tracker (exact poses, and 0.1 mm / 0.05°) on a soft, sticky palm contact
 /// (`synth::instrumented_creep_topple`: the box lags the tilting palm, creeps 1.5 mm down it in
 /// three stick-slip steps, falls, and its edge slips 3 mm on the palm past 45°): the topple is
@@ -185,43 +204,23 @@ fn a_file_that_starts_moving_is_not_known_to_start_from_a_rest() {
 #[test]
 fn a_precise_palm_topple_with_a_creep_and_a_slip_is_within_2_mm_or_withheld() {
     let learner = Learner::new(Config::default());
-    let precise = SynthNoise {
-        sigma_position: 1e-4,
-        sigma_rotation: 0.05f64.to_radians(),
-        ..SynthNoise::CLEAN
-    };
     let (mut taught, mut total) = (0, 0);
-    for noise in [SynthNoise::CLEAN, precise] {
-        for seed in 0..10u64 {
-            let mut rng = StdRng::seed_from_u64(9100 + seed);
-            let b = SynthBox::random(&mut rng);
-            let side = rng.random_range(0..4);
-            let tilt_rate = rng.random_range(10.0..25.0f64).to_radians();
-            let d = synth::instrumented_creep_topple(
-                &b,
-                side,
-                tilt_rate,
-                &synth::CreepSlip::default(),
-                &noise,
-                30.0,
-                seed,
+    for d in precise_creep_topples(30.0, 9100) {
+        let c = learner.classify(&Source::Memory(&d.demo)).unwrap();
+        assert_eq!(c.kind, objmodel::classify::Kind::Topple, "{:?}", c.parts);
+        let truth = d.truth.edge.unwrap();
+        total += 1;
+        for e in c.edges() {
+            taught += 1;
+            let dist = truth.distance_to(&e.line.point);
+            assert!(dist < 2e-3, "{}: {:.2} mm", d.demo.name, dist * 1e3);
+            assert!(
+                dist < 3.0 * std::f64::consts::SQRT_2 * e.sigma_point(),
+                "{}: {:.2} mm against σ {:.2} mm",
+                d.demo.name,
+                dist * 1e3,
+                e.sigma_point() * 1e3
             );
-            let c = learner.classify(&Source::Memory(&d.demo)).unwrap();
-            assert_eq!(c.kind, objmodel::classify::Kind::Topple, "{:?}", c.parts);
-            let truth = d.truth.edge.unwrap();
-            total += 1;
-            for e in c.edges() {
-                taught += 1;
-                let dist = truth.distance_to(&e.line.point);
-                assert!(dist < 2e-3, "{}: {:.2} mm", d.demo.name, dist * 1e3);
-                assert!(
-                    dist < 3.0 * std::f64::consts::SQRT_2 * e.sigma_point(),
-                    "{}: {:.2} mm against σ {:.2} mm",
-                    d.demo.name,
-                    dist * 1e3,
-                    e.sigma_point() * 1e3
-                );
-            }
         }
     }
     // Not bought by withholding: most of them teach their edge (19 of 20 when written).
@@ -317,51 +316,31 @@ fn a_slipping_edge_s_sigma_covers_its_error() {
 #[test]
 fn a_precise_palm_topple_at_120_hz_is_measured_from_the_stop_before_its_fall() {
     let learner = Learner::new(Config::default());
-    let precise = SynthNoise {
-        sigma_position: 1e-4,
-        sigma_rotation: 0.05f64.to_radians(),
-        ..SynthNoise::CLEAN
-    };
     let mut from_stop = 0;
-    for noise in [SynthNoise::CLEAN, precise] {
-        for seed in 0..10u64 {
-            let mut rng = StdRng::seed_from_u64(9700 + seed);
-            let b = SynthBox::random(&mut rng);
-            let side = rng.random_range(0..4);
-            let tilt_rate = rng.random_range(10.0..25.0f64).to_radians();
-            let d = synth::instrumented_creep_topple(
-                &b,
-                side,
-                tilt_rate,
-                &synth::CreepSlip::default(),
-                &noise,
-                120.0,
-                seed,
-            );
-            let c = learner.classify(&Source::Memory(&d.demo)).unwrap();
-            assert_eq!(c.kind, objmodel::classify::Kind::Topple, "{:?}", c.parts);
-            let edges: Vec<_> = c.edges().collect();
-            assert_eq!(edges.len(), 1, "{}: {:?}", d.demo.name, c.parts);
-            let truth = d.truth.edge.unwrap();
-            let dist = truth.distance_to(&edges[0].line.point);
-            assert!(dist < 2e-3, "{}: {:.2} mm", d.demo.name, dist * 1e3);
-            assert!(
-                dist < 3.0 * std::f64::consts::SQRT_2 * edges[0].sigma_point(),
-                "{}: {:.2} mm against σ {:.2} mm",
-                d.demo.name,
-                dist * 1e3,
-                edges[0].sigma_point() * 1e3
-            );
-            let seg = c.segments.iter().find(|s| s.edge.is_some()).unwrap();
-            if seg
-                .remeasured
-                .as_ref()
-                .is_some_and(|r| r.contains("stop on the palm"))
-            {
-                from_stop += 1;
-                let creep = c.parts.iter().any(|p| p.kind == Label::Creep);
-                assert!(creep, "{}: {:?}", d.demo.name, c.parts);
-            }
+    for d in precise_creep_topples(120.0, 9700) {
+        let c = learner.classify(&Source::Memory(&d.demo)).unwrap();
+        assert_eq!(c.kind, objmodel::classify::Kind::Topple, "{:?}", c.parts);
+        let edges: Vec<_> = c.edges().collect();
+        assert_eq!(edges.len(), 1, "{}: {:?}", d.demo.name, c.parts);
+        let truth = d.truth.edge.unwrap();
+        let dist = truth.distance_to(&edges[0].line.point);
+        assert!(dist < 2e-3, "{}: {:.2} mm", d.demo.name, dist * 1e3);
+        assert!(
+            dist < 3.0 * std::f64::consts::SQRT_2 * edges[0].sigma_point(),
+            "{}: {:.2} mm against σ {:.2} mm",
+            d.demo.name,
+            dist * 1e3,
+            edges[0].sigma_point() * 1e3
+        );
+        let seg = c.segments.iter().find(|s| s.edge.is_some()).unwrap();
+        if seg
+            .remeasured
+            .as_ref()
+            .is_some_and(|r| r.contains("stop on the palm"))
+        {
+            from_stop += 1;
+            let creep = c.parts.iter().any(|p| p.kind == Label::Creep);
+            assert!(creep, "{}: {:?}", d.demo.name, c.parts);
         }
     }
     // The stop is where most of them are measured from (8 of 20 when written; the others from

@@ -6,33 +6,14 @@
 //! at σ 0.7 and 0.8 mm. The rests tell: the edge lies on the table before the topple and after
 //! it, so its height must be the same in both (`classify::parts::edge_on_support`).
 
-use nalgebra::Vector3;
+mod common;
+
 use objmodel::classify::Config;
-use objmodel::geometry::Line;
 use objmodel::learn::{Learner, Source};
 use objmodel::tree::Tree;
 
-fn truth(name: &str) -> Line {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
-    let truth: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(dir.join(format!("{name}.truth.json"))).unwrap(),
-    )
-    .unwrap();
-    let v = |k: &str| {
-        let a = truth["edge"][k].as_array().unwrap();
-        Vector3::new(
-            a[0].as_f64().unwrap(),
-            a[1].as_f64().unwrap(),
-            a[2].as_f64().unwrap(),
-        )
-    };
-    Line::through(v("point"), v("direction"))
-}
-
 fn path(name: &str) -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(format!("{name}.tum"))
+    common::data(&format!("{name}.tum"))
 }
 
 /// The edge whose height differs between the rests by 10.7 mm (±2.8 mm) is not taught, and
@@ -79,7 +60,7 @@ fn an_edge_whose_rests_disagree_within_the_support_carries_the_difference_in_its
         .unwrap();
     let edges: Vec<_> = c.edges().collect();
     assert_eq!(edges.len(), 1, "{:?}", c.parts);
-    let dist = truth(name).distance_to(&edges[0].line.point);
+    let dist = common::truth_edge(name).distance_to(&edges[0].line.point);
     let sigma = edges[0].sigma_point();
     assert!(dist > 5e-3, "{:.2} mm", dist * 1e3);
     assert!(

@@ -22,9 +22,11 @@
 //! if that teaches no edge, the first pass's edge is withheld: it was measured from a pose the
 //! object had left.
 
-use super::adopt::{adopt, is_outlier, teaches_edge, Remeasured};
+use super::adopt::{adopt, teaches_edge, Remeasured};
 use super::creep::pivot_moved;
-use super::span::{classify_from, largest_turn, mean_frame, support_pose};
+use super::span::{
+    classify_from, frames_around, instrumented_config, largest_turn, mean_frame, support_pose,
+};
 use crate::classify::parts::EDGE_LOCATION_M;
 use crate::classify::{Classification, Config};
 use crate::recording::{RecordedFrame, Recording};
@@ -36,14 +38,9 @@ pub(super) fn remeasure_after_creep(
     recording: &Recording,
     config: &Config,
 ) {
-    let mut config = *config;
-    config.robust.noise = c.noise.or(config.robust.noise);
-    let Some(noise) = config.robust.noise else {
+    let Some((config, noise)) = instrumented_config(c, recording, config) else {
         return;
     };
-    if recording.palm.is_empty() {
-        return;
-    }
     let mut done = Vec::new();
     let mut withheld = Vec::new();
     for k in 0..c.segments.len() {
@@ -51,15 +48,8 @@ pub(super) fn remeasure_after_creep(
         let (Some(edge), None) = (&s.edge, &s.remeasured) else {
             continue;
         };
-        let t_prev = k
-            .checked_sub(1)
-            .map_or(f64::NEG_INFINITY, |j| c.segments[j].t_end);
         let t_end = c.segments.get(k + 1).map_or(f64::INFINITY, |n| n.t_start);
-        let kept: Vec<&RecordedFrame> = recording
-            .object
-            .iter()
-            .filter(|f| f.t > t_prev && f.t < t_end && !is_outlier(c, f))
-            .collect();
+        let kept = frames_around(c, recording, k);
         let Some(rest_last) = kept.iter().rev().find(|f| f.t < s.t_start) else {
             continue;
         };

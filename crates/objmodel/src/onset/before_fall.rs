@@ -31,8 +31,8 @@
 //! and nothing else moves the box before it falls. (A pushed box is moved by the push, whose
 //! parts the first pass's labels split.)
 
-use super::adopt::{adopt, is_outlier, teaches_edge_before_landing, Remeasured};
-use super::span::{classify_from, mean_frame, support_pose};
+use super::adopt::{adopt, teaches_edge_before_landing, Remeasured};
+use super::span::{classify_from, frames_around, instrumented_config, mean_frame, support_pose};
 use crate::classify::parts::EDGE_LOCATION_M;
 use crate::classify::{Classification, Config};
 use crate::noise::{NoiseModel, SCATTER_WINDOW};
@@ -50,14 +50,9 @@ pub(super) fn remeasure_from_the_stop(
     recording: &Recording,
     config: &Config,
 ) {
-    let mut config = *config;
-    config.robust.noise = c.noise.or(config.robust.noise);
-    let Some(noise) = config.robust.noise else {
+    let Some((config, noise)) = instrumented_config(c, recording, config) else {
         return;
     };
-    if recording.palm.is_empty() {
-        return;
-    }
     let mut done = Vec::new();
     for k in 0..c.segments.len() {
         let s = &c.segments[k];
@@ -115,15 +110,7 @@ fn stop_before_fall(
     k: usize,
 ) -> Option<Fall> {
     let s = &c.segments[k];
-    let t_prev = k
-        .checked_sub(1)
-        .map_or(f64::NEG_INFINITY, |j| c.segments[j].t_end);
-    let t_end = c.segments.get(k + 1).map_or(f64::INFINITY, |n| n.t_start);
-    let kept: Vec<&RecordedFrame> = recording
-        .object
-        .iter()
-        .filter(|f| f.t > t_prev && f.t < t_end && !is_outlier(c, f))
-        .collect();
+    let kept = frames_around(c, recording, k);
     let rest_last = kept.iter().rev().find(|f| f.t < s.t_start)?;
     let q_rest = support_pose(recording, rest_last)?.rotation;
     // Each moving frame, its orientation relative to the palm and its turn from the rest.

@@ -104,6 +104,37 @@ pub(super) fn classify_span(
     Some(sub)
 }
 
+/// For an instrumented demonstration: the config with the noise in force (estimated or given)
+/// and that noise; `None` without a palm or a noise model.
+pub(super) fn instrumented_config(
+    c: &Classification,
+    recording: &Recording,
+    config: &Config,
+) -> Option<(Config, crate::noise::NoiseModel)> {
+    let mut config = *config;
+    config.robust.noise = c.noise.or(config.robust.noise);
+    let noise = config.robust.noise?;
+    (!recording.palm.is_empty()).then_some((config, noise))
+}
+
+/// The kept frames (outliers aside) of segment `k` and of the rests around it: from the end of
+/// segment `k - 1` to the start of segment `k + 1`.
+pub(super) fn frames_around<'r>(
+    c: &Classification,
+    recording: &'r Recording,
+    k: usize,
+) -> Vec<&'r RecordedFrame> {
+    let t_prev = k
+        .checked_sub(1)
+        .map_or(f64::NEG_INFINITY, |j| c.segments[j].t_end);
+    let t_end = c.segments.get(k + 1).map_or(f64::INFINITY, |n| n.t_start);
+    recording
+        .object
+        .iter()
+        .filter(|f| f.t > t_prev && f.t < t_end && !super::adopt::is_outlier(c, f))
+        .collect()
+}
+
 /// A kept frame's pose in the support's frame: in the world, or, instrumented, in a world
 /// where the palm stays at its first pose (`P₀ · palm⁻¹ · object`); `None` outside the palm's
 /// poses.

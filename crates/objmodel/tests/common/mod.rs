@@ -1,0 +1,30 @@
+//! Shared by the tests that read MuJoCo scenes from `tests/data` (written by
+//! `bench/mujoco_probe.py`).
+
+use nalgebra::Vector3;
+use objmodel::geometry::Line;
+use std::path::PathBuf;
+
+/// The path of `tests/data/{file}`.
+pub fn data(file: &str) -> PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(file)
+}
+
+/// The true edge of the scene `name` (`{name}.truth.json`), in the tracked frame.
+pub fn truth_edge(name: &str) -> Line {
+    let truth: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(data(&format!("{name}.truth.json"))).unwrap(),
+    )
+    .unwrap();
+    let v = |k: &str| {
+        let a = truth["edge"][k].as_array().unwrap();
+        Vector3::new(
+            a[0].as_f64().unwrap(),
+            a[1].as_f64().unwrap(),
+            a[2].as_f64().unwrap(),
+        )
+    };
+    Line::through(v("point"), v("direction"))
+}
