@@ -44,7 +44,7 @@ pub(crate) fn direction_off_level(
 }
 
 /// The start of the reason a completed topple's edge is not taught when it is off the support
-/// ([`edge_on_support`]); a part withheld so is not scanned for rolls (`crate::roll`), whose
+/// (`edge_on_support`); a part withheld so is not scanned for rolls (`crate::roll`), whose
 /// model is the same rotation about a fixed line, without the rests that refute it.
 pub const OFF_SUPPORT: &str = "it is not on the support in both rests";
 
