@@ -1,7 +1,8 @@
 //! The parts of a segment and what each must show before it teaches: where a part ends
 //! (`part_end`), whether it follows another motion without a rest between and so is not
-//! measured from its own start (`after_other_motion`), and whether its feature is level as a
-//! contact on a level support is (`edge_off_level`, `face_off_level`).
+//! measured from its own start (`after_other_motion`), whether its feature is level as a
+//! contact on a level support is (`edge_off_level`, `face_off_level`), and whether a completed
+//! topple's edge is on the support in both its rests (`edge_on_support`).
 
 use super::block::Block;
 use super::segments::MotionSegment;
