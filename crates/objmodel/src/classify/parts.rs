@@ -96,8 +96,7 @@ pub(super) fn edge_on_support(
         * up;
     let dh = before.height - after.height + g.dot(&p);
     let per_frame = noise.sigma_position.powi(2) + (noise.sigma_rotation * p.norm()).powi(2);
-    let rests =
-        per_frame * (1.0 / seg.rest_before_frames.max(1.0) + 1.0 / seg.rest_after_frames.max(1.0));
+    let rests = per_frame * (1.0 / seg.rest_before_frames + 1.0 / seg.rest_after_frames);
     let distance = (before.across - after.across).norm();
     let explained =
         2.0 * SUPPORT_FLATNESS_M.powi(2) + (SUPPORT_LEVEL_SIGMA_RAD * distance).powi(2) + rests;
@@ -117,6 +116,13 @@ pub(super) fn edge_on_support(
 /// Farthest \[m\] the contact's own wander ([`super::RobustConfig::edge_tolerance_m`]) may
 /// move the axis of an edge rotation's largest rotation for the rotation to locate its edge.
 pub const EDGE_LOCATION_M: f64 = 2e-3;
+
+/// Whether a turn by `angle` \[rad\] is too small to locate an edge when the contact wanders by
+/// `tolerance_m` (the chord `2 sin(θ/2)` below `tolerance_m / EDGE_LOCATION_M`; see
+/// [`edge_turns_too_little`]): the frames of a palm topple before its fall, which may creep.
+pub(crate) fn turn_locates_no_edge(angle: f64, tolerance_m: f64) -> bool {
+    2.0 * (0.5 * angle).sin() < tolerance_m / EDGE_LOCATION_M
+}
 
 /// Whether an edge rotation turned too little to locate its edge: a rotation by θ whose
 /// contact point wanders by δ (a rounded edge, a soft contact, micro-slip) has its screw axis

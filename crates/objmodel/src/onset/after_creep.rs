@@ -27,7 +27,7 @@ use super::creep::pivot_moved;
 use super::span::{
     classify_from, frames_around, instrumented_config, largest_turn, mean_frame, support_pose,
 };
-use crate::classify::parts::EDGE_LOCATION_M;
+use crate::classify::parts::turn_locates_no_edge;
 use crate::classify::{Classification, Config};
 use crate::recording::{RecordedFrame, Recording};
 
@@ -60,14 +60,14 @@ pub(super) fn remeasure_after_creep(
         // that locates its edge (`edge_turns_too_little`: the contact's wander moves the axis
         // of a smaller turn by more than EDGE_LOCATION_M).
         let rest_pose = support_pose(recording, rest_last);
-        let min_chord = config.robust.edge_tolerance_m / EDGE_LOCATION_M;
+        let tolerance = config.robust.edge_tolerance_m;
         let before_topple: Vec<(f64, nalgebra::Isometry3<f64>)> = kept
             .iter()
             .filter(|f| f.t <= t_turned)
             .filter_map(|f| Some((f.t, support_pose(recording, f)?)))
             .take_while(|(_, x)| {
                 rest_pose.is_some_and(|r| {
-                    2.0 * (0.5 * (r.rotation.inverse() * x.rotation).angle()).sin() < min_chord
+                    turn_locates_no_edge((r.rotation.inverse() * x.rotation).angle(), tolerance)
                 })
             })
             .collect();

@@ -33,7 +33,7 @@
 
 use super::adopt::{adopt, teaches_edge_before_landing, Remeasured};
 use super::span::{classify_from, frames_around, instrumented_config, mean_frame, support_pose};
-use crate::classify::parts::EDGE_LOCATION_M;
+use crate::classify::parts::turn_locates_no_edge;
 use crate::classify::{Classification, Config};
 use crate::noise::{NoiseModel, SCATTER_WINDOW};
 use crate::recording::{RecordedFrame, Recording};
@@ -138,11 +138,10 @@ fn stop_before_fall(
         .find(|w| still(w))?;
     let stop: Vec<&RecordedFrame> = stop.iter().map(|x| x.0).collect();
     let reference = mean_frame(recording, &stop)?;
-    let min_chord = config.robust.edge_tolerance_m / EDGE_LOCATION_M;
     let crept = turns
         .iter()
         .take_while(|x| x.0.t < reference.t)
-        .all(|x| 2.0 * (0.5 * x.2).sin() < min_chord);
+        .all(|x| turn_locates_no_edge(x.2, config.robust.edge_tolerance_m));
     Some(Fall {
         reference,
         t_landed: turns[landed].0.t,
