@@ -14,7 +14,7 @@
 //! δt, and by `|r| δφ / (2 sin(θ/2))` for a rotation error δφ; the axis direction by `δφ/θ`.
 
 use crate::geometry::Line;
-use nalgebra::Matrix3;
+use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
 /// One demonstration's estimate of one edge, in the object frame.
@@ -66,5 +66,142 @@ impl EdgeObservation {
     /// RMS standard deviation \[rad\] of the direction, per axis normal to the line.
     pub fn sigma_direction(&self) -> f64 {
         (self.direction_cov.trace() / 2.0).max(0.0).sqrt()
+    }
+
+    /// Condition the point on a measurement of it, `c` (a linear Gaussian update): the point
+    /// moves along `P g` by the measurement's innovation over its variance, and its covariance
+    /// shrinks along `g` only. Only `g`'s part normal to the line counts (the point is the
+    /// line's, stored closest to the origin).
+    pub fn condition_on(&mut self, c: &PointConstraint) {
+        let u = self.line.direction;
+        let g = c.g - u * u.dot(&c.g);
+        let pg = self.point_cov * g;
+        let s = g.dot(&pg) + c.var;
+        if s.is_nan() || s <= 0.0 {
+            return;
+        }
+        let point = self.line.point - pg * ((c.offset + c.g.dot(&self.line.point)) / s);
+        self.line.point = point - u * u.dot(&point);
+        let cov = self.point_cov - pg * pg.transpose() / s;
+        self.point_cov = (cov + cov.transpose()) * 0.5;
+    }
+}
+
+/// A measurement of an edge's point `p`: `g · p + offset` is zero, within a standard deviation
+/// of `var.sqrt()` \[m\] (for example, the edge lies on the same support in two rests:
+/// `classify::parts` measures the difference of its heights there).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PointConstraint {
+    /// The direction the point is measured along (not unit: its length scales the measurement).
+    pub g: Vector3<f64>,
+    /// The measurement's value at the origin \[m\].
+    pub offset: f64,
+    /// The measurement's own variance \[m²\].
+    pub var: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{rngs::StdRng, Rng, SeedableRng};
+    use rand_distr::StandardNormal;
+
+    fn observation(point: Vector3<f64>, point_cov: Matrix3<f64>) -> EdgeObservation {
+        EdgeObservation {
+            demo: "t".into(),
+            line: Line {
+                point,
+                direction: Vector3::z(),
+            },
+            point_cov,
+            direction_cov: Matrix3::zeros(),
+            paper_line: None,
+            frames: 10,
+            max_angle: 1.0,
+            chi2_per_dof: 1.0,
+        }
+    }
+
+    /// An exact measurement along x leaves the point on its plane and no variance along x,
+    /// and moves nothing along y; a measurement along the line itself changes nothing.
+    #[test]
+    fn an_exact_constraint_is_met_and_the_rest_is_untouched() {
+        let cov = Matrix3::from_diagonal(&Vector3::new(4e-6, 9e-6, 0.0));
+        let mut e = observation(Vector3::new(3e-3, -2e-3, 0.0), cov);
+        let c = PointConstraint {
+            g: Vector3::new(2.0, 0.0, 0.0),
+            offset: -2.0 * 1e-3,
+            var: 0.0,
+        };
+        e.condition_on(&c);
+        assert!((e.line.point.x - 1e-3).abs() < 1e-15, "{}", e.line.point);
+        assert_eq!(e.line.point.y, -2e-3);
+        assert!(e.point_cov[(0, 0)].abs() < 1e-20 && e.point_cov[(1, 1)] == 9e-6);
+        let before = e.clone();
+        e.condition_on(&PointConstraint {
+            g: Vector3::z(),
+            offset: 5.0,
+            var: 0.0,
+        });
+        assert_eq!(e, before);
+    }
+
+    /// Over many draws (a true point, an estimate with its covariance, a measurement with its
+    /// variance): the conditioned point's errors are what its covariance says (mean squared
+    /// Mahalanobis distance 2 in the plane normal to the line) and smaller than the estimate's.
+    #[test]
+    fn the_conditioned_covariance_is_honest_and_smaller() {
+        let mut rng = StdRng::seed_from_u64(7);
+        let n = 4000;
+        let (mut m2, mut before_sq, mut after_sq) = (0.0, 0.0, 0.0);
+        for _ in 0..n {
+            let a: f64 = rng.random_range(1e-3..4e-3);
+            let b: f64 = rng.random_range(1e-3..4e-3);
+            let rho: f64 = rng.random_range(-0.8..0.8);
+            let cov = Matrix3::new(
+                a * a,
+                rho * a * b,
+                0.0,
+                rho * a * b,
+                b * b,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            );
+            let l = cov.fixed_view::<2, 2>(0, 0).cholesky().unwrap().l();
+            let z = nalgebra::Vector2::new(rng.sample(StandardNormal), rng.sample(StandardNormal));
+            let truth = Vector3::new(
+                rng.random_range(-0.05..0.05),
+                rng.random_range(-0.05..0.05),
+                0.0,
+            );
+            let err = l * z;
+            let mut e = observation(truth + Vector3::new(err.x, err.y, 0.0), cov);
+            let g = Vector3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                0.3,
+            );
+            let var: f64 = rng.random_range(0.2e-3f64..3e-3).powi(2);
+            let noise: f64 = rng.sample::<f64, _>(StandardNormal) * var.sqrt();
+            let c = PointConstraint {
+                g,
+                offset: -g.dot(&truth) + noise,
+                var,
+            };
+            e.condition_on(&c);
+            let d = (e.line.point - truth).xy();
+            let p = e.point_cov.fixed_view::<2, 2>(0, 0).into_owned();
+            m2 += d.dot(&(p.try_inverse().unwrap() * d));
+            before_sq += err.norm_squared();
+            after_sq += d.norm_squared();
+        }
+        let m2 = m2 / n as f64;
+        assert!(
+            (m2 - 2.0).abs() < 0.15,
+            "mean squared Mahalanobis distance {m2}"
+        );
+        assert!(after_sq < 0.9 * before_sq, "{after_sq} against {before_sq}");
     }
 }

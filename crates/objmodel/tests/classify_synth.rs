@@ -626,3 +626,91 @@ fn edge_points_are_never_known_better_than_the_contact_tolerance() {
     }
     assert!(n >= 15, "{n} edges");
 }
+
+/// A completed topple's edge lies on the support in the rest before and in the rest after, so
+/// the rests measure it: the difference of its heights there is zero within the support's
+/// flatness and level (`classify::parts::edge_on_support`). At 2 mm and 1° the taught edge is
+/// known along the direction the rests measure it to what the support allows, not to the
+/// fall's few noisy frames, and its error along that direction is not beyond its σ there (the
+/// σ holds the flatness and level of a real support, which the generator's exact plane and
+/// palm do not have: the errors are smaller). Direct topples in the world and topples on a
+/// palm (the palm's frame, whose support is the palm).
+#[test]
+fn the_rests_measure_a_completed_topples_edge() {
+    use objmodel::face::SUPPORT_LEVEL_SIGMA_RAD;
+    use objmodel::landing::SUPPORT_FLATNESS_M;
+    let noise = SynthNoise {
+        sigma_position: 2e-3,
+        sigma_rotation: 1f64.to_radians(),
+        ..SynthNoise::REAL
+    };
+    for instrumented in [false, true] {
+        let (mut z2, mut n) = (0.0, 0);
+        for seed in 0..40u64 {
+            let mut rng = StdRng::seed_from_u64(500 + seed);
+            let b = SynthBox::random(&mut rng);
+            let side = rng.random_range(0..4);
+            let d = if instrumented {
+                let rate = rng.random_range(0.12..0.3);
+                synth::instrumented_topple(&b, side, rate, &noise, 30.0, seed)
+            } else {
+                let p = ToppleParams {
+                    side,
+                    push_s: rng.random_range(0.8..2.5),
+                    ..Default::default()
+                };
+                synth::topple(&b, &p, &noise, 30.0, seed)
+            };
+            let c = observe(&d.demo).classification;
+            let truth = d.truth.edge.unwrap();
+            for s in &c.segments {
+                let (Some(e), Some(rb), Some(ra), Some(pb), Some(pa)) = (
+                    &s.edge,
+                    s.resting_rotation_before,
+                    s.resting_rotation_after,
+                    s.resting_place_before,
+                    s.resting_place_after,
+                ) else {
+                    continue;
+                };
+                let (nb, na) = (
+                    s.resting_frames_before as f64,
+                    s.resting_frames_after as f64,
+                );
+                if nb < 9.0 || na < 9.0 {
+                    continue;
+                }
+                // The rests' "up": world z, or the palm's normal (level at the start).
+                let g = (rb.to_rotation_matrix().matrix() - ra.to_rotation_matrix().matrix())
+                    .transpose()
+                    * Vector3::z();
+                let u = e.line.direction;
+                let g = g - u * u.dot(&g);
+                let along = g.normalize();
+                let sigma = along.dot(&(e.point_cov * along)).sqrt();
+                // What the support and the rests allow the heights to differ by (an upper
+                // bound of the rests' noise: the tag within 0.3 m of the edge).
+                let rests = (noise.sigma_position.powi(2) + (noise.sigma_rotation * 0.3).powi(2))
+                    * (1.0 / nb + 1.0 / na);
+                let level = SUPPORT_LEVEL_SIGMA_RAD * (pb.across - pa.across).norm();
+                let allowed = (2.0 * SUPPORT_FLATNESS_M.powi(2) + level.powi(2) + rests).sqrt();
+                assert!(
+                    sigma * g.norm() <= allowed * 1.001,
+                    "seed {seed} instrumented {instrumented}: σ {:.2} mm along the rests' \
+                     direction (|g| {:.2}), the support allows {:.2} mm",
+                    sigma * 1e3,
+                    g.norm(),
+                    allowed * 1e3
+                );
+                z2 += (along.dot(&(e.line.point - truth.point)) / sigma).powi(2);
+                n += 1;
+            }
+        }
+        let rms = (z2 / n as f64).sqrt();
+        assert!(n >= 30, "{n} completed topples with both rests");
+        assert!(
+            (0.3..1.5).contains(&rms),
+            "rms error/σ {rms:.2} over {n} edges"
+        );
+    }
+}

@@ -355,20 +355,26 @@ pub(super) fn analyse_segment(
         .as_ref()
         .zip(seg.down_ref)
         .and_then(|(e, d)| edge_off_level(e, &d, alpha));
-    // A completed topple in the world: the edge lies on the support in both rests; where the
-    // rests leave it there, what they do not explain is the edge's own error.
+    // A completed topple: the edge lies on the support (the table, or the palm in the palm's
+    // frame) in both rests; where the rests leave it there, what they do not explain is the
+    // edge's own error, and what they measure of it is used. "Down" in the poses' frame is
+    // the one the rests' places were measured along.
     let mut off_support = None;
+    let mut support_constraint = None;
     if let (Some(e), Some(down), Some(noise), true) = (
         edge.as_mut(),
-        config.gravity.and_then(|g| g.try_normalize(1e-12)),
+        seg.down_ref.map(|d| seg.ref_q_inv.inverse() * d),
         config.robust.noise,
-        completed && !instrumented,
+        completed,
     ) {
         match edge_on_support(e, seg, &-down, &noise, alpha) {
-            Ok(var) => {
+            Ok(Some((var, constraint))) => {
                 e.add_systematic_point_var(var);
                 topple_systematic_var += var;
+                e.condition_on(&constraint);
+                support_constraint = Some(constraint);
             }
+            Ok(None) => {}
             Err(why) => off_support = Some(why),
         }
     }
@@ -456,6 +462,7 @@ pub(super) fn analyse_segment(
         topple_best,
         topple_systematic_var,
         topple_systematic_direction_var,
+        support_constraint,
         t_start: seg.t_start,
         t_end: seg.t_end,
         kind,

@@ -161,6 +161,10 @@ pub struct Segment {
     /// split-half lack of fit of an axis that turned), added to the direction covariance.
     #[serde(skip)]
     pub(crate) topple_systematic_direction_var: f64,
+    /// What the rests before and after measure of the edge point (it is on the support in
+    /// both), applied to the segment's edge and to its topple's.
+    #[serde(skip)]
+    pub(crate) support_constraint: Option<crate::edge::PointConstraint>,
     /// Time of the first moving frame \[s\].
     pub t_start: f64,
     /// Time of the last moving frame \[s\].

@@ -117,6 +117,9 @@ pub(crate) fn group_topples(segments: &[Segment], alpha: f64, demo: &str) -> Vec
             };
             edge.add_systematic_point_var(largest(|s| s.topple_systematic_var));
             edge.add_systematic_direction_var(largest(|s| s.topple_systematic_direction_var));
+            idx.iter()
+                .filter_map(|&i| segments[i].support_constraint.as_ref())
+                .for_each(|c| edge.condition_on(c));
             Some(super::Topple {
                 resting_normal_before: segments[idx[0]].resting_normal_before,
                 // The face after only when the topple lasts to the rest (landing aside): after

@@ -290,6 +290,7 @@ impl PaperMethod {
                 topple_best: None,
                 topple_systematic_var: 0.0,
                 topple_systematic_direction_var: 0.0,
+                support_constraint: None,
                 t_start: t0,
                 t_end: t1,
                 kind,
