@@ -102,7 +102,12 @@ fn learnt_models_of_the_standard_boxes_meet_the_claims() {
                     );
                 }
             }
-            if let (Some(m), [_, Onset::Topples(r)]) = (o.mujoco, o.rapier) {
+            // The learnt body tips alike in both simulators, except within 1° of the friction
+            // angle, where which of a slide and a topple comes first, and when, is the contact
+            // model's (the rows the claims leave undecided, `table::claimed`).
+            if let (Some(m), [_, Onset::Topples(r)], false) =
+                (o.mujoco, o.rapier, o.at_friction_limit)
+            {
                 if let Onset::Topples(t) = m[1] {
                     assert!((t - r).abs() < 0.5f64.to_radians(), "{} {}", c.name, o.face);
                 }

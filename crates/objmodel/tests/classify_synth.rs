@@ -595,7 +595,10 @@ fn an_undetermined_phi_is_not_reported() {
 /// An edge's point is never known better than the contact's own wander (the model tolerance,
 /// `edge_tolerance_m`): a rounded edge or a soft contact moves the pivot along one trajectory
 /// per demonstration, which does not average down over its frames. On exact poses and at real
-/// noise, every topple's edge point has σ ≥ 0.3 mm along both axes normal to the line.
+/// noise, every topple's edge point has σ ≥ 0.3 mm along one axis normal to the line; along the
+/// other, the rests may measure it (`the_rests_measure_a_completed_topples_edge`), to the
+/// contact's wander in each rest: `2 tol²` over `|g|² ≤ 4`, which with the pivot's `tol²`
+/// leaves at least `tol² / 3`.
 #[test]
 fn edge_points_are_never_known_better_than_the_contact_tolerance() {
     let tol = Config::default().robust.edge_tolerance_m;
@@ -612,14 +615,26 @@ fn edge_points_are_never_known_better_than_the_contact_tolerance() {
                     a
                 }
                 .normalize();
-                for axis in [a, u.cross(&a)] {
-                    let var = axis.dot(&(e.point_cov * axis));
-                    assert!(
-                        var.sqrt() >= tol * (1.0 - 1e-9),
-                        "{}: σ {var:e}",
-                        d.demo.name
-                    );
-                }
+                let b = u.cross(&a);
+                let m = nalgebra::Matrix2::new(
+                    a.dot(&(e.point_cov * a)),
+                    a.dot(&(e.point_cov * b)),
+                    b.dot(&(e.point_cov * a)),
+                    b.dot(&(e.point_cov * b)),
+                );
+                let ev = m.symmetric_eigenvalues();
+                let (small, large) = (ev.min(), ev.max());
+                let name = &d.demo.name;
+                assert!(
+                    large >= tol * tol * (1.0 - 1e-9),
+                    "{name}: σ {:e}",
+                    large.sqrt()
+                );
+                assert!(
+                    small >= tol * tol / 3.0 * (1.0 - 1e-9),
+                    "{name}: σ {:e}",
+                    small.sqrt()
+                );
                 n += 1;
             }
         }
@@ -628,22 +643,21 @@ fn edge_points_are_never_known_better_than_the_contact_tolerance() {
 }
 
 /// A completed topple's edge lies on the support in the rest before and in the rest after, so
-/// the rests measure it: the difference of its heights there is zero within the support's
-/// flatness and level (`classify::parts::edge_on_support`). At 2 mm and 1° the taught edge is
-/// known along the direction the rests measure it to what the support allows, not to the
-/// fall's few noisy frames, and its error along that direction is not beyond its σ there (the
-/// σ holds the flatness and level of a real support, which the generator's exact plane and
-/// palm do not have: the errors are smaller). Direct topples in the world and topples on a
-/// palm (the palm's frame, whose support is the palm).
+/// the rests measure it: the difference of its heights there is zero within what the support
+/// and the contact allow between the places it touched (`classify::height_difference_var`),
+/// and the rests' noise. At 2 mm and 1° the taught edge is then known along the direction the
+/// rests measure it to that, not to the fall's few noisy frames, and its error along that
+/// direction is what its σ there says. Direct topples in the world and topples on a palm (the
+/// palm's frame, whose support is the palm).
 #[test]
 fn the_rests_measure_a_completed_topples_edge() {
-    use objmodel::face::SUPPORT_LEVEL_SIGMA_RAD;
-    use objmodel::landing::SUPPORT_FLATNESS_M;
+    use objmodel::classify::height_difference_var;
     let noise = SynthNoise {
         sigma_position: 2e-3,
         sigma_rotation: 1f64.to_radians(),
         ..SynthNoise::REAL
     };
+    let contact = Config::default().robust.edge_tolerance_m;
     for instrumented in [false, true] {
         let (mut z2, mut n) = (0.0, 0);
         for seed in 0..40u64 {
@@ -681,19 +695,26 @@ fn the_rests_measure_a_completed_topples_edge() {
                     continue;
                 }
                 // The rests' "up": world z, or the palm's normal (level at the start).
+                let up = Vector3::z();
                 let g = (rb.to_rotation_matrix().matrix() - ra.to_rotation_matrix().matrix())
                     .transpose()
-                    * Vector3::z();
+                    * up;
                 let u = e.line.direction;
                 let g = g - u * u.dot(&g);
                 let along = g.normalize();
                 let sigma = along.dot(&(e.point_cov * along)).sqrt();
-                // What the support and the rests allow the heights to differ by (an upper
-                // bound of the rests' noise: the tag within 0.3 m of the edge).
-                let rests = (noise.sigma_position.powi(2) + (noise.sigma_rotation * 0.3).powi(2))
+                // What the support, the contact and the rests allow the heights to differ by
+                // (the rests' noise as the learner estimated it, relative to the palm on a
+                // palm, with the tag within 0.3 m of the edge).
+                let at = |r: nalgebra::UnitQuaternion<f64>, place: objmodel::landing::RestPlace| {
+                    r * e.line.point + place.across + up * place.height
+                };
+                let moved = at(rb, pb) - at(ra, pa);
+                let distance = (moved - up * up.dot(&moved)).norm();
+                let est = c.noise.unwrap();
+                let rests = (est.sigma_position.powi(2) + (est.sigma_rotation * 0.3).powi(2))
                     * (1.0 / nb + 1.0 / na);
-                let level = SUPPORT_LEVEL_SIGMA_RAD * (pb.across - pa.across).norm();
-                let allowed = (2.0 * SUPPORT_FLATNESS_M.powi(2) + level.powi(2) + rests).sqrt();
+                let allowed = (height_difference_var(distance, contact) + rests).sqrt();
                 assert!(
                     sigma * g.norm() <= allowed * 1.001,
                     "seed {seed} instrumented {instrumented}: σ {:.2} mm along the rests' \
@@ -707,9 +728,10 @@ fn the_rests_measure_a_completed_topples_edge() {
             }
         }
         let rms = (z2 / n as f64).sqrt();
+        eprintln!("instrumented {instrumented}: {n} edges, rms error/σ along the rests' direction {rms:.2}");
         assert!(n >= 30, "{n} completed topples with both rests");
         assert!(
-            (0.3..1.5).contains(&rms),
+            (0.5..1.5).contains(&rms),
             "rms error/σ {rms:.2} over {n} edges"
         );
     }

@@ -367,7 +367,14 @@ pub(super) fn analyse_segment(
         config.robust.noise,
         completed,
     ) {
-        match edge_on_support(e, seg, &-down, &noise, alpha) {
+        match edge_on_support(
+            e,
+            seg,
+            &-down,
+            &noise,
+            config.robust.edge_tolerance_m,
+            alpha,
+        ) {
             Ok(Some((var, constraint))) => {
                 e.add_systematic_point_var(var);
                 topple_systematic_var += var;

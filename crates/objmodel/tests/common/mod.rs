@@ -12,7 +12,9 @@ pub fn data(file: &str) -> PathBuf {
         .join(file)
 }
 
-/// The true edge of the scene `name` (`{name}.truth.json`), in the tracked frame.
+/// The true edge of the scene `name` (`{name}.truth.json`), in the tracked frame. (Not every
+/// test binary that includes this module reads one.)
+#[allow(dead_code)]
 pub fn truth_edge(name: &str) -> Line {
     let truth: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(data(&format!("{name}.truth.json"))).unwrap(),
