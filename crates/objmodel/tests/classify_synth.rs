@@ -645,9 +645,11 @@ fn edge_points_are_never_known_better_than_the_contact_tolerance() {
 /// A completed topple's edge lies on the support in the rest before and in the rest after, so
 /// the rests measure it: the difference of its heights there is zero within what the support
 /// and the contact allow between the places it touched (`classify::height_difference_var`),
-/// and the rests' noise. At 2 mm and 1° the taught edge is then known along the direction the
-/// rests measure it to that, not to the fall's few noisy frames, and its error along that
-/// direction is what its σ there says. Direct topples in the world and topples on a palm (the
+/// and the rests' noise (each rest's mean known to the tracker's accuracy, taken as its
+/// per-frame noise). At 2 mm and 1° and 15 Hz, where a fall has a few frames, the taught edge
+/// is then known along the direction the rests measure it at least to that (without the
+/// measurement, the first demonstration fails this), and its error along that direction is
+/// not beyond what its σ there says. Direct topples in the world and topples on a palm (the
 /// palm's frame, whose support is the palm).
 #[test]
 fn the_rests_measure_a_completed_topples_edge() {
@@ -659,21 +661,21 @@ fn the_rests_measure_a_completed_topples_edge() {
     };
     let contact = Config::default().robust.edge_tolerance_m;
     for instrumented in [false, true] {
-        let (mut z2, mut n) = (0.0, 0);
+        let (mut z2, mut shrink, mut n) = (0.0, 0.0, 0);
         for seed in 0..40u64 {
             let mut rng = StdRng::seed_from_u64(500 + seed);
             let b = SynthBox::random(&mut rng);
             let side = rng.random_range(0..4);
             let d = if instrumented {
                 let rate = rng.random_range(0.12..0.3);
-                synth::instrumented_topple(&b, side, rate, &noise, 30.0, seed)
+                synth::instrumented_topple(&b, side, rate, &noise, 15.0, seed)
             } else {
                 let p = ToppleParams {
                     side,
                     push_s: rng.random_range(0.8..2.5),
                     ..Default::default()
                 };
-                synth::topple(&b, &p, &noise, 30.0, seed)
+                synth::topple(&b, &p, &noise, 15.0, seed)
             };
             let c = observe(&d.demo).classification;
             let truth = d.truth.edge.unwrap();
@@ -705,7 +707,8 @@ fn the_rests_measure_a_completed_topples_edge() {
                 let sigma = along.dot(&(e.point_cov * along)).sqrt();
                 // What the support, the contact and the rests allow the heights to differ by
                 // (the rests' noise as the learner estimated it, relative to the palm on a
-                // palm, with the tag within 0.3 m of the edge).
+                // palm, with the tag within 0.3 m of the edge; each rest's mean known to the
+                // tracker's accuracy, taken as its per-frame noise).
                 let at = |r: nalgebra::UnitQuaternion<f64>, place: objmodel::landing::RestPlace| {
                     r * e.line.point + place.across + up * place.height
                 };
@@ -713,7 +716,7 @@ fn the_rests_measure_a_completed_topples_edge() {
                 let distance = (moved - up * up.dot(&moved)).norm();
                 let est = c.noise.unwrap();
                 let rests = (est.sigma_position.powi(2) + (est.sigma_rotation * 0.3).powi(2))
-                    * (1.0 / nb + 1.0 / na);
+                    * (2.0 + 1.0 / nb + 1.0 / na);
                 let allowed = (height_difference_var(distance, contact) + rests).sqrt();
                 assert!(
                     sigma * g.norm() <= allowed * 1.001,
@@ -724,12 +727,14 @@ fn the_rests_measure_a_completed_topples_edge() {
                     allowed * 1e3
                 );
                 z2 += (along.dot(&(e.line.point - truth.point)) / sigma).powi(2);
+                shrink += sigma * g.norm() / allowed;
                 n += 1;
             }
         }
         let rms = (z2 / n as f64).sqrt();
-        eprintln!("instrumented {instrumented}: {n} edges, rms error/σ along the rests' direction {rms:.2}");
-        assert!(n >= 30, "{n} completed topples with both rests");
+        let shrink = shrink / n as f64;
+        eprintln!("instrumented {instrumented}: {n} edges, rms error/σ along the rests' direction {rms:.2}, mean σ|g| / allowed {shrink:.2}");
+        assert!(n >= 12, "{n} completed topples with both rests");
         assert!(
             (0.5..1.5).contains(&rms),
             "rms error/σ {rms:.2} over {n} edges"

@@ -81,10 +81,10 @@ pub const OFF_SUPPORT: &str = "it is not on the support in both rests";
 /// flatness of two places and the level across them let a MuJoCo push's edge 8.9 mm off pass.)
 ///
 /// Where the edge passes, the rests measure its point along one direction to about the
-/// contact's wander, far better than a short noisy fall does (at 2 mm and 1°, 30 Hz, an edge
+/// contact's wander and the tracker's accuracy, better than a short noisy fall does (at 2 mm and 1°, 30 Hz, an edge
 /// point's σ of 1.6 mm in the median): the caller conditions the edge on that measurement. On
 /// the standard data set at `noisy` this took the median edge error per demonstration from
-/// 1.53 to 0.89 mm (`objmodel calibrate`), with no error beyond 5σ.
+/// 1.53 to 1.32 mm (`objmodel calibrate`), with no error beyond 5σ.
 ///
 /// Returns why the edge is not taught when the difference fails χ²₁ at `alpha`. Otherwise
 /// the per-axis variance \[m²\] to add to the edge point's covariance (the difference's excess
@@ -124,7 +124,11 @@ pub(super) fn edge_on_support(
     let offset = before.height - after.height;
     let dh = offset + g.dot(&p);
     let per_frame = noise.sigma_position.powi(2) + (noise.sigma_rotation * p.norm()).powi(2);
-    let rests = per_frame * (1.0 / seg.rest_before_frames + 1.0 / seg.rest_after_frames);
+    // A rest's mean pose is known to the tracker's accuracy, not its precision: the part of its
+    // error that depends on the pose (a tag seen from another angle, a marker model) does not
+    // average down over the rest's frames, and the two rests hold the object turned. It is
+    // taken as large as the per-frame noise (the generators have none; a real tracker does).
+    let rests = per_frame * (2.0 + 1.0 / seg.rest_before_frames + 1.0 / seg.rest_after_frames);
     // Where the edge touched the support in each rest (not where the object's origin was: an
     // edge toppled about without slipping touches the same place in both).
     let at =
