@@ -66,11 +66,11 @@ pub const OFF_SUPPORT: &str = "it is not on the support in both rests";
 /// face rested on) and in the rest after (in the next face, which meets the first at the
 /// edge), and the support is the same: the edge's height along `up` must be the same in both
 /// rests, within what the support and the contact allow between the places it touched
-/// ([`height_difference_var`]), the rests' noise and the edge point's own covariance. A pushed box whose edge slides on the table as it turns (about
-/// 0.25 mm per degree in MuJoCo, under a finger that pushes it over) moves as a rotation about
-/// a line below the table: that line passes every test of a rotation about a fixed line (at
-/// 120 Hz and 0.1 mm, one 10.7 mm off at σ 0.7 mm), but its height differs between the rests
-/// by as much as it is off the edge. The support is the table in the world, and the palm in
+/// ([`height_difference_var`]), the rests' noise and the edge point's own covariance. A pushed
+/// box whose edge slides on the table as it turns (about 0.25 mm per degree in MuJoCo, under a
+/// finger that pushes it over) moves as a rotation about a line below the table: that line
+/// passes every test of a rotation about a fixed line (at 120 Hz and 0.1 mm, one 10.7 mm off at
+/// σ 0.7 mm), but its height differs between the rests by as much as it is off the edge. The support is the table in the world, and the palm in
 /// the palm's frame (`up` is then the palm's normal: the support's "down" taken where the palm
 /// was level).
 ///
@@ -81,8 +81,9 @@ pub const OFF_SUPPORT: &str = "it is not on the support in both rests";
 /// flatness of two places and the level across them let a MuJoCo push's edge 8.9 mm off pass.)
 ///
 /// Where the edge passes, the rests measure its point along one direction to about the
-/// contact's wander and the tracker's accuracy, better than a short noisy fall does (at 2 mm and 1°, 30 Hz, an edge
-/// point's σ of 1.6 mm in the median): the caller conditions the edge on that measurement. On
+/// contact's wander and the tracker's accuracy, often better than a short noisy fall does (at
+/// 2 mm and 1°, 30 Hz, an edge point's σ is 1.6 mm in the median): the caller conditions the
+/// edge on that measurement. On
 /// the standard data set at `noisy` this took the median edge error per demonstration from
 /// 1.53 to 1.32 mm (`objmodel calibrate`), with no error beyond 5σ.
 ///
