@@ -57,6 +57,12 @@ impl RestPlace {
             across: position - down * along,
         }
     }
+
+    /// The position this place was made from ([`RestPlace::new`]'s inverse), with the same
+    /// unit `down`.
+    pub fn position(&self, down: &Vector3<f64>) -> Vector3<f64> {
+        self.across - down * self.height
+    }
 }
 
 /// A rest reached after a free flight, with what the face test needs.
@@ -160,6 +166,24 @@ mod tests {
     use nalgebra::{Rotation3, Unit};
     use rand::{Rng, SeedableRng};
     use rand_distr::{Distribution, Normal};
+
+    /// A place's position is the one it was made from, for any down.
+    #[test]
+    fn a_place_gives_back_its_position() {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(3);
+        for _ in 0..100 {
+            let v = |rng: &mut rand::rngs::StdRng| {
+                Vector3::new(
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                )
+            };
+            let (x, down) = (v(&mut rng), v(&mut rng).normalize());
+            let place = RestPlace::new(&x, &down);
+            assert!((place.position(&down) - x).norm() < 1e-12, "{x} {down}");
+        }
+    }
 
     fn noise() -> NoiseModel {
         NoiseModel {

@@ -70,9 +70,9 @@ pub const OFF_SUPPORT: &str = "it is not on the support in both rests";
 /// box whose edge slides on the table as it turns (about 0.25 mm per degree in MuJoCo, under a
 /// finger that pushes it over) moves as a rotation about a line below the table: that line
 /// passes every test of a rotation about a fixed line (at 120 Hz and 0.1 mm, one 10.7 mm off at
-/// σ 0.7 mm), but its height differs between the rests by as much as it is off the edge. The support is the table in the world, and the palm in
-/// the palm's frame (`up` is then the palm's normal: the support's "down" taken where the palm
-/// was level).
+/// σ 0.7 mm), but its height differs between the rests by as much as it is off the edge. The
+/// support is the table in the world, and the palm in the palm's frame (`up` is then the
+/// palm's normal: the support's "down" taken where the palm was level).
 ///
 /// The heights are compared where the edge touched the support in each rest: an edge toppled
 /// about without slipping touches one place in both, and there only the contact's own wander
@@ -83,9 +83,9 @@ pub const OFF_SUPPORT: &str = "it is not on the support in both rests";
 /// Where the edge passes, the rests measure its point along one direction to about the
 /// contact's wander and the tracker's accuracy, often better than a short noisy fall does (at
 /// 2 mm and 1°, 30 Hz, an edge point's σ is 1.6 mm in the median): the caller conditions the
-/// edge on that measurement. On
-/// the standard data set at `noisy` this took the median edge error per demonstration from
-/// 1.53 to 1.32 mm (`objmodel calibrate`), with no error beyond 5σ.
+/// edge on that measurement. On the standard data set at `noisy` this took the median edge
+/// error per demonstration from 1.53 to 1.32 mm (`objmodel calibrate`), with no error beyond
+/// 5σ.
 ///
 /// Returns why the edge is not taught when the difference fails χ²₁ at `alpha`. Otherwise
 /// the per-axis variance \[m²\] to add to the edge point's covariance (the difference's excess
@@ -132,8 +132,7 @@ pub(super) fn edge_on_support(
     let rests = per_frame * (2.0 + 1.0 / seg.rest_before_frames + 1.0 / seg.rest_after_frames);
     // Where the edge touched the support in each rest (not where the object's origin was: an
     // edge toppled about without slipping touches the same place in both).
-    let at =
-        |place: &RestPlace, r: &nalgebra::Rotation3<f64>| r * p + place.across + up * place.height;
+    let at = |place: &RestPlace, r: &nalgebra::Rotation3<f64>| r * p + place.position(&-up);
     let moved = at(&before, &r_before) - at(&after, &r_after);
     let distance = (moved - up * up.dot(&moved)).norm();
     let explained = height_difference_var(distance, contact_m) + rests;
