@@ -210,6 +210,13 @@ def truth_kind_topple(kind):
     return kind in ("topple", "instrumented")
 
 
+def outward(truth):
+    """The unit outward bisector of the two box faces that meet at the truth edge (box frame)."""
+    p, u = np.array(truth["edge_point"]), np.array(truth["edge_direction"])
+    s = np.sign(p - u * (p @ u))
+    return s / np.linalg.norm(s)
+
+
 def write(path, a):
     with open(path, "w") as f:
         f.write("# timestamp tx ty tz qx qy qz qw  (MuJoCo probe)\n")
@@ -256,7 +263,9 @@ def main():
             with open(path[:-4] + ".truth.json", "w") as f:
                 json.dump({"kind": truth["kind"],
                            "edge": {"point": list(to_tag(truth["edge_point"])),
-                                    "direction": list(bt_r.inv().apply(truth["edge_direction"]))},
+                                    "direction": list(bt_r.inv().apply(truth["edge_direction"])),
+                                    # The outward bisector of the two faces that meet there.
+                                    "outward": list(bt_r.inv().apply(outward(truth)))},
                            "face_normal": list(bt_r.inv().apply(truth["face_normal"])),
                            "phi": truth["phi"]}, f)
             r = subprocess.run([BIN, "classify", path, "--json"], capture_output=True, text=True)

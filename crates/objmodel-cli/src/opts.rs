@@ -44,6 +44,10 @@ pub struct ClassifyOpts {
     /// Edge model tolerance [m]: how far a real contact line may wander (robust).
     #[arg(long, default_value_t = 3e-4)]
     pub edge_tolerance: f64,
+    /// Contact depth [m]: σ of the pivot's offset from the edge along its faces' bisector (a
+    /// rounded edge, a compliant contact), common to every topple about the edge (robust).
+    #[arg(long, default_value_t = 1e-3)]
+    pub contact_depth: f64,
     /// Direction model tolerance [rad] (robust; default 0.5°).
     #[arg(long, default_value_t = 0.5f64.to_radians())]
     pub edge_tolerance_angle: f64,
@@ -120,6 +124,7 @@ impl ClassifyOpts {
         c.robust.min_rest_s = self.min_rest;
         c.robust.edge_tolerance_m = self.edge_tolerance;
         c.robust.edge_tolerance_rad = self.edge_tolerance_angle;
+        c.robust.contact_depth_m = self.contact_depth;
         c.robust.max_axis_tilt_rad = self.max_axis_tilt;
         c.robust.noise = match (self.noise_position, self.noise_rotation) {
             (Some(p), Some(r)) => Some(objmodel::noise::NoiseModel {

@@ -144,6 +144,7 @@ pub(super) fn edge_observation(
         frames: s.n as u64,
         max_angle,
         chi2_per_dof: s.chi2(&mean) / (5.0 * s.n).max(1.0),
+        common_point_cov: nalgebra::Matrix3::zeros(),
     })
 }
 
@@ -384,6 +385,18 @@ pub(super) fn analyse_segment(
             Ok(None) => {}
             Err(why) => off_support = Some(why),
         }
+    }
+    // The contact's depth along the support's normal at the middle of the turn: the bisector
+    // of the faces rested on before and after (their outward normals are "down" in the
+    // object's frame in each rest), or down at the reference turned by half the rotation.
+    if let Some(e) = edge.as_mut() {
+        let bisector = match (completed, seg.rest_before, seg.rest_after) {
+            (true, Some(before), Some(after)) => Some(before + after),
+            _ => seg.down_ref.map(|down| {
+                nalgebra::Rotation3::new(e.line.direction * (-0.5 * e.max_angle)) * down
+            }),
+        };
+        e.add_contact_depth_var(bisector, config.robust.contact_depth_m.powi(2));
     }
     // Without gravity a rotation about a fixed line is a topple about an edge or a slide that
     // turns about a fixed point (both are planar motions about one line; gravity says whether

@@ -120,6 +120,15 @@ pub(crate) fn group_topples(segments: &[Segment], alpha: f64, demo: &str) -> Vec
             idx.iter()
                 .filter_map(|&i| segments[i].support_constraint.as_ref())
                 .for_each(|c| edge.condition_on(c));
+            // The contact's depth, as its segments measured it (the same contact in each).
+            let depth = idx
+                .iter()
+                .filter_map(|&i| segments[i].edge.as_ref())
+                .map(|e| e.common_point_cov)
+                .max_by(|a, b| a.trace().total_cmp(&b.trace()));
+            if let Some(depth) = depth {
+                edge.add_common_point_cov(&depth);
+            }
             Some(super::Topple {
                 resting_normal_before: segments[idx[0]].resting_normal_before,
                 // The face after only when the topple lasts to the rest (landing aside): after

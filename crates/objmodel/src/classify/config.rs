@@ -73,6 +73,12 @@ pub struct RobustConfig {
     pub edge_tolerance_m: f64,
     /// Model tolerance \[rad\] on directions (edge direction, plane normal).
     pub edge_tolerance_rad: f64,
+    /// Contact depth \[m\]: the standard deviation of the pivot's offset from the edge along
+    /// the bisector of its faces (a rounded edge, a compliant contact that sinks under the
+    /// weight), which no frame of a topple and neither rest shows; common to every topple
+    /// about the edge ([`crate::edge::EdgeObservation::add_contact_depth_var`]).
+    #[serde(default = "default_contact_depth_m")]
+    pub contact_depth_m: f64,
     /// Largest angle \[rad\] between a topple axis and the horizontal, and between a slide's
     /// plane normal and the vertical, when gravity is known.
     pub max_axis_tilt_rad: f64,
@@ -89,9 +95,16 @@ impl Default for RobustConfig {
             noise: None,
             edge_tolerance_m: 3e-4,
             edge_tolerance_rad: 0.5f64.to_radians(),
+            contact_depth_m: default_contact_depth_m(),
             max_axis_tilt_rad: 45f64.to_radians(),
         }
     }
+}
+
+/// 1 mm: about the depth of a soft contact under a box of a few hundred grams (MuJoCo's
+/// default contacts), and the radius of a cardboard box's edge.
+fn default_contact_depth_m() -> f64 {
+    1e-3
 }
 
 /// Everything that configures classification.

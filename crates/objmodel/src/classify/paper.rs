@@ -247,6 +247,7 @@ impl PaperMethod {
                 frames: self.votes.topple,
                 max_angle: theta,
                 chi2_per_dof: f64::NAN,
+                common_point_cov: nalgebra::Matrix3::zeros(),
             });
         let face = (kind == Kind::Slide && self.slide_frames > 0).then(|| {
             let mut n = self.normal_sum.normalize();

@@ -308,6 +308,7 @@ mod tests {
             frames: 30,
             max_angle: angle_deg.to_radians(),
             chi2_per_dof: 1.0,
+            common_point_cov: nalgebra::Matrix3::zeros(),
         }
     }
 

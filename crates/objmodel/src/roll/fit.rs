@@ -110,6 +110,7 @@ impl RollFit {
             frames: self.frames as u64,
             max_angle: self.turn.abs(),
             chi2_per_dof: self.chi2 / self.dof.max(1.0),
+            common_point_cov: nalgebra::Matrix3::zeros(),
         }
     }
 }

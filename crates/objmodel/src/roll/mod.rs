@@ -94,6 +94,8 @@ pub struct RollTest<'a> {
     pub flight: Option<&'a FlightTest>,
     /// How far \[m\] the contact may wander: it sets the turn a roll needs.
     pub tolerance_m: f64,
+    /// The contact's depth \[m\] ([`crate::classify::RobustConfig::contact_depth_m`]).
+    pub contact_depth_m: f64,
     /// Farthest \[m\] an edge of the object may lie from its origin
     /// ([`crate::classify::PaperThresholds::r_palm`], as for a topple's edge).
     pub r_max: f64,
@@ -160,10 +162,13 @@ impl RollTest<'_> {
     /// (`tolerance_m`, a rounded edge, a soft contact that lets the pivot sink) as the least
     /// error of its point: one roll is one path of the contact, so that error is common to its
     /// frames and does not average down over them, as for a topple's edge
-    /// (`classify::analysis`). The fit's own χ² tests are the tracking noise's alone.
+    /// (`classify::analysis`), and the contact's depth, common to every roll about the edge
+    /// (normal to the line: a roll's faces are not known). The fit's own χ² tests are the
+    /// tracking noise's alone.
     pub fn edge(&self, fit: &RollFit, demo: &str) -> EdgeObservation {
         let mut e = fit.edge(demo);
         e.add_systematic_point_var(self.tolerance_m.powi(2));
+        e.add_contact_depth_var(None, self.contact_depth_m.powi(2));
         e
     }
 

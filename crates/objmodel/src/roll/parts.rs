@@ -57,6 +57,7 @@ pub fn mark_rolls(c: &mut Classification, recording: &Recording, config: &Config
         down: Some(down),
         flight: Some(&flight),
         tolerance_m: robust.edge_tolerance_m,
+        contact_depth_m: robust.contact_depth_m,
         r_max: config.paper.r_palm,
         com: known_com(&c.parts),
     };

@@ -243,8 +243,8 @@ fn without_gravity_no_roll_is_found() {
 }
 
 /// The tests' roll test under `noise`: the tracking noise alone in the χ², α = 10⁻³, the
-/// contact's 0.3 mm, edges within 0.5 m, no known centre of mass; with gravity along −z and
-/// its flight test when `flight` is given.
+/// contact's 0.3 mm (no depth), edges within 0.5 m, no known centre of mass; with gravity
+/// along −z and its flight test when `flight` is given.
 fn roll_test(noise: NoiseModel, flight: Option<&FlightTest>) -> RollTest<'_> {
     RollTest {
         noise: RollNoise {
@@ -256,6 +256,7 @@ fn roll_test(noise: NoiseModel, flight: Option<&FlightTest>) -> RollTest<'_> {
         down: flight.map(|_| -Vector3::z()),
         flight,
         tolerance_m: 3e-4,
+        contact_depth_m: 0.0,
         r_max: 0.5,
         com: None,
     }

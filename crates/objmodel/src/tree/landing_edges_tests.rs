@@ -91,6 +91,7 @@ fn observe(
         frames: 200,
         max_angle: 0.5,
         chi2_per_dof: 1.0,
+        common_point_cov: nalgebra::Matrix3::zeros(),
     }
 }
 
