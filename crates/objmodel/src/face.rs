@@ -52,6 +52,11 @@ pub struct FaceObservation {
     pub offset: Option<f64>,
     /// Variance of the offset \[m²\], when known.
     pub offset_var: Option<f64>,
+    /// The part of `offset_var` \[m²\] common to every observation of the face's offset
+    /// through one edge: the contact's depth ([`EdgeObservation::common_point_cov`]), which
+    /// does not average down when they are fused.
+    #[serde(default)]
+    pub offset_common_var: f64,
     /// Whether the normal's sign (outward) is known.
     pub sign_known: bool,
     /// Where it comes from.
@@ -74,6 +79,7 @@ impl FaceObservation {
             normal_cov: p * (edge.direction_cov + Matrix3::identity() * level) * p,
             offset: Some(n.dot(&edge.line.point)),
             offset_var: Some(n.dot(&(edge.point_cov * n))),
+            offset_common_var: n.dot(&(edge.common_point_cov * n)),
             sign_known: true,
             source: FaceSource::Rest,
             frames: edge.frames,
@@ -93,6 +99,7 @@ impl FaceObservation {
             normal_cov: p * SUPPORT_LEVEL_SIGMA_RAD * SUPPORT_LEVEL_SIGMA_RAD,
             offset: None,
             offset_var: None,
+            offset_common_var: 0.0,
             sign_known: true,
             source: FaceSource::Rest,
             frames,

@@ -79,7 +79,10 @@ fn the_contact_depth_is_in_the_sigma_along_the_bisector() {
          {out_without:.2}), across it {across_with:.2} ({across_without:.2})"
     );
     assert_eq!(n, 20, "every push teaches its edge");
-    assert!(out_with < 1.5, "along the bisector: rms error/σ {out_with:.2}");
+    assert!(
+        out_with < 1.5,
+        "along the bisector: rms error/σ {out_with:.2}"
+    );
     assert!(out_without > 1.6, "without the depth: {out_without:.2}");
     assert!(across_with < 1.0, "across the bisector: {across_with:.2}");
     assert!(

@@ -451,6 +451,7 @@ pub(super) fn analyse_segment(
             normal_cov: s.normal_covariance(&n) + across * systematic,
             offset: None,
             offset_var: None,
+            offset_common_var: 0.0,
             sign_known: seg.down_ref.is_some(),
             source: FaceSource::Slide,
             frames: s.n as u64,

@@ -260,6 +260,7 @@ impl PaperMethod {
                 normal_cov: Matrix3::zeros(),
                 offset: None,
                 offset_var: None,
+                offset_common_var: 0.0,
                 sign_known: down.is_some(),
                 source: FaceSource::Slide,
                 frames: self.slide_frames,

@@ -133,7 +133,11 @@ impl Edge {
 /// [`EdgeObservation::add_contact_depth_var`]), which does not average down, added back as
 /// the observations' mean.
 fn fuse_points(observations: &[EdgeObservation], u: &Vector3<f64>) -> (Vector3<f64>, Matrix3<f64>) {
-    let a = if u.x.abs() < 0.9 { Vector3::x() } else { Vector3::y() };
+    let a = if u.x.abs() < 0.9 {
+        Vector3::x()
+    } else {
+        Vector3::y()
+    };
     let e1 = u.cross(&a).normalize();
     let basis = Matrix3x2::from_columns(&[e1, u.cross(&e1)]);
     let normal_plane = Matrix3::identity() - u * u.transpose();
@@ -176,7 +180,11 @@ mod tests {
     use rand::{rngs::StdRng, Rng, SeedableRng};
     use rand_distr::StandardNormal;
 
-    fn observation(point: Vector3<f64>, own: Matrix3<f64>, common: Matrix3<f64>) -> EdgeObservation {
+    fn observation(
+        point: Vector3<f64>,
+        own: Matrix3<f64>,
+        common: Matrix3<f64>,
+    ) -> EdgeObservation {
         EdgeObservation {
             demo: "t".into(),
             line: crate::geometry::Line {
@@ -222,10 +230,22 @@ mod tests {
         let (wa, wb) = (1.0 / (a + 1e-12), 1.0 / (b + 1e-12));
         let x = (wa * 1e-3 + wb * 4e-3) / (wa + wb);
         let y = (wb * 5e-3 + wa * 2e-3) / (wa + wb);
-        assert!((e.point.x - x).abs() < 1e-12 && (e.point.y - y).abs() < 1e-12, "{}", e.point);
+        assert!(
+            (e.point.x - x).abs() < 1e-12 && (e.point.y - y).abs() < 1e-12,
+            "{}",
+            e.point
+        );
         let var = 1.0 / (wa + wb);
-        assert!((e.point_cov[0][0] - var).abs() < 1e-3 * var, "{:?}", e.point_cov);
-        assert!((e.point_cov[1][1] - var).abs() < 1e-3 * var, "{:?}", e.point_cov);
+        assert!(
+            (e.point_cov[0][0] - var).abs() < 1e-3 * var,
+            "{:?}",
+            e.point_cov
+        );
+        assert!(
+            (e.point_cov[1][1] - var).abs() < 1e-3 * var,
+            "{:?}",
+            e.point_cov
+        );
     }
 
     /// Topples about one edge share its contact's depth: an offset along one direction common
@@ -250,9 +270,15 @@ mod tests {
                 let l = nalgebra::Matrix2::from_fn(|_, _| normal(&mut rng) * 5e-4);
                 let own2 = l * l.transpose() + nalgebra::Matrix2::identity() * 1e-8;
                 let own = Matrix3::new(
-                    own2[(0, 0)], own2[(0, 1)], 0.0,
-                    own2[(1, 0)], own2[(1, 1)], 0.0,
-                    0.0, 0.0, 0.0,
+                    own2[(0, 0)],
+                    own2[(0, 1)],
+                    0.0,
+                    own2[(1, 0)],
+                    own2[(1, 1)],
+                    0.0,
+                    0.0,
+                    0.0,
+                    0.0,
                 );
                 let chol = own2.cholesky().unwrap().l();
                 let e2 = chol * nalgebra::Vector2::new(normal(&mut rng), normal(&mut rng));
@@ -269,7 +295,10 @@ mod tests {
         }
         let (honest, naive) = (honest / trials as f64, naive / trials as f64);
         eprintln!("mean squared Mahalanobis distance {honest:.3}, counted independent {naive:.3}");
-        assert!((honest - 2.0).abs() < 0.15, "mean squared Mahalanobis distance {honest:.2}");
+        assert!(
+            (honest - 2.0).abs() < 0.15,
+            "mean squared Mahalanobis distance {honest:.2}"
+        );
         assert!(naive > 2.6, "counted as independent: {naive:.2}");
     }
 }

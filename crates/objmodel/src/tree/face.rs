@@ -73,6 +73,7 @@ impl Face {
         let (mut sum, mut wsum, mut wsum2) = (Vector3::zeros(), 0.0, 0.0);
         // The known offsets, signed as the reference normal, with their weights.
         let mut offsets: Vec<(f64, f64)> = Vec::new();
+        let mut common_offset: Vec<f64> = Vec::new();
         let mut evidence = Evidence::default();
         for o in &self.observations {
             let w = 1.0 / (o.sigma_normal().powi(2) + 1e-12);
@@ -90,7 +91,11 @@ impl Face {
                 } else {
                     d
                 };
-                offsets.push((d, 1.0 / (v + 1e-12)));
+                // Weighed by its own variance; the part common to the face's observations
+                // (the contact's depth of the edge it came through) is added back below.
+                let own = (v - o.offset_common_var).max(0.0);
+                offsets.push((d, 1.0 / (own + 1e-12)));
+                common_offset.push(o.offset_common_var);
             }
             match o.source {
                 FaceSource::Slide => evidence.slide += 1,
@@ -118,9 +123,10 @@ impl Face {
         let off_w: f64 = offsets.iter().map(|(_, w)| w).sum();
         self.offset =
             (off_w > 0.0).then(|| offsets.iter().map(|(d, w)| d * w).sum::<f64>() / off_w);
+        let common = common_offset.iter().sum::<f64>() / common_offset.len().max(1) as f64;
         self.offset_sigma_m = self
             .offset
-            .map(|mean| (birge_ratio(&offsets, mean) / off_w).sqrt());
+            .map(|mean| (birge_ratio(&offsets, mean) / off_w + common).sqrt());
         self.support = self.observations.iter().map(|o| o.demo.clone()).collect();
         self.support.sort();
         self.support.dedup();
@@ -222,6 +228,7 @@ mod tests {
             normal_cov: Matrix3::identity() * 1e-6,
             offset: Some(offset),
             offset_var: Some(sigma * sigma),
+            offset_common_var: 0.0,
             sign_known: true,
             source: FaceSource::Rest,
             frames: 30,
@@ -233,6 +240,30 @@ mod tests {
         f.observations = obs;
         f.refit();
         f
+    }
+
+    /// Offsets taught through edges share those edges' contact depth: each one's own variance
+    /// weighs it, and the common part is added once to the mean's, not divided among them.
+    /// Two agreeing offsets of own σ 0.2 mm and common σ 1 mm: σ² = 0.2²/2 + 1² mm².
+    #[test]
+    fn a_common_offset_error_does_not_average_down() {
+        let (own, common) = (2e-4f64, 1e-3f64);
+        let through_edge = |demo: &str, offset: f64| FaceObservation {
+            offset_var: Some(own * own + common * common),
+            offset_common_var: common * common,
+            ..rest(demo, offset, 0.0)
+        };
+        let f = fused(vec![
+            through_edge("a", 0.05),
+            through_edge("b", 0.05 + 1e-4),
+        ]);
+        let expected = (own * own / 2.0 + common * common).sqrt();
+        let sigma = f.offset_sigma_m.unwrap();
+        assert!(
+            (sigma - expected).abs() < 1e-3 * expected,
+            "{sigma} against {expected}"
+        );
+        assert!((f.offset.unwrap() - 0.05005).abs() < 1e-12);
     }
 
     /// Offsets that agree within their sigmas keep the propagated sigma of their mean, and over
