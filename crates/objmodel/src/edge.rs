@@ -73,8 +73,9 @@ impl EdgeObservation {
     }
 
     /// Add the contact's depth, a variance `var` \[m²\] along `toward` (normal to the line;
-    /// where `None`, along both axes normal to it), to the point's covariance, as an error
-    /// common to every observation of the edge ([`Self::common_point_cov`]).
+    /// where `None`, along a direction normal to it that is not known: `var / 2` on each axis,
+    /// the same total), to the point's covariance, as an error common to every observation of
+    /// the edge ([`Self::common_point_cov`]).
     ///
     /// The line an object turns about is where its contact is, not where its faces meet: a
     /// rounded edge puts the pivot inside the object, a compliant contact lets the edge sink
@@ -91,7 +92,7 @@ impl EdgeObservation {
         let normal_plane = Matrix3::identity() - u * u.transpose();
         let cov = match toward.map(|b| normal_plane * b).filter(|b| b.norm() > 1e-9) {
             Some(b) => b.normalize() * b.normalize().transpose() * var,
-            None => normal_plane * var,
+            None => normal_plane * (0.5 * var),
         };
         self.point_cov += cov;
         self.common_point_cov += cov;

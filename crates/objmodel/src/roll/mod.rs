@@ -163,8 +163,8 @@ impl RollTest<'_> {
     /// error of its point: one roll is one path of the contact, so that error is common to its
     /// frames and does not average down over them, as for a topple's edge
     /// (`classify::analysis`), and the contact's depth, common to every roll about the edge
-    /// (normal to the line: a roll's faces are not known). The fit's own χ² tests are the
-    /// tracking noise's alone.
+    /// (along a direction normal to the line that is not known: a roll's faces are not). The
+    /// fit's own χ² tests are the tracking noise's alone.
     pub fn edge(&self, fit: &RollFit, demo: &str) -> EdgeObservation {
         let mut e = fit.edge(demo);
         e.add_systematic_point_var(self.tolerance_m.powi(2));
