@@ -10,7 +10,7 @@ use pyo3::types::PyDict;
 
 /// The keyword arguments accepted besides `gravity` and `method`: the command line's options
 /// of the same names (`objmodel classify --help`).
-pub const OPTIONS: [&str; 13] = [
+pub const OPTIONS: [&str; 14] = [
     "alpha",
     "outlier_alpha",
     "rest_window",
@@ -19,6 +19,7 @@ pub const OPTIONS: [&str; 13] = [
     "noise_rotation",
     "edge_tolerance",
     "edge_tolerance_angle",
+    "contact_depth",
     "max_axis_tilt",
     "r_palm",
     "pitch_threshold",
@@ -138,6 +139,9 @@ fn set(c: &mut Config, k: &str, x: f64, noise: &mut (Option<f64>, Option<f64>)) 
     if positive.contains(&k) && !(x > 0.0 && x.is_finite()) {
         return Err(err(format!("{k} must be positive, got {x}")));
     }
+    if k == "contact_depth" && !(x >= 0.0 && x.is_finite()) {
+        return Err(err(format!("{k} must be zero or positive, got {x}")));
+    }
     match k {
         "alpha" => c.robust.alpha = x,
         "outlier_alpha" => c.robust.outlier_alpha = x,
@@ -147,6 +151,7 @@ fn set(c: &mut Config, k: &str, x: f64, noise: &mut (Option<f64>, Option<f64>)) 
         "noise_rotation" => noise.1 = Some(x),
         "edge_tolerance" => c.robust.edge_tolerance_m = x,
         "edge_tolerance_angle" => c.robust.edge_tolerance_rad = x,
+        "contact_depth" => c.robust.contact_depth_m = x,
         "max_axis_tilt" => c.robust.max_axis_tilt_rad = x,
         "r_palm" => c.paper.r_palm = x,
         "pitch_threshold" => c.paper.pitch = x,
