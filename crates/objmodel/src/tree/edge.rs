@@ -133,13 +133,7 @@ impl Edge {
 /// [`EdgeObservation::add_contact_depth_var`]), which does not average down, added back as
 /// the observations' mean.
 fn fuse_points(observations: &[EdgeObservation], u: &Vector3<f64>) -> (Vector3<f64>, Matrix3<f64>) {
-    let a = if u.x.abs() < 0.9 {
-        Vector3::x()
-    } else {
-        Vector3::y()
-    };
-    let e1 = u.cross(&a).normalize();
-    let basis = Matrix3x2::from_columns(&[e1, u.cross(&e1)]);
+    let basis = Matrix3x2::from_columns(&crate::geometry::normal_axes(u));
     let normal_plane = Matrix3::identity() - u * u.transpose();
     // A point is never known better than a micrometre along any axis (an exact constraint
     // would make the information infinite).
