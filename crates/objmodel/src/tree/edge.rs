@@ -108,6 +108,13 @@ impl Edge {
         self.between_sigma_m = Some(sigma);
     }
 
+    /// The part of [`Edge::point_cov`] common to its observations, which their number does not
+    /// average down: the contact's depth ([`EdgeObservation::common_point_cov`]), their mean
+    /// normal to the line.
+    pub(super) fn common_point_cov(&self) -> Matrix3<f64> {
+        common_part(&self.observations, &self.direction)
+    }
+
     /// χ² (4 dof) of an observation against this edge.
     pub(super) fn match_chi2(&self, o: &EdgeObservation) -> f64 {
         let u = self.direction;
@@ -134,12 +141,10 @@ impl Edge {
 /// the observations' mean.
 fn fuse_points(observations: &[EdgeObservation], u: &Vector3<f64>) -> (Vector3<f64>, Matrix3<f64>) {
     let basis = Matrix3x2::from_columns(&crate::geometry::normal_axes(u));
-    let normal_plane = Matrix3::identity() - u * u.transpose();
     // A point is never known better than a micrometre along any axis (an exact constraint
     // would make the information infinite).
     let floor = Matrix2::identity() * 1e-12;
     let (mut info, mut rhs) = (Matrix2::zeros(), Vector2::zeros());
-    let mut common = Matrix3::zeros();
     let weighted: Vec<(Matrix2<f64>, Vector2<f64>)> = observations
         .iter()
         .map(|o| {
@@ -148,7 +153,6 @@ fn fuse_points(observations: &[EdgeObservation], u: &Vector3<f64>) -> (Vector3<f
             let x = basis.transpose() * o.line.point;
             info += w;
             rhs += w * x;
-            common += normal_plane * o.common_point_cov * normal_plane;
             (w, x)
         })
         .collect();
@@ -164,8 +168,19 @@ fn fuse_points(observations: &[EdgeObservation], u: &Vector3<f64>) -> (Vector3<f
     } else {
         1.0
     };
-    let cov = basis * own_cov * basis.transpose() * birge + common / n as f64;
+    let cov = basis * own_cov * basis.transpose() * birge + common_part(observations, u);
     (basis * mean, (cov + cov.transpose()) * 0.5)
+}
+
+/// The mean of the observations' common covariances ([`EdgeObservation::common_point_cov`]),
+/// normal to `u`.
+fn common_part(observations: &[EdgeObservation], u: &Vector3<f64>) -> Matrix3<f64> {
+    let normal_plane = Matrix3::identity() - u * u.transpose();
+    let sum: Matrix3<f64> = observations
+        .iter()
+        .map(|o| normal_plane * o.common_point_cov * normal_plane)
+        .sum();
+    sum / observations.len().max(1) as f64
 }
 
 #[cfg(test)]
