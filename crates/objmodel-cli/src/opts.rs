@@ -118,6 +118,14 @@ impl ClassifyOpts {
                 bail!("{name} must be positive, got {v}");
             }
         }
+        for (name, v) in [
+            ("--edge-tolerance", self.edge_tolerance),
+            ("--contact-depth", self.contact_depth),
+        ] {
+            if !(v >= 0.0 && v.is_finite()) {
+                bail!("{name} must be zero or positive (metres), got {v}");
+            }
+        }
         c.robust.alpha = self.alpha;
         c.robust.outlier_alpha = self.outlier_alpha;
         c.robust.rest_window_s = self.rest_window;

@@ -301,6 +301,32 @@ fn help_classify_mentions_gravity() {
     );
 }
 
+/// A contact's depth or tolerance is a length: a negative one is refused, naming the option;
+/// zero (a rigid contact, a sharp edge) is accepted.
+#[test]
+fn a_negative_contact_depth_is_a_clear_error() {
+    let d = TempDir::new("contact_depth");
+    let demo = d.write("demo.tum", GOOD);
+    for option in ["--contact-depth", "--edge-tolerance"] {
+        let r = run(&["classify".to_string(), s(&demo), format!("{option}=-0.001")]).fails();
+        r.check(
+            r.stderr.contains(option) && r.stderr.contains("zero or positive"),
+            "a negative length should be refused, naming the option",
+        );
+    }
+    let r = run(&[
+        "classify".to_string(),
+        s(&demo),
+        "--contact-depth".into(),
+        "0".into(),
+    ]);
+    // (the file is read: it holds a rest only, which is its own error)
+    r.check(
+        !r.stderr.contains("--contact-depth"),
+        "a contact depth of zero is accepted",
+    );
+}
+
 #[test]
 fn bad_gravity_is_a_clear_error() {
     let d = TempDir::new("gravity");
