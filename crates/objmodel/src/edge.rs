@@ -94,8 +94,7 @@ impl EdgeObservation {
             Some(b) => b.normalize() * b.normalize().transpose() * var,
             None => normal_plane * (0.5 * var),
         };
-        self.point_cov += cov;
-        self.common_point_cov += cov;
+        self.add_common_point_cov(&cov);
     }
 
     /// Add a common covariance \[m²\] (another observation's [`Self::common_point_cov`], of
