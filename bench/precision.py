@@ -155,8 +155,8 @@ def measurable_rolls(truths, rates):
 
 
 class Data:
-    def __init__(self, root, binary):
-        self.root, self.bin = root, binary
+    def __init__(self, root, binary, noise_given=False):
+        self.root, self.bin, self.noise_given = root, binary, noise_given
         self.manifest = json.load(open(os.path.join(root, "manifest.json")))
         self._truth, self._classify = {}, {}
 
@@ -169,6 +169,14 @@ class Data:
         args = []
         for d in demos:
             args.append(os.path.join(self.root, d["tum"]))
+        if self.noise_given:
+            # The simulator's noise, when the demonstrations share one (not the mocap level's
+            # per-file noise); zero at `clean`, where the learner's floors then stand.
+            noises = {(self.truth(d)["noise"]["sigma_position"], self.truth(d)["noise"]["sigma_rotation"])
+                      for d in demos}
+            if len(noises) == 1:
+                sp, sr = noises.pop()
+                args += ["--noise-position", str(max(sp, 5e-5)), "--noise-rotation", str(max(sr, 2e-4))]
         out = subprocess.run([self.bin, "learn", *args, "--json", "--quiet"], capture_output=True, text=True)
         if out.returncode != 0:
             raise SystemExit(f"objmodel learn failed on {len(args)} files: {out.stderr.strip()}")
@@ -269,8 +277,10 @@ def main():
     ap.add_argument("--bin", default="target/release/objmodel")
     ap.add_argument("--tables", default="box,scene,all", help="comma list of box, scene, all")
     ap.add_argument("--why", type=int, default=40, help="wrong features to explain (0: none)")
+    ap.add_argument("--noise", choices=["given"], help="given: pass the simulator's noise to "
+                    "learn where the demonstrations learnt together share one (not at mocap)")
     a = ap.parse_args()
-    data = Data(a.data, a.bin)
+    data = Data(a.data, a.bin, a.noise == "given")
     demos = data.manifest["demos"]
     by_name = {d["name"]: d for d in demos}
     tables = a.tables.split(",")

@@ -68,6 +68,8 @@ def main():
     ap.add_argument("--bin", default="target/release/objmodel")
     ap.add_argument("--scene", default="toss")
     ap.add_argument("--list", action="store_true", help="print every roll and missed roll")
+    ap.add_argument("--noise", choices=["given"], help="given: pass each level's true noise "
+                    "(the manifest's noise_position / noise_rotation) to classify")
     a = ap.parse_args()
     manifest = json.load(open(os.path.join(a.data, "manifest.json")))
     demos = [d for d in manifest["demos"] if d["scene"] == a.scene]
@@ -78,8 +80,13 @@ def main():
         rate = d.get("rate_hz") or truth.get("rate_hz") or 30.0
         faces, edges = box_features(truth)
         ids = [x[0] for x in edges]
-        out = subprocess.run([a.bin, "classify", os.path.join(a.data, d["tum"]), "--json"],
-                             capture_output=True, text=True)
+        cmd = [a.bin, "classify", os.path.join(a.data, d["tum"]), "--json"]
+        if a.noise == "given":
+            # The simulator's noise (zero at `clean`: the learner's floors then stand).
+            n = truth["noise"]
+            cmd += ["--noise-position", str(max(n["sigma_position"], 5e-5)),
+                    "--noise-rotation", str(max(n["sigma_rotation"], 2e-4))]
+        out = subprocess.run(cmd, capture_output=True, text=True)
         if out.returncode != 0:
             print(f"{d['name']}: classify failed: {out.stderr.strip()}", file=sys.stderr)
             continue

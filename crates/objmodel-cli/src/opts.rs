@@ -41,6 +41,15 @@ pub struct ClassifyOpts {
     /// Tracking orientation noise [rad] per axis; estimated if not given (robust).
     #[arg(long)]
     pub noise_rotation: Option<f64>,
+    /// The palm tracker's position noise [m] per axis, with --noise-position given, for an
+    /// instrumented demonstration; default: the object's (one tracker for both). A palm posed
+    /// by the robot's joint encoders may be far better (robust).
+    #[arg(long)]
+    pub palm_noise_position: Option<f64>,
+    /// The palm tracker's orientation noise [rad] per axis, with --noise-rotation given;
+    /// default: the object's (robust).
+    #[arg(long)]
+    pub palm_noise_rotation: Option<f64>,
     /// Edge model tolerance [m]: how far a real contact line may wander (robust).
     #[arg(long, default_value_t = 3e-4)]
     pub edge_tolerance: f64,
@@ -134,14 +143,24 @@ impl ClassifyOpts {
         c.robust.edge_tolerance_rad = self.edge_tolerance_angle;
         c.robust.contact_depth_m = self.contact_depth;
         c.robust.max_axis_tilt_rad = self.max_axis_tilt;
-        c.robust.noise = match (self.noise_position, self.noise_rotation) {
-            (Some(p), Some(r)) => Some(objmodel::noise::NoiseModel {
-                sigma_position: p,
-                sigma_rotation: r,
-            }),
-            (None, None) => None,
-            _ => bail!("give both --noise-position and --noise-rotation, or neither"),
-        };
+        use objmodel::noise::NoiseModel;
+        c.robust.noise = NoiseModel::from_options(
+            ("--noise-position", self.noise_position),
+            ("--noise-rotation", self.noise_rotation),
+        )
+        .map_err(anyhow::Error::msg)?;
+        c.robust.palm_noise = NoiseModel::from_options(
+            ("--palm-noise-position", self.palm_noise_position),
+            ("--palm-noise-rotation", self.palm_noise_rotation),
+        )
+        .map_err(anyhow::Error::msg)?;
+        if c.robust.palm_noise.is_some() && c.robust.noise.is_none() {
+            bail!(
+                "--palm-noise-position and --palm-noise-rotation need --noise-position and \
+                 --noise-rotation (without them the noise of the motion relative to the palm \
+                 is estimated from it)"
+            );
+        }
         c.paper.r_palm = self.r_palm;
         c.paper.pitch = self.pitch_threshold;
         c.paper.axis_angle = self.axis_angle_threshold;

@@ -328,6 +328,41 @@ fn a_negative_contact_depth_is_a_clear_error() {
 }
 
 #[test]
+fn a_bad_tracking_noise_is_a_clear_error() {
+    let d = TempDir::new("noise");
+    let demo = d.write("demo.tum", GOOD);
+    let classify = |extra: &[&str]| {
+        let mut args = vec!["classify".to_string(), s(&demo)];
+        args.extend(extra.iter().map(|a| a.to_string()));
+        run(&args).fails()
+    };
+    for (option, other) in [
+        ("--noise-position", "--noise-rotation"),
+        ("--noise-rotation", "--noise-position"),
+    ] {
+        let r = classify(&[&format!("{other}=0.001"), &format!("{option}=-0.001")]);
+        r.check(
+            r.stderr.contains(option) && r.stderr.contains("zero or positive"),
+            "a negative noise should be refused, naming the option",
+        );
+    }
+    let r = classify(&[
+        "--noise-position=0.001",
+        "--noise-rotation=0.01",
+        "--palm-noise-position=0.001",
+    ]);
+    r.check(
+        r.stderr.contains("--palm-noise-rotation") && r.stderr.contains("give both"),
+        "half a palm noise should be refused, naming the missing option",
+    );
+    let r = classify(&["--palm-noise-position=0.001", "--palm-noise-rotation=0.01"]);
+    r.check(
+        r.stderr.contains("--noise-position"),
+        "a palm noise without the object's should be refused, naming what it needs",
+    );
+}
+
+#[test]
 fn bad_gravity_is_a_clear_error() {
     let d = TempDir::new("gravity");
     let demo = d.write("demo.tum", GOOD);

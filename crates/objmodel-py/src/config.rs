@@ -10,13 +10,15 @@ use pyo3::types::PyDict;
 
 /// The keyword arguments accepted besides `gravity` and `method`: the command line's options
 /// of the same names (`objmodel classify --help`).
-pub const OPTIONS: [&str; 14] = [
+pub const OPTIONS: [&str; 16] = [
     "alpha",
     "outlier_alpha",
     "rest_window",
     "min_rest",
     "noise_position",
     "noise_rotation",
+    "palm_noise_position",
+    "palm_noise_rotation",
     "edge_tolerance",
     "edge_tolerance_angle",
     "contact_depth",
@@ -92,7 +94,7 @@ pub fn config(
         ..Config::default()
     };
     c.gravity = gravity.0;
-    let mut noise = (None, None);
+    let mut noise = [None; 4];
     if let Some(kw) = kwargs {
         for (k, v) in kw.iter() {
             let k: String = k.extract()?;
@@ -108,23 +110,26 @@ pub fn config(
             set(&mut c, &k, x, &mut noise)?;
         }
     }
-    c.robust.noise = match noise {
-        (Some(p), Some(r)) => Some(NoiseModel {
-            sigma_position: p,
-            sigma_rotation: r,
-        }),
-        (None, None) => None,
-        _ => {
-            return Err(err(
-                "give both noise_position and noise_rotation, or neither",
-            ))
-        }
-    };
+    c.robust.noise =
+        NoiseModel::from_options(("noise_position", noise[0]), ("noise_rotation", noise[1]))
+            .map_err(err)?;
+    c.robust.palm_noise = NoiseModel::from_options(
+        ("palm_noise_position", noise[2]),
+        ("palm_noise_rotation", noise[3]),
+    )
+    .map_err(err)?;
+    if c.robust.palm_noise.is_some() && c.robust.noise.is_none() {
+        return Err(err(
+            "palm_noise_position and palm_noise_rotation need noise_position and \
+             noise_rotation (without them the noise of the motion relative to the palm is \
+             estimated from it)",
+        ));
+    }
     Ok(c)
 }
 
 /// Set option `k` to `x`, checked.
-fn set(c: &mut Config, k: &str, x: f64, noise: &mut (Option<f64>, Option<f64>)) -> PyResult<()> {
+fn set(c: &mut Config, k: &str, x: f64, noise: &mut [Option<f64>; 4]) -> PyResult<()> {
     let probability = ["alpha", "outlier_alpha"];
     let positive = [
         "rest_window",
@@ -147,8 +152,10 @@ fn set(c: &mut Config, k: &str, x: f64, noise: &mut (Option<f64>, Option<f64>)) 
         "outlier_alpha" => c.robust.outlier_alpha = x,
         "rest_window" => c.robust.rest_window_s = x,
         "min_rest" => c.robust.min_rest_s = x,
-        "noise_position" => noise.0 = Some(x),
-        "noise_rotation" => noise.1 = Some(x),
+        "noise_position" => noise[0] = Some(x),
+        "noise_rotation" => noise[1] = Some(x),
+        "palm_noise_position" => noise[2] = Some(x),
+        "palm_noise_rotation" => noise[3] = Some(x),
         "edge_tolerance" => c.robust.edge_tolerance_m = x,
         "edge_tolerance_angle" => c.robust.edge_tolerance_rad = x,
         "contact_depth" => c.robust.contact_depth_m = x,

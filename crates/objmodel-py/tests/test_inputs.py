@@ -93,6 +93,10 @@ def test_arguments(rows):
     raises(r'method must be "robust" or "paper"', [r], method="fast")
     raises(r"alpha must be a probability in \(0, 1\), got 2", [r], alpha=2)
     raises(r"give both noise_position and noise_rotation", [r], noise_position=1e-3)
+    raises(r"noise_rotation must be zero or positive \(radians\), got -0.01", [r],
+           noise_position=1e-3, noise_rotation=-0.01)
+    raises(r"palm_noise_position and palm_noise_rotation need noise_position", [r],
+           palm_noise_position=1e-3, palm_noise_rotation=1e-2)
     with pytest.raises(TypeError, match="unexpected keyword argument 'alhpa'"):
         objmodel.learn([r], alhpa=0.1)
 

@@ -29,12 +29,61 @@ pub struct NoiseModel {
 }
 
 impl NoiseModel {
+    /// The noise model from options that give the position \[m\] and rotation \[rad\]
+    /// standard deviations, each as (its name as the user wrote it, its value): both or
+    /// neither, each zero or positive.
+    pub fn from_options(
+        position: (&str, Option<f64>),
+        rotation: (&str, Option<f64>),
+    ) -> Result<Option<Self>, String> {
+        for ((name, v), unit) in [(position, "metres"), (rotation, "radians")] {
+            if let Some(v) = v {
+                if !(v >= 0.0 && v.is_finite()) {
+                    return Err(format!("{name} must be zero or positive ({unit}), got {v}"));
+                }
+            }
+        }
+        match (position.1, rotation.1) {
+            (Some(p), Some(r)) => Ok(Some(Self {
+                sigma_position: p,
+                sigma_rotation: r,
+            })),
+            (None, None) => Ok(None),
+            _ => Err(format!(
+                "give both {} and {}, or neither",
+                position.0, rotation.0
+            )),
+        }
+    }
+
     /// The model with both sigmas raised to at least their floors.
     pub fn floored(self) -> Self {
         Self {
             sigma_position: self.sigma_position.max(MIN_SIGMA_POSITION_M),
             sigma_rotation: self.sigma_rotation.max(MIN_SIGMA_ROTATION_RAD),
         }
+    }
+}
+
+/// The per-axis noise of the motion relative to a palm (`palm_from_object = palm_from_world ·
+/// world_from_object`) from each tracker's: the orientation errors add; the position error is
+/// the object's, the palm's, and the palm's orientation error `δθ` turning the object's
+/// position in the palm frame `r` (`δθ × r`, of per-axis variance `σ_θ² (|r|² − r_i²)`, on
+/// average over the axes `⅔ σ_θ² |r|²`) at `lever_m = |r|`. A palm `palm_slower` times slower
+/// than the object (1 when as fast or faster) counts `palm_slower` times: one palm error is
+/// interpolated over that many object frames (`classify::palm`).
+pub fn relative(
+    object: NoiseModel,
+    palm: NoiseModel,
+    lever_m: f64,
+    palm_slower: f64,
+) -> NoiseModel {
+    let k = palm_slower.max(1.0);
+    let palm_position_var =
+        palm.sigma_position.powi(2) + 2.0 / 3.0 * (palm.sigma_rotation * lever_m).powi(2);
+    NoiseModel {
+        sigma_position: (object.sigma_position.powi(2) + k * palm_position_var).sqrt(),
+        sigma_rotation: (object.sigma_rotation.powi(2) + k * palm.sigma_rotation.powi(2)).sqrt(),
     }
 }
 
@@ -210,6 +259,72 @@ mod tests {
     use super::*;
     use rand::{rngs::StdRng, Rng, SeedableRng};
     use rand_distr::StandardNormal;
+
+    /// The relative motion's noise that [`relative`] propagates is the one that the trackers'
+    /// noise gives `palm_from_object`, drawn (per-axis variances averaged over the axes, within
+    /// their sampling error), for several poses, levers and noise levels.
+    #[test]
+    fn relative_noise_is_what_two_noisy_trackers_give() {
+        let mut rng = StdRng::seed_from_u64(7);
+        let n = |rng: &mut StdRng, s: f64| {
+            Vector3::new(
+                rng.sample::<f64, _>(StandardNormal) * s,
+                rng.sample::<f64, _>(StandardNormal) * s,
+                rng.sample::<f64, _>(StandardNormal) * s,
+            )
+        };
+        for case in 0..6 {
+            let object = NoiseModel {
+                sigma_position: rng.random_range(1e-4..3e-3),
+                sigma_rotation: rng.random_range(1e-3..3e-2),
+            };
+            let palm = NoiseModel {
+                sigma_position: rng.random_range(1e-4..3e-3),
+                sigma_rotation: rng.random_range(1e-3..3e-2),
+            };
+            let world_from_palm = (
+                UnitQuaternion::from_scaled_axis(n(&mut rng, 1.0)),
+                n(&mut rng, 0.5),
+            );
+            let palm_from_object = (
+                UnitQuaternion::from_scaled_axis(n(&mut rng, 1.0)),
+                n(&mut rng, 0.1),
+            );
+            let world_from_object = (
+                world_from_palm.0 * palm_from_object.0,
+                world_from_palm.1 + world_from_palm.0 * palm_from_object.1,
+            );
+            let draws = 20_000;
+            let (mut var_p, mut var_r) = (0.0, 0.0);
+            for _ in 0..draws {
+                let (qp, pp) = (
+                    world_from_palm.0
+                        * UnitQuaternion::from_scaled_axis(n(&mut rng, palm.sigma_rotation)),
+                    world_from_palm.1 + n(&mut rng, palm.sigma_position),
+                );
+                let (qo, po) = (
+                    world_from_object.0
+                        * UnitQuaternion::from_scaled_axis(n(&mut rng, object.sigma_rotation)),
+                    world_from_object.1 + n(&mut rng, object.sigma_position),
+                );
+                let p = qp.inverse() * (po - pp) - palm_from_object.1;
+                let r = so3_log(&(palm_from_object.0.inverse() * (qp.inverse() * qo)));
+                var_p += p.norm_squared() / 3.0;
+                var_r += r.norm_squared() / 3.0;
+            }
+            let want = relative(object, palm, palm_from_object.1.norm(), 1.0);
+            // Sampling error of a variance from 3 × 20 000 squares: √(2 / 60 000) ≈ 0.6%.
+            for (got, want) in [
+                (var_p / draws as f64, want.sigma_position.powi(2)),
+                (var_r / draws as f64, want.sigma_rotation.powi(2)),
+            ] {
+                assert!(
+                    (got / want - 1.0).abs() < 0.03,
+                    "case {case}: {got} vs {want}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn recovers_known_noise_on_a_moving_object() {

@@ -33,6 +33,14 @@ impl MergeSink for Classifier {
             }
         }
     }
+
+    fn given_noise(&mut self, noise: crate::noise::NoiseModel) {
+        if let Classifier::Robust(core) = self {
+            if let Some(t) = core.rest_test.as_mut() {
+                t.set_noise(noise);
+            }
+        }
+    }
 }
 
 impl Classifier {
@@ -72,8 +80,15 @@ impl Analyzer {
             down_world,
             robust: config.method == Method::Robust,
             object: Some(StreamCleaner::new(config)),
-            palm: instrumented.then(|| StreamCleaner::new(config)),
-            merger: PalmMerger::new(down_world, &config.clocks),
+            palm: instrumented.then(|| StreamCleaner::for_palm(config)),
+            merger: PalmMerger::new(
+                down_world,
+                &config.clocks,
+                config
+                    .robust
+                    .noise
+                    .map(|n| (n, config.robust.palm_noise.unwrap_or(n))),
+            ),
             back: match config.method {
                 Method::Robust => Classifier::Robust(RobustMethod::new(config)),
                 Method::Paper => Classifier::Paper(PaperMethod::new(config)),

@@ -22,6 +22,7 @@ pub(super) struct StreamCleaner {
 }
 
 impl StreamCleaner {
+    /// The object stream's cleaner.
     pub(super) fn new(config: &Config) -> Self {
         Self {
             warm: Vec::new(),
@@ -29,6 +30,17 @@ impl StreamCleaner {
             alpha: config.robust.outlier_alpha,
             noise: config.robust.noise,
             cleaner: None,
+        }
+    }
+
+    /// The palm stream's cleaner: with the palm's noise, where given.
+    pub(super) fn for_palm(config: &Config) -> Self {
+        Self {
+            noise: config
+                .robust
+                .noise
+                .map(|n| config.robust.palm_noise.unwrap_or(n)),
+            ..Self::new(config)
         }
     }
 

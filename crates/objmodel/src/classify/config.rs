@@ -64,8 +64,16 @@ pub struct RobustConfig {
     pub min_rest_s: f64,
     /// Number of frames at the start of each stream used to estimate the noise.
     pub warmup_frames: usize,
-    /// Tracking noise; `None` estimates it from the data.
+    /// Tracking noise of the object's tracker (`world_from_object`); `None` estimates it from
+    /// the data. In an instrumented demonstration the motion relative to the palm carries the
+    /// palm's noise too, turned by the palm's orientation noise over the object's distance
+    /// from it: the learner propagates both ([`crate::noise::relative`]).
     pub noise: Option<NoiseModel>,
+    /// Tracking noise of the palm (`world_from_palm`), used with a given `noise`; `None`:
+    /// the same as the object's (one tracker for both). A palm posed by the robot's joint
+    /// encoders may be far better than the camera on the object.
+    #[serde(default)]
+    pub palm_noise: Option<NoiseModel>,
     /// Model tolerance \[m\]: how far a real contact line may wander (rounded edges, compliant
     /// surfaces, micro-slip) and still count as one edge; added in quadrature to the noise of
     /// each frame, and the least systematic error of a topple's edge point (one trajectory per
@@ -93,6 +101,7 @@ impl Default for RobustConfig {
             min_rest_s: 1.0,
             warmup_frames: 300,
             noise: None,
+            palm_noise: None,
             edge_tolerance_m: 3e-4,
             edge_tolerance_rad: 0.5f64.to_radians(),
             contact_depth_m: default_contact_depth_m(),

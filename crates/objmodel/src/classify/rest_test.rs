@@ -120,6 +120,14 @@ impl RestTest {
         }
     }
 
+    /// Use `noise`, given or not, unless the test has started (the noise relative to the
+    /// palm, propagated from the trackers' given noise: see `super::palm`).
+    pub(crate) fn set_noise(&mut self, noise: NoiseModel) {
+        if self.rest.is_none() {
+            self.noise = Some(noise.floored());
+        }
+    }
+
     /// Push the next item; what is judged goes to `out`.
     pub fn push(&mut self, item: Sample, out: &mut impl VerdictSink) {
         match item {
