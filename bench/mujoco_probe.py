@@ -27,6 +27,8 @@ atan(half length / half height) (topples).
     SEED=12 python3 bench/mujoco_probe.py 20    (another random stream; default 11)
     RATE=120 NOISE=0.1 python3 bench/mujoco_probe.py 20    (a motion-capture rate [Hz]; default 30)
     EXACT_TOO=1 ...    (also write the tag's exact poses as NAME.exact.tum, for diagnosis)
+    NOISE_GIVEN=1 ...  (pass the trackers' noise to the learner: the tag's, and the palm's;
+                        NOISE_GIVEN=object: the tag's alone, which the learner takes for both)
 
 Needs numpy, scipy and mujoco (pip install mujoco). Writes into $PROBE_DIR (default
 /tmp/objmodel-mujoco). Not a test: the numbers are for reading (see the notes on issue 3).
@@ -268,14 +270,20 @@ def main():
                                     "outward": list(bt_r.inv().apply(outward(truth)))},
                            "face_normal": list(bt_r.inv().apply(truth["face_normal"])),
                            "phi": truth["phi"]}, f)
-            r = subprocess.run([BIN, "classify", path, "--json"], capture_output=True, text=True)
+            given = []
+            if os.environ.get("NOISE_GIVEN"):
+                given = ["--noise-position", str(1e-3 * NOISE), "--noise-rotation", str(0.5 * DEG * NOISE)]
+                if palm is not None and os.environ["NOISE_GIVEN"] != "object":
+                    given += ["--palm-noise-position", str(2e-4 * NOISE),
+                              "--palm-noise-rotation", str(0.05 * DEG * NOISE)]
+            r = subprocess.run([BIN, "classify", path, "--json", *given], capture_output=True, text=True)
             if r.returncode != 0:
                 print(f"{path}: exit {r.returncode}: {r.stderr.strip()[:200]}")
                 continue
             c = json.loads(r.stdout)
             ok += c["kind"] == truth["kind"]
             if truth["kind"] == "topple" and c["kind"] == "topple":
-                r = subprocess.run([BIN, "learn", path, "--json"], capture_output=True, text=True)
+                r = subprocess.run([BIN, "learn", path, "--json", *given], capture_output=True, text=True)
                 edges = json.loads(r.stdout)["edges"] if r.returncode == 0 else []
                 if edges:
                     e = edges[0]

@@ -42,12 +42,12 @@ pub struct ClassifyOpts {
     #[arg(long)]
     pub noise_rotation: Option<f64>,
     /// The palm tracker's position noise [m] per axis, with --noise-position given, for an
-    /// instrumented demonstration; default: the object's (one tracker for both). A palm posed
-    /// by the robot's joint encoders may be far better (robust).
+    /// instrumented demonstration; default: estimated from the palm's first frames. A palm
+    /// posed by the robot's joint encoders may be far better than the camera (robust).
     #[arg(long)]
     pub palm_noise_position: Option<f64>,
     /// The palm tracker's orientation noise [rad] per axis, with --noise-rotation given;
-    /// default: the object's (robust).
+    /// default: estimated from the palm's first frames (robust).
     #[arg(long)]
     pub palm_noise_rotation: Option<f64>,
     /// Edge model tolerance [m]: how far a real contact line may wander (robust).

@@ -84,10 +84,7 @@ impl Analyzer {
             merger: PalmMerger::new(
                 down_world,
                 &config.clocks,
-                config
-                    .robust
-                    .noise
-                    .map(|n| (n, config.robust.palm_noise.unwrap_or(n))),
+                config.robust.noise.map(|n| (n, config.robust.palm_noise)),
             ),
             back: match config.method {
                 Method::Robust => Classifier::Robust(RobustMethod::new(config)),

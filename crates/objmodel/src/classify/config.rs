@@ -70,8 +70,8 @@ pub struct RobustConfig {
     /// from it: the learner propagates both ([`crate::noise::relative`]).
     pub noise: Option<NoiseModel>,
     /// Tracking noise of the palm (`world_from_palm`), used with a given `noise`; `None`:
-    /// the same as the object's (one tracker for both). A palm posed by the robot's joint
-    /// encoders may be far better than the camera on the object.
+    /// estimated from the palm's first frames. A palm posed by the robot's joint encoders may
+    /// be far better than the camera on the object.
     #[serde(default)]
     pub palm_noise: Option<NoiseModel>,
     /// Model tolerance \[m\]: how far a real contact line may wander (rounded edges, compliant
