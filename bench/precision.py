@@ -15,8 +15,9 @@ support and not slipping) while turning at least 5 degrees. Recall = those featu
 those features. ("box edges/faces found" counts any of the box's 12 edges and 6 faces.)
 "measurable rolls" (scene table): the edges rolled over long enough to be measured — one
 interval of topple about the edge turning at least 8.6 degrees (what an edge rotation must
-turn to locate its edge) over at least 3 frames at the file's rate — found / shown, and in
-brackets the number of such rolls.
+turn to locate its edge) over at least 5 frames at the file's rate (what a roll needs to
+reject the free flight that a spinning object's few frames can pass for) — found / shown, and
+in brackets the number of such rolls.
 
 Tables (Markdown on stdout):
 * `box`: per box and noise level, the single-mode scenes of the original dataset (topple,
@@ -46,8 +47,15 @@ MIN_TOPPLE_TURN = 5.0
 # A roll over an edge long enough to be measured: an interval the truth calls a topple about
 # the edge (on the support, not slipping) that turns at least the 8.6 degrees an edge rotation
 # must turn to locate its edge (`classify::parts::edge_turns_too_little`) and holds at least
-# the learner's MIN_EDGE_FRAMES (3) frames at the file's frame rate.
-MIN_ROLL_TURN, MIN_ROLL_FRAMES = 8.6, 3
+# the learner's `roll::MIN_ROLL_FRAMES` (5, `flight::MIN_FLIGHT_FRAMES`: a flight has 9
+# unknowns, and a roll must reject it) frames of the file's frame clock (t = k / rate).
+# (Until 2026-12-04 this counted 3 frame intervals, 3-4 frames, which no roll can have.)
+MIN_ROLL_TURN, MIN_ROLL_FRAMES = 8.6, 5
+
+
+def roll_frames(m, rate):
+    """Frames of the file's clock (t = k / rate) within the truth interval `m`."""
+    return int(np.floor(m["t1"] * rate + 1e-9) - np.ceil(m["t0"] * rate - 1e-9)) + 1
 
 
 def quat_matrix(q):
@@ -146,9 +154,8 @@ def measurable_rolls(truths, rates):
     edges, n = set(), 0
     for t, rate in zip(truths, rates):
         for m in t.get("modes", []):
-            frames = int((m["t1"] - m["t0"]) * rate + 1e-9)
             if (m["mode"] == "topple" and m.get("edge") and m["turn_deg"] >= MIN_ROLL_TURN
-                    and frames >= MIN_ROLL_FRAMES):
+                    and roll_frames(m, rate) >= MIN_ROLL_FRAMES):
                 edges.add(m["edge"]["id"])
                 n += 1
     return edges, n

@@ -5,7 +5,7 @@ the ground truth of a simulated dataset (written by `objmodel dataset`).
     python3 bench/rolls.py DATA_DIR [--bin target/release/objmodel] [--scene toss]
 
 For every demonstration of the scene, `objmodel classify --json`; per noise level:
-* measurable rolls: truth intervals of topple about an edge turning >= 8.6 deg over >= 3
+* measurable rolls: truth intervals of topple about an edge turning >= 8.6 deg over >= 5
   frames (as bench/precision.py counts them);
 * found: those with a taught roll whose edge is within 5 mm and 3 deg of the rolled edge
   (recall), and those with any roll part (taught or withheld) overlapping them;
@@ -27,7 +27,8 @@ from collections import defaultdict
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from precision import MIN_ROLL_FRAMES, MIN_ROLL_TURN, box_features, line_distance  # noqa: E402
+from precision import (MIN_ROLL_FRAMES, MIN_ROLL_TURN, box_features, line_distance,  # noqa: E402
+                       roll_frames)
 
 CHI2_2_95 = 5.991
 
@@ -110,7 +111,7 @@ def main():
                           f"turn {np.degrees(r['turn']):.1f} deg: nearest {ids[k]} {ang:.2f} deg "
                           f"{dist * 1e3:.2f} mm, chi2 point {cp:.1f} direction {cd:.1f}")
         for m in truth.get("modes", []):
-            frames = int((m["t1"] - m["t0"]) * rate + 1e-9)
+            frames = roll_frames(m, rate)
             if not (m["mode"] == "topple" and m.get("edge") and m["turn_deg"] >= MIN_ROLL_TURN
                     and frames >= MIN_ROLL_FRAMES):
                 continue
