@@ -41,7 +41,17 @@ pub(super) fn onset(
         .find(|&k| series.t[k] > first_moving && rel[k].abs() > ONSET_WINDOW_RAD)
         .unwrap_or(n);
     let base = rel[start];
-    let w: Vec<f64> = rel[start..end].iter().map(|x| (x - base).abs()).collect();
+    // The rotation from the rest, signed the way the object turns off the palm. Its absolute
+    // value folded the rest's noise into a plateau above zero (0.8 σ on average), which the
+    // onset model, flat and then rising, can only follow by starting its rise late: the
+    // palm's tilt there was 0.1-0.6° high at motion-capture noise (up to 14 σ), 0.4° at
+    // camera noise.
+    let turn = if rel[end.min(n - 1)] < base {
+        -1.0
+    } else {
+        1.0
+    };
+    let w: Vec<f64> = rel[start..end].iter().map(|x| (x - base) * turn).collect();
     let Some(o) = pendulum::onset(&series.t[start..end], &w, sigma) else {
         return (None, None, None);
     };
@@ -53,10 +63,14 @@ pub(super) fn onset(
     let palm_sigma = sigma / std::f64::consts::SQRT_2;
     match linear_at(&tt, &yy, o.t, palm_sigma) {
         Some((v, se, slope)) => {
+            // The balance angle of a real contact (a compliant support, an edge that is not
+            // perfectly sharp) departs from the ideal one by about the pendulum's tolerance,
+            // which the fits take per sample; here it is one offset of the whole onset.
             let s = (se * se
                 + (slope * o.sigma_t).powi(2)
                 + budget.resting_normal()
-                + budget.palm_reference())
+                + budget.palm_reference()
+                + PENDULUM_TOLERANCE_RAD.powi(2))
             .sqrt();
             (Some(o), Some(v), Some(s))
         }
