@@ -217,6 +217,27 @@ pub fn robust_sigma_zero_mean(abs_values: &mut [f64]) -> Option<f64> {
     median(abs_values).map(|m| 1.482_602_218_505_602 * m)
 }
 
+/// The minimum of `f` on `[lo, hi]` by golden-section search, to `tol`.
+pub(crate) fn golden_min(f: &impl Fn(f64) -> f64, mut lo: f64, mut hi: f64, tol: f64) -> f64 {
+    let r = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut a, mut b) = (hi - r * (hi - lo), lo + r * (hi - lo));
+    let (mut fa, mut fb) = (f(a), f(b));
+    while hi - lo > tol {
+        if fa < fb {
+            hi = b;
+            (b, fb) = (a, fa);
+            a = hi - r * (hi - lo);
+            fa = f(a);
+        } else {
+            lo = a;
+            (a, fa) = (b, fb);
+            b = lo + r * (hi - lo);
+            fb = f(b);
+        }
+    }
+    (lo + hi) / 2.0
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

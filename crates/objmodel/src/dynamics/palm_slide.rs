@@ -34,6 +34,7 @@ use super::series::palm_at;
 use super::tolerances::{MAX_REST_FRAMES, REST_MARGIN_S};
 use crate::classify::Classification;
 use crate::recording::Recording;
+use crate::stats::golden_min;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -288,27 +289,6 @@ fn simulate(t: &[f64], theta: &[f64], g: f64, mu_s: f64, mu_k: f64) -> Vec<f64> 
         out.push(x);
     }
     out
-}
-
-/// The minimum of `f` on `[lo, hi]` by golden-section search, to `tol`.
-fn golden_min(f: &impl Fn(f64) -> f64, mut lo: f64, mut hi: f64, tol: f64) -> f64 {
-    let r = (5f64.sqrt() - 1.0) / 2.0;
-    let (mut a, mut b) = (hi - r * (hi - lo), lo + r * (hi - lo));
-    let (mut fa, mut fb) = (f(a), f(b));
-    while hi - lo > tol {
-        if fa < fb {
-            hi = b;
-            (b, fb) = (a, fa);
-            a = hi - r * (hi - lo);
-            fa = f(a);
-        } else {
-            lo = a;
-            (a, fa) = (b, fb);
-            b = lo + r * (hi - lo);
-            fb = f(b);
-        }
-    }
-    (lo + hi) / 2.0
 }
 
 #[cfg(test)]

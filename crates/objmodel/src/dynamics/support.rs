@@ -52,16 +52,35 @@ pub(super) fn onset(
         1.0
     };
     let w: Vec<f64> = rel[start..end].iter().map(|x| (x - base) * turn).collect();
-    let Some(o) = pendulum::onset(&series.t[start..end], &w, sigma) else {
+    let Some(free) = pendulum::onset(&series.t[start..end], &w, sigma) else {
         return (None, None, None);
     };
-    let near: Vec<usize> = (0..n)
-        .filter(|&k| (series.t[k] - o.t).abs() <= 0.3)
-        .collect();
-    let tt: Vec<f64> = near.iter().map(|&k| series.t[k]).collect();
-    let yy: Vec<f64> = near.iter().map(|&k| series.palm[k]).collect();
     let palm_sigma = sigma / std::f64::consts::SQRT_2;
-    match linear_at(&tt, &yy, o.t, palm_sigma) {
+    // The palm's tilt at `at` by a straight line through its samples within 0.3 s: the tilt,
+    // its standard deviation and the tilt rate.
+    let palm_near = |at: f64| {
+        let near: Vec<usize> = (0..n)
+            .filter(|&k| (series.t[k] - at).abs() <= 0.3)
+            .collect();
+        let tt: Vec<f64> = near.iter().map(|&k| series.t[k]).collect();
+        let yy: Vec<f64> = near.iter().map(|&k| series.palm[k]).collect();
+        linear_at(&tt, &yy, at, palm_sigma)
+    };
+    // The onset again with its amplitude fixed at the palm's tilt rate, which the linearised
+    // motion on a support tilting at a constant rate makes it (`pendulum::onset_at_rate`).
+    // Free, the amplitude trades against the onset's time: a slow rise from an early start
+    // took in a drift of the rest and put the onset up to 2 s early at camera noise (φ 3-7°
+    // low). The rate is the palm's over the whole window fitted, as the model has it, and
+    // used only when measured (3 σ from zero): a palm that does not tilt has none to fix.
+    let window = &series.t[start..end];
+    let tm = window.iter().sum::<f64>() / window.len() as f64;
+    let stt: f64 = window.iter().map(|x| (x - tm).powi(2)).sum();
+    let o = linear_at(window, &series.palm[start..end], tm, palm_sigma)
+        .map(|(_, _, rate)| (rate, palm_sigma / stt.sqrt()))
+        .filter(|&(rate, rate_sigma)| rate.abs() > 3.0 * rate_sigma)
+        .and_then(|(rate, _)| pendulum::onset_at_rate(window, &w, sigma, Some(rate.abs())))
+        .unwrap_or(free);
+    match palm_near(o.t) {
         Some((v, se, slope)) => {
             // The balance angle of a real contact (a compliant support, an edge that is not
             // perfectly sharp) departs from the ideal one by about the pendulum's tolerance,
