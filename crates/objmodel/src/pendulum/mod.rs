@@ -139,7 +139,8 @@ fn onset_shape(s: f64, omega: f64) -> f64 {
 }
 
 /// Residual sum of squares of the two-phase model with the change at `tau`:
-/// `θ = θ₀` for t < τ, `θ = θ₀ + A·shape(t - τ, ω)` after; θ₀ and A by linear least squares.
+/// `θ = θ₀` for t < τ, `θ = θ₀ + A·shape(t - τ, ω)` after; θ₀ and A by linear least squares,
+/// or θ₀ alone with `A = rate` when the rate is given.
 fn two_phase_sse(t: &[f64], theta: &[f64], tau: f64, omega: f64, rate: Option<f64>) -> Option<f64> {
     if let Some(rate) = rate {
         // The amplitude known: θ₀ alone by least squares.
@@ -212,8 +213,7 @@ pub fn onset_at_rate(t: &[f64], theta: &[f64], sigma: f64, rate: Option<f64>) ->
     while tau <= hi {
         // Profile over ω: the best shape for this τ, on the grid and then between its
         // neighbours (log ω by golden section). The grid alone cannot follow ω as τ moves,
-        // so the profile rose too fast away from its minimum and σ_τ came out 1.6 times
-        // too small.
+        // so the profile rose too fast away from its minimum and σ_τ came out too small.
         let sse_at = |w: f64| two_phase_sse(t, theta, tau, w, rate).unwrap_or(f64::INFINITY);
         let grid: Vec<f64> = ONSET_OMEGAS.iter().map(|&w| sse_at(w)).collect();
         let i = (0..grid.len()).fold(0, |b, i| if grid[i] < grid[b] { i } else { b });
