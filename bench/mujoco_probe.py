@@ -233,6 +233,7 @@ def main():
     kinds = os.environ.get("KINDS", "topple,instrumented,straight-slide,turning-slide").split(",")
     for kind in kinds:
         ok, total, skipped, edge_errs, face_errs, phi_errs, withheld = 0, 0, 0, [], [], [], 0
+        phi_zs = []
         while total < n:
             palm = None
             if kind == "instrumented":
@@ -287,9 +288,12 @@ def main():
                 edges = json.loads(r.stdout)["edges"] if r.returncode == 0 else []
                 if edges:
                     e = edges[0]
-                    phis = [pd["phi"] for pd in e.get("pendulums", []) if pd.get("phi") is not None]
+                    pends = [pd for pd in e.get("pendulums", []) if pd.get("phi") is not None]
+                    phis = [pd["phi"] for pd in pends]
                     if phis:
                         phi_errs.append(abs(phis[0] - truth["phi"]) / DEG)
+                        if pends[0].get("phi_sigma"):
+                            phi_zs.append(abs(phis[0] - truth["phi"]) / pends[0]["phi_sigma"])
                         if os.environ.get("VERBOSE"):
                             print(f"  {path}: phi {phis[0] / DEG:.2f} deg, truth {truth['phi'] / DEG:.2f}")
                     u = bt_r.inv().apply(truth["edge_direction"])
@@ -325,6 +329,9 @@ def main():
             row["topples with no edge learnt"] = withheld
         if phi_errs:
             row["phi (median, max)"] = "%.2f°, %.2f°" % (np.median(phi_errs), max(phi_errs))
+            row["phis learnt"] = len(phi_errs)
+        if phi_zs:
+            row["phi error / sigma (median, max)"] = "%.1f, %.1f" % (np.median(phi_zs), max(phi_zs))
         if face_errs:
             row["face normal (median, max)"] = "%.2f°, %.2f°" % (np.median(face_errs), max(face_errs))
         print(kind, json.dumps(row, ensure_ascii=False), flush=True)
