@@ -82,11 +82,11 @@ const RATE_FRAMES: usize = 32;
 /// estimated from its first frames (as every noise not given is), else the object's: a palm
 /// posed by the robot's joint encoders is far better than the camera on the object (MuJoCo's
 /// palm topples, 0.2 mm and 0.05° against 1 mm and 0.5°: taken as the object's, the edges
-/// were 3.2 mm off, median, where they are 1.6 mm with the palm's own). Given as it stands
-/// the object's noise was the relative motion's alone,
-/// and at 2 mm and 1° per tracker with the object 0.1 m from the palm, 60% of the relative
-/// motion's (on the simulator's instrumented demonstrations, the rests then showed motion,
-/// topples were measured from the wrong rest and 13 of 30 edges came out 6-17 mm off).
+/// were 3.2 mm off, median, where they are 1.6 mm with the palm's own). Until 2026-12-04 a
+/// given object noise was taken as the relative motion's, which at 2 mm and 1° per tracker
+/// with the object 0.1 m from the palm is 60% of it (on the simulator's instrumented
+/// demonstrations the rests then showed motion, topples were measured from the wrong rest
+/// and 13 of 30 edges came out 6-17 mm off).
 ///
 /// The support's "down" in the palm frame is taken once, from gravity over the palm's first
 /// [`SUPPORT_FRAMES`] frames (the palm is level when a demonstration starts), and held fixed:
