@@ -30,13 +30,18 @@ pub fn classification(c: &Classification, frames: bool) -> String {
         s += &format!("  warning: {w}\n");
     }
     if let Some(n) = c.noise {
-        // Estimated, or given; relative to a palm, propagated from both trackers' noise.
+        // Relative to a palm, given noise is propagated from both trackers' noise.
         s += &format!(
-            "  tracking noise{}: {:.2} mm, {:.2} deg per axis\n",
+            "  tracking noise{} ({}): {:.2} mm, {:.2} deg per axis\n",
             if c.instrumented {
                 " of the motion relative to the palm"
             } else {
                 ""
+            },
+            match (c.noise_given, c.instrumented) {
+                (true, true) => "from the noise given",
+                (true, false) => "given",
+                (false, _) => "estimated",
             },
             n.sigma_position * 1e3,
             n.sigma_rotation.to_degrees()

@@ -318,6 +318,21 @@ fn classify_frames_and_paper_method() {
         !plain.stdout.contains("frames:"),
         "no frame runs without --frames",
     );
+    // The noise line says where the noise came from; the JSON says it too.
+    plain.check(
+        plain.stdout.contains("tracking noise (estimated)"),
+        "an estimated noise is called estimated",
+    );
+    let given = ["--noise-position=0.001", "--noise-rotation=0.01"];
+    let mut args = vec!["classify".to_string(), s(demo)];
+    args.extend(given.iter().map(|a| a.to_string()));
+    let r = run(&args).ok();
+    r.check(
+        r.stdout.contains("tracking noise (given): 1.00 mm"),
+        "a given noise is called given",
+    );
+    assert_eq!(classify_json(demo, &given)["noise_given"], true);
+    assert_eq!(classify_json(demo, &[])["noise_given"], false);
 
     let r = run(&["classify".to_string(), s(demo), "--frames".into()]).ok();
     let runs: Vec<&str> = r

@@ -262,6 +262,10 @@ pub struct Classification {
     pub votes: Votes,
     /// Tracking noise used by the tests.
     pub noise: Option<NoiseModel>,
+    /// Whether `noise` follows from noise the user gave (propagated to the motion relative to
+    /// the palm for an instrumented demonstration), rather than estimated from the data.
+    #[serde(default)]
+    pub noise_given: bool,
     /// Motion segments.
     pub segments: Vec<Segment>,
     /// The topples (segments grouped by edge), with their edges.

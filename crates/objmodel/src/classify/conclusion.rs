@@ -57,6 +57,7 @@ pub(super) fn conclude(
         outliers: segmented.outliers,
         votes,
         noise: segmented.noise,
+        noise_given: config0.robust.noise.is_some(),
         segments,
         topples,
         labels: runs(&segmented.blocks),

@@ -277,6 +277,7 @@ impl PaperMethod {
             outliers: 0,
             votes: self.votes,
             noise: None,
+            noise_given: false,
             topples: edge
                 .clone()
                 .map(|e| super::Topple {

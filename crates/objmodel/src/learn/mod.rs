@@ -619,6 +619,8 @@ impl RestNoise {
                 deg(&self.first)
             ),
         );
+        // Measured on the rest, not given by the user.
+        c.noise_given = false;
         c
     }
 }
