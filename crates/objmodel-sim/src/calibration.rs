@@ -31,6 +31,9 @@ use std::path::Path;
 pub enum Quantity {
     /// A pendulum's φ (1-D).
     Phi,
+    /// φ as the paper measures it, the palm's tilt at the onset of an instrumented topple
+    /// (1-D; per demonstration only: the tree fuses it into `Phi` with the fits).
+    PhiOnset,
     /// A pendulum's φ that the tree itself reports contradicted by the other pendulums (left
     /// out of its CoM: `Pendulum::com_conflict`), apart: the tree does not vouch for its σ.
     PhiContradicted,
@@ -56,7 +59,10 @@ impl Quantity {
     /// Degrees of freedom of the error.
     pub fn dof(self) -> usize {
         match self {
-            Quantity::Phi | Quantity::PhiContradicted | Quantity::FaceOffset => 1,
+            Quantity::Phi
+            | Quantity::PhiOnset
+            | Quantity::PhiContradicted
+            | Quantity::FaceOffset => 1,
             Quantity::Com => 3,
             _ => 2,
         }
@@ -75,6 +81,7 @@ impl Quantity {
     pub fn as_str(self) -> &'static str {
         match self {
             Quantity::Phi => "phi",
+            Quantity::PhiOnset => "phi at the onset (the paper's)",
             Quantity::PhiContradicted => "phi (contradicted: left out)",
             Quantity::EdgePoint => "edge position",
             Quantity::EdgeDirection => "edge direction",
@@ -258,10 +265,21 @@ pub fn true_phi(edge: &Edge, rest: &Vector3<f64>, truth: &Truth) -> Option<f64> 
     Some(r.cross(&n).norm().atan2(-r.dot(&n)))
 }
 
-fn tree_samples(tree: &Tree, truth: &Truth, out: &mut Vec<(Quantity, f64, f64)>) {
+/// The samples of `tree`; with `per_demo`, also each pendulum observation's φ at the onset.
+fn tree_samples(tree: &Tree, truth: &Truth, per_demo: bool, out: &mut Vec<(Quantity, f64, f64)>) {
     for e in &tree.edges {
         edge_samples(e, &truth.features, out);
         for p in &e.pendulums {
+            if per_demo {
+                for o in &p.observations {
+                    let (Some(phi), Some(sigma)) = (o.phi_onset, o.phi_onset_sigma) else {
+                        continue;
+                    };
+                    if let Some(t) = true_phi(e, &p.resting_face_normal, truth) {
+                        out.push((Quantity::PhiOnset, (phi - t).abs(), z1(phi - t, sigma)));
+                    }
+                }
+            }
             let (Some(phi), Some(sigma)) = (p.phi, p.phi_sigma) else {
                 continue;
             };
@@ -306,7 +324,7 @@ pub fn samples(dir: &Path, config: &Config) -> anyhow::Result<Vec<Sample>> {
         let mut tree = Tree::default();
         tree.add(&observation);
         let mut found = Vec::new();
-        tree_samples(&tree, &truth, &mut found);
+        tree_samples(&tree, &truth, true, &mut found);
         out.extend(found.into_iter().map(|(quantity, error, z)| Sample {
             quantity,
             set: "demo",
@@ -327,7 +345,7 @@ pub fn samples(dir: &Path, config: &Config) -> anyhow::Result<Vec<Sample>> {
             tree.add(o);
         }
         let mut found = Vec::new();
-        tree_samples(&tree, &truth, &mut found);
+        tree_samples(&tree, &truth, false, &mut found);
         out.extend(found.into_iter().map(|(quantity, error, z)| Sample {
             quantity,
             set: "fused",

@@ -114,6 +114,7 @@ mod tests {
             phi: 0.4,
             phi_sigma: sigma,
             phi_onset: onset,
+            phi_onset_sigma: None,
             phi_fall: None,
             inertia_ratio_m: None,
             onset_t: None,

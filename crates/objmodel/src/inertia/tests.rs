@@ -29,6 +29,7 @@ fn tree_with_edges(edges: &[(Vector3<f64>, Vector3<f64>, f64)]) -> Tree {
                 phi: 0.5,
                 phi_sigma: 0.01,
                 phi_onset: None,
+                phi_onset_sigma: None,
                 phi_fall: Some(0.5),
                 inertia_ratio_m: Some(*ratio),
                 onset_t: None,

@@ -29,6 +29,7 @@ impl Tree {
             phi,
             phi_sigma,
             phi_onset: d.phi_onset,
+            phi_onset_sigma: d.phi_onset_sigma,
             phi_fall: d.fall.map(|f| f.phi),
             inertia_ratio_m: d.fall.map(|f| f.inertia_ratio_m),
             onset_t: d.onset.map(|o| o.t),

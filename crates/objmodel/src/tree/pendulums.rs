@@ -45,6 +45,9 @@ pub struct PendulumObservation {
     pub phi_sigma: f64,
     /// φ as the palm tilt at the topple onset (instrumented) \[rad\].
     pub phi_onset: Option<f64>,
+    /// Standard deviation of `phi_onset` \[rad\] (absent in files written before it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub phi_onset_sigma: Option<f64>,
     /// φ from the pendulum fitted to the fall \[rad\].
     pub phi_fall: Option<f64>,
     /// `I_e / (m l_p)` \[m\] from the fall.
@@ -103,6 +106,7 @@ mod tests {
                     phi,
                     phi_sigma,
                     phi_onset: None,
+                    phi_onset_sigma: None,
                     phi_fall: Some(phi),
                     inertia_ratio_m: None,
                     onset_t: None,
