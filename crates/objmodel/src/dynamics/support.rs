@@ -3,7 +3,7 @@
 //! palm fitted to the onset and the early fall jointly.
 
 use super::budget::Budget;
-use super::regression::{linear_at, smooth};
+use super::regression::{linear_at, slope, smooth};
 use super::series::AngleSeries;
 use super::tolerances::{
     passes_with, ONSET_REST_S, ONSET_WINDOW_RAD, PENDULUM_TOLERANCE_RAD, SMOOTH_S, SUPPORT_FIT_RAD,
@@ -73,10 +73,7 @@ pub(super) fn onset(
     // low). The rate is the palm's over the whole window fitted, as the model has it, and
     // used only when measured (3 σ from zero): a palm that does not tilt has none to fix.
     let window = &series.t[start..end];
-    let tm = window.iter().sum::<f64>() / window.len() as f64;
-    let stt: f64 = window.iter().map(|x| (x - tm).powi(2)).sum();
-    let o = linear_at(window, &series.palm[start..end], tm, palm_sigma)
-        .map(|(_, _, rate)| (rate, palm_sigma / stt.sqrt()))
+    let o = slope(window, &series.palm[start..end], palm_sigma)
         .filter(|&(rate, rate_sigma)| rate.abs() > 3.0 * rate_sigma)
         .and_then(|(rate, _)| pendulum::onset_at_rate(window, &w, sigma, Some(rate.abs())))
         .unwrap_or(free);
