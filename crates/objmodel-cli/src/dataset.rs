@@ -3,6 +3,7 @@
 
 use anyhow::{bail, Context, Result};
 use objmodel_sim::dataset::{standard_dataset, with_tosses};
+use objmodel_sim::noise::TrackerNoise;
 use objmodel_sim::write_dataset;
 use std::path::PathBuf;
 
@@ -28,6 +29,13 @@ pub struct DatasetArgs {
     /// (default 15, none with --quick); e.g. `--tosses 500` for the toss benchmark.
     #[arg(long)]
     pub tosses: Option<usize>,
+    /// Noise levels, comma-separated: the camera presets `clean`, `real`, `noisy` (the
+    /// default: all three), and `camera` (noise larger along the line of sight and
+    /// correlated between frames, as a camera's is). The motion-capture versions are made
+    /// whatever the levels.
+    #[arg(long, value_delimiter = ',', default_values_t = TrackerNoise::PRESETS.map(String::from),
+          value_parser = ["clean", "real", "noisy", "camera"])]
+    pub noise: Vec<String>,
     /// Worker threads (default: up to 2).
     #[arg(long)]
     pub threads: Option<usize>,
@@ -42,6 +50,11 @@ pub fn run(a: &DatasetArgs) -> Result<()> {
     if let Some(n) = a.tosses {
         plan = with_tosses(plan, n);
     }
+    plan.noises = a
+        .noise
+        .iter()
+        .map(|n| TrackerNoise::preset(n).context("unknown noise level"))
+        .collect::<Result<_>>()?;
     if let Some(t) = a.threads {
         if t == 0 {
             bail!("--threads must be at least 1");

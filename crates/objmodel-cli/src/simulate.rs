@@ -57,8 +57,10 @@ pub struct SimulateArgs {
     #[arg(long)]
     pub friction: Option<f64>,
     /// Tracking noise: `clean` (exact), `real` (1 mm, 0.5 deg, 3% drops, sign and mirror
-    /// flips) or `noisy` (2 mm, 1 deg, more drops and flips).
-    #[arg(long, default_value = "real", value_parser = ["clean", "real", "noisy"])]
+    /// flips), `noisy` (2 mm, 1 deg, more drops and flips) or `camera` (0.7 mm and 0.3 deg,
+    /// three times that along the line of sight and in tilts out of the image, correlated
+    /// between frames).
+    #[arg(long, default_value = "real", value_parser = ["clean", "real", "noisy", "camera"])]
     pub noise: String,
     /// Random seed of the scene (push height, direction, speed, tilt rate, start pose) and noise.
     #[arg(long, default_value_t = 0)]

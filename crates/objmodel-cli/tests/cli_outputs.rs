@@ -402,6 +402,37 @@ fn classify_frames_and_paper_method() {
 // ---------------------------------------------------------------------------------------------
 // 7. the learner over a slice of the standard (simulated) dataset
 
+/// `dataset --noise` makes the levels asked for, and the truth says what noise each has.
+#[test]
+fn dataset_makes_the_noise_levels_asked_for() {
+    let d = TempDir::new("dataset-noise");
+    let data = d.join("data");
+    run(&[
+        "dataset".to_string(),
+        "-o".into(),
+        s(&data),
+        "--quick".into(),
+        "--noise".into(),
+        "clean,camera".into(),
+    ])
+    .ok();
+    let manifest = read_json(&data.join("manifest.json"));
+    let demos = manifest["demos"].as_array().expect("demos");
+    let mut levels: Vec<&str> = demos.iter().filter_map(|x| x["noise"].as_str()).collect();
+    levels.sort();
+    levels.dedup();
+    assert_eq!(levels, ["camera", "clean"], "levels made");
+    let camera = demos.iter().find(|x| x["noise"] == "camera").unwrap();
+    let truth = read_json(&data.join(camera["truth"].as_str().unwrap()));
+    assert_eq!(truth["noise"]["sight_ratio"], 3.0, "{}", truth["noise"]);
+    assert_eq!(truth["noise"]["correlation"], 0.5, "{}", truth["noise"]);
+    let r = run(&["dataset", "-o", &s(&data), "--noise", "loud"]);
+    r.check(
+        r.code == Some(2) && r.stderr.contains("'loud'") && r.stderr.contains("camera"),
+        "an unknown level is refused, naming the levels there are",
+    );
+}
+
 #[test]
 fn dataset_quick_evaluate_end_to_end() {
     let d = TempDir::new("dataset");
