@@ -36,6 +36,15 @@ pub struct DatasetArgs {
     #[arg(long, value_delimiter = ',', default_values_t = TrackerNoise::PRESETS.map(String::from),
           value_parser = ["clean", "real", "noisy", "camera"])]
     pub noise: Vec<String>,
+    /// Correlation of consecutive frames' noise (0 to below 1, first-order autoregressive) at
+    /// every level asked for, in place of the level's own (0, or 0.5 for `camera`).
+    #[arg(long, value_name = "RHO")]
+    pub correlation: Option<f64>,
+    /// How many times larger the noise is along the camera's line of sight and in tilts out
+    /// of the image (1 to 10) at every level asked for, in place of the level's own (1, or 3
+    /// for `camera`).
+    #[arg(long, value_name = "K")]
+    pub sight_ratio: Option<f64>,
     /// Worker threads (default: up to 2).
     #[arg(long)]
     pub threads: Option<usize>,
@@ -53,7 +62,13 @@ pub fn run(a: &DatasetArgs) -> Result<()> {
     plan.noises = a
         .noise
         .iter()
-        .map(|n| TrackerNoise::preset(n).context("unknown noise level"))
+        .map(|n| {
+            let mut noise = TrackerNoise::preset(n).context("unknown noise level")?;
+            noise.correlation = a.correlation.unwrap_or(noise.correlation);
+            noise.sight_ratio = a.sight_ratio.unwrap_or(noise.sight_ratio);
+            noise.validate().context("--correlation or --sight-ratio")?;
+            Ok(noise)
+        })
         .collect::<Result<_>>()?;
     if let Some(t) = a.threads {
         if t == 0 {

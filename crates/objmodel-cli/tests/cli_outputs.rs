@@ -426,6 +426,36 @@ fn dataset_makes_the_noise_levels_asked_for() {
     let truth = read_json(&data.join(camera["truth"].as_str().unwrap()));
     assert_eq!(truth["noise"]["sight_ratio"], 3.0, "{}", truth["noise"]);
     assert_eq!(truth["noise"]["correlation"], 0.5, "{}", truth["noise"]);
+    // The correlation and the sight ratio, at any level.
+    let other = d.join("other");
+    run(&[
+        "dataset".to_string(),
+        "-o".into(),
+        s(&other),
+        "--quick".into(),
+        "--noise".into(),
+        "real".into(),
+        "--correlation".into(),
+        "0.3".into(),
+        "--sight-ratio".into(),
+        "2".into(),
+    ])
+    .ok();
+    let manifest = read_json(&other.join("manifest.json"));
+    let real = manifest["demos"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|x| x["noise"] == "real")
+        .unwrap();
+    let truth = read_json(&other.join(real["truth"].as_str().unwrap()));
+    assert_eq!(truth["noise"]["correlation"], 0.3, "{}", truth["noise"]);
+    assert_eq!(truth["noise"]["sight_ratio"], 2.0, "{}", truth["noise"]);
+    let r = run(&["dataset", "-o", &s(&other), "--correlation", "1"]);
+    r.check(
+        r.code == Some(2) && r.stderr.contains("correlation in [0, 1)"),
+        "a correlation of 1 is refused",
+    );
     let r = run(&["dataset", "-o", &s(&data), "--noise", "loud"]);
     r.check(
         r.code == Some(2) && r.stderr.contains("'loud'") && r.stderr.contains("camera"),
