@@ -139,9 +139,9 @@ impl TrackerNoise {
     /// A camera tracking a fiducial tag as a camera does: 0.7 mm across the line of sight and
     /// three times that (2.1 mm) along it, 0.3° in the image's own turn and three times that
     /// (0.9°) in the tilts out of the image plane, consecutive frames correlated at 0.5 (a
-    /// smoothing tracker), 3% dropped frames, 5% sign flips, 1% mirror flips. On average over
-    /// the axes about the `real` preset's noise; not alike on every axis nor independent
-    /// between frames, as the learner's noise model assumes.
+    /// smoothing tracker), 3% dropped frames, 5% sign flips, 1% mirror flips. A root mean
+    /// square over the axes of 1.3 mm and 0.75° (the `real` preset: 1 mm, 0.5°); not alike on
+    /// every axis nor independent between frames, as the learner's noise model assumes.
     pub fn camera() -> TrackerNoise {
         TrackerNoise {
             name: "camera".into(),
