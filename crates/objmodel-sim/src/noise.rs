@@ -208,7 +208,7 @@ impl TrackerNoise {
 
     /// Apply this model to a clean trajectory of `world_from_tag` poses.
     pub fn apply(&self, clean: &[StampedPose], rng: &mut StdRng) -> Vec<StampedPose> {
-        let (sp, sr) = (
+        let (sigma_p, sigma_r) = (
             self.sigma.sigma_position.max(0.0),
             self.sigma.sigma_rotation.max(0.0),
         );
@@ -217,7 +217,7 @@ impl TrackerNoise {
         let cam = Point3::from(self.camera);
         let (mut ze, mut zd) = (Vector3::zeros(), Vector3::zeros());
         let mut out = Vec::with_capacity(clean.len());
-        for (i, sp_) in clean.iter().enumerate() {
+        for (i, exact) in clean.iter().enumerate() {
             // Draw every random number for every frame so that streams stay aligned.
             let drop = rng.random::<f64>() < self.drop_prob;
             let we = Vector3::new(normal(rng), normal(rng), normal(rng));
@@ -232,19 +232,19 @@ impl TrackerNoise {
             if drop {
                 continue;
             }
-            let true_p = sp_.pose.translation.vector;
+            let true_p = exact.pose.translation.vector;
             let (p, mut rot) = if k == 1.0 {
                 (
-                    true_p + ze * sp,
-                    sp_.pose.rotation * UnitQuaternion::from_scaled_axis(zd * sr),
+                    true_p + ze * sigma_p,
+                    exact.pose.rotation * UnitQuaternion::from_scaled_axis(zd * sigma_r),
                 )
             } else {
                 let [l, a, b] = sight_axes(&(Point3::from(true_p) - cam));
-                let e = (a * ze.x + b * ze.y) * sp + l * (ze.z * k * sp);
-                let d = (a * zd.x + b * zd.y) * (k * sr) + l * (zd.z * sr);
+                let e = (a * ze.x + b * ze.y) * sigma_p + l * (ze.z * k * sigma_p);
+                let d = (a * zd.x + b * zd.y) * (k * sigma_r) + l * (zd.z * sigma_r);
                 (
                     true_p + e,
-                    UnitQuaternion::from_scaled_axis(d) * sp_.pose.rotation,
+                    UnitQuaternion::from_scaled_axis(d) * exact.pose.rotation,
                 )
             };
             let sight = Point3::from(p) - cam;
@@ -255,7 +255,7 @@ impl TrackerNoise {
                 rot = UnitQuaternion::new_unchecked(-rot.into_inner());
             }
             out.push(StampedPose {
-                t: sp_.t,
+                t: exact.t,
                 pose: Isometry3::from_parts(Translation3::from(p), rot),
             });
         }
