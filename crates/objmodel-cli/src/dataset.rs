@@ -29,9 +29,9 @@ pub struct DatasetArgs {
     /// (default 15, none with --quick); e.g. `--tosses 500` for the toss benchmark.
     #[arg(long)]
     pub tosses: Option<usize>,
-    /// Noise levels, comma-separated: the camera presets `clean`, `real`, `noisy` (the
-    /// default: all three), and `camera` (noise larger along the line of sight and
-    /// correlated between frames, as a camera's is). The motion-capture versions are made
+    /// Noise levels, comma-separated: `clean`, `real`, `noisy` (the default: all three),
+    /// and `camera` (noise larger along the line of sight and correlated between frames, as
+    /// a camera's is). The motion-capture versions are made
     /// whatever the levels.
     #[arg(long, value_delimiter = ',', default_values_t = TrackerNoise::PRESETS.map(String::from),
           value_parser = ["clean", "real", "noisy", "camera"])]
