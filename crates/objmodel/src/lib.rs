@@ -69,6 +69,7 @@ pub mod landing;
 pub mod learn;
 pub mod mass;
 pub mod noise;
+pub mod noise_correlation;
 pub mod observation;
 pub mod onset;
 pub mod pendulum;

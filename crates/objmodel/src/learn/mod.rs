@@ -16,7 +16,8 @@
 //! tree together ([`Tree::add`]), under the identity of its poses (the kept frames'
 //! fingerprint, not its name). A file is read a second time only where its first frames
 //! measured the motion rather than the noise and a rest measures the noise
-//! (`Learner::noise_check`): it is classified again with that noise. Gravity comes from the
+//! (`Learner::noise_check`), or where the tracker's noise is correlated from frame to frame
+//! (`Learner::correlated_noise`): it is classified again with that noise. Gravity comes from the
 //! [`Config`]: without it the topples'
 //! dynamics cannot be measured (their angles are from the vertical), which the report says.
 //! A demonstration without motion teaches nothing and is not added.
@@ -222,20 +223,80 @@ impl Learner {
         again: impl FnOnce(&Config) -> Result<Classification>,
     ) -> Result<Classification> {
         let rest = match self.noise_check(&first, recording) {
-            NoiseCheck::OnRest(rest) => rest,
-            check => {
+            NoiseCheck::OnRest(rest) => Some(rest),
+            NoiseCheck::Measured => None,
+            NoiseCheck::Unmeasurable => {
                 let mut c = first;
-                self.check(&mut c, recording, matches!(check, NoiseCheck::Unmeasurable));
+                self.check(&mut c, recording, true);
                 return Ok(c);
             }
         };
+        let correlated = self.correlated_noise(recording);
+        if rest.is_none() && correlated.is_none() {
+            let mut c = first;
+            self.check(&mut c, recording, false);
+            return Ok(c);
+        }
+        let mut config = self.config;
+        if let Some(rest) = &rest {
+            config = rest.config(&config);
+        }
+        if let Some(correlated) = &correlated {
+            config = correlated.config(&config);
+        }
         let learner = Learner {
-            config: rest.config(&self.config),
+            config,
             ..self.clone()
         };
-        let mut c = rest.reclassified(again(&learner.config)?);
+        let mut c = again(&learner.config)?;
+        // (The long-run noise replaces the rest's, which is then not worth a word.)
+        match (&correlated, &rest) {
+            (Some(correlated), _) => correlated.reclassified(&mut c),
+            (None, Some(rest)) => rest.reclassified(&mut c),
+            (None, None) => {}
+        }
         learner.check(&mut c, recording, false);
         Ok(c)
+    }
+
+    /// The long-run noise of a tracker whose noise is correlated from frame to frame
+    /// ([`crate::noise_correlation`]), where the robust method estimates the noise (none given)
+    /// and every frame was kept: measured on the object's frames and, with a palm whose noise
+    /// is not given, on the palm's; `None` where neither is correlated beyond its sampling
+    /// error (one-sided at the tests' `alpha`), or where the object's long-run noise does not
+    /// exceed what the same frames give as independent noise by more than the model tolerance
+    /// that the tests add to the noise anyway (exact poses: the contacts' micro-motion is
+    /// smooth, and both are the floor).
+    fn correlated_noise(&self, recording: &Recording) -> Option<CorrelatedNoise> {
+        let robust = &self.config.robust;
+        if self.config.method != crate::classify::Method::Robust
+            || robust.noise.is_some()
+            || recording.object_stride > 1
+        {
+            return None;
+        }
+        let object: Vec<crate::noise::PoseSample> = recording
+            .object
+            .iter()
+            .map(|f| (f.t, f.rotation, f.position))
+            .collect();
+        let object = crate::noise_correlation::measure(&object)?;
+        let tolerance = (robust.edge_tolerance_m, robust.edge_tolerance_rad);
+        if !object.significant(robust.alpha) || !object.matters(tolerance) {
+            return None;
+        }
+        let palm = (robust.palm_noise.is_none() && recording.palm_stride == 1)
+            .then(|| {
+                let palm: Vec<crate::noise::PoseSample> = recording
+                    .palm
+                    .iter()
+                    .map(|p| (p.t, p.pose.rotation, p.pose.translation.vector))
+                    .collect();
+                crate::noise_correlation::measure(&palm)
+            })
+            .flatten()
+            .filter(|c| c.significant(robust.alpha));
+        Some(CorrelatedNoise { object, palm })
     }
 
     /// Whether the noise the classification `c` used measures the tracker: estimated (none
@@ -601,8 +662,8 @@ impl RestNoise {
         config
     }
 
-    /// The classification made with this noise, saying where the noise came from.
-    fn reclassified(&self, mut c: Classification) -> Classification {
+    /// Say in the classification made with this noise where the noise came from.
+    fn reclassified(&self, c: &mut Classification) {
         let mm = |n: &NoiseModel| n.sigma_position * 1e3;
         let deg = |n: &NoiseModel| n.sigma_rotation.to_degrees();
         c.warnings.insert(
@@ -621,7 +682,51 @@ impl RestNoise {
         );
         // Measured on the rest, not given by the user.
         c.noise_given = false;
-        c
+    }
+}
+
+/// The long-run noise of trackers whose noise is correlated from frame to frame, in place of
+/// the estimate from differences of neighbouring frames ([`crate::noise_correlation`]).
+struct CorrelatedNoise {
+    object: crate::noise_correlation::Correlation,
+    /// The palm's, where its own noise is correlated too.
+    palm: Option<crate::noise_correlation::Correlation>,
+}
+
+impl CorrelatedNoise {
+    /// `config` with the long-run noise given: the object's and, where measured, the palm's.
+    fn config(&self, config: &Config) -> Config {
+        let mut config = *config;
+        config.robust.noise = Some(self.object.long_run);
+        if let Some(palm) = &self.palm {
+            config.robust.palm_noise = Some(palm.long_run);
+        }
+        config
+    }
+
+    /// Say in the classification made with this noise where the noise came from.
+    fn reclassified(&self, c: &mut Classification) {
+        let say = |who: &str, k: &crate::noise_correlation::Correlation| {
+            format!(
+                "the {who}'s tracking noise is correlated from frame to frame (lag-one \
+                 correlation {:.2}, {:.1} standard errors above white noise's, over {} \
+                 windows of {} frames): the tests use its long-run size, {:.2} mm, {:.2} deg \
+                 (a filtering tracker; give --noise-position and --noise-rotation to override)",
+                k.rho,
+                k.z,
+                k.windows,
+                crate::noise_correlation::WINDOW,
+                k.long_run.sigma_position * 1e3,
+                k.long_run.sigma_rotation.to_degrees()
+            )
+        };
+        let mut said = vec![say("object", &self.object)];
+        if let Some(palm) = &self.palm {
+            said.push(say("palm", palm));
+        }
+        c.warnings.splice(0..0, said);
+        // Measured, not given by the user.
+        c.noise_given = false;
     }
 }
 
