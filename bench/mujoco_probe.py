@@ -27,6 +27,9 @@ atan(half length / half height) (topples).
     SEED=12 python3 bench/mujoco_probe.py 20    (another random stream; default 11)
     RATE=120 NOISE=0.1 python3 bench/mujoco_probe.py 20    (a motion-capture rate [Hz]; default 30)
     EXACT_TOO=1 ...    (also write the tag's exact poses as NAME.exact.tum, for diagnosis)
+    CORRELATION=0.5 ...  (each axis's noise first-order autoregressive with that lag-one
+                        correlation, as a filtering tracker's; each frame's variance unchanged;
+                        the tag's and the palm's; default 0: the same draws as before)
     NOISE_GIVEN=1 ...  (pass the trackers' noise to the learner: the tag's, and the palm's;
                         NOISE_GIVEN=object: the tag's alone, which the learner takes for both)
 
@@ -49,6 +52,20 @@ DEG = math.pi / 180
 RATE = float(os.environ.get("RATE", "30"))
 # Tracking noise, as a multiple of 1 mm / 0.5 deg (and of the flip rates): NOISE=0 for exact poses.
 NOISE = float(os.environ.get("NOISE", "1"))
+# Lag-one correlation of consecutive frames' noise (0: independent).
+CORRELATION = float(os.environ.get("CORRELATION", "0"))
+
+
+def correlated(draws):
+    """First-order autoregressive noise from independent draws (rows are frames), each frame's
+    variance that of the draws; the draws themselves at CORRELATION 0."""
+    out = np.array(draws, dtype=float)
+    if CORRELATION == 0:
+        return out
+    out[0] = draws[0]
+    for k in range(1, len(out)):
+        out[k] = CORRELATION * out[k - 1] + math.sqrt(1 - CORRELATION**2) * draws[k]
+    return out
 
 
 def mjcf(mu, bodies):
@@ -191,14 +208,19 @@ def tag_track(poses, rng):
     box_from_tag_t = np.array([rng.uniform(-0.01, 0.01), rng.uniform(-0.01, 0.01), 0.0])
     box_from_tag_r = R.from_euler("z", rng.uniform(-180, 180), degrees=True)
     out = []
+    state = None
     for row in poses:
         if rng.random() < 0.03:
             continue  # dropped frame
         wb_r = R.from_quat(row[4:8])
         p = row[1:4] + wb_r.apply(box_from_tag_t)
         r = wb_r * box_from_tag_r
-        p = p + rng.normal(scale=1e-3 * NOISE, size=3)
-        r = r * R.from_rotvec(rng.normal(scale=0.5 * DEG * NOISE, size=3))
+        draw = np.concatenate([rng.normal(scale=1e-3 * NOISE, size=3),
+                               rng.normal(scale=0.5 * DEG * NOISE, size=3)])
+        # (A dropped frame's noise is not drawn: the correlation is between tracked frames.)
+        state = draw if state is None else correlated([state, draw])[1]
+        p = p + state[:3]
+        r = r * R.from_rotvec(state[3:])
         if rng.random() < 0.01 * NOISE:
             r = r * R.from_rotvec([40 * DEG, 0, 0])  # mirror solution for one frame
         q = r.as_quat()
@@ -257,9 +279,9 @@ def main():
             if palm is not None:
                 # The palm's pose from the arm's kinematics: small noise, no tag flips.
                 noisy = palm.copy()
-                noisy[:, 1:4] += rng.normal(scale=2e-4 * NOISE, size=(len(palm), 3))
-                noisy[:, 4:8] = (R.from_quat(palm[:, 4:8]) * R.from_rotvec(
-                    rng.normal(scale=0.05 * DEG * NOISE, size=(len(palm), 3)))).as_quat()
+                noisy[:, 1:4] += correlated(rng.normal(scale=2e-4 * NOISE, size=(len(palm), 3)))
+                noisy[:, 4:8] = (R.from_quat(palm[:, 4:8]) * R.from_rotvec(correlated(
+                    rng.normal(scale=0.05 * DEG * NOISE, size=(len(palm), 3))))).as_quat()
                 write(path[:-4] + ".palm.tum", noisy)
             # Truth in the tag frame: tag_from_box = (box_from_tag)^-1.
             to_tag = lambda x: bt_r.inv().apply(np.array(x) - bt_t)

@@ -709,9 +709,10 @@ impl CorrelatedNoise {
         let say = |who: &str, k: &crate::noise_correlation::Correlation| {
             format!(
                 "the {who}'s tracking noise is correlated from frame to frame (lag-one \
-                 correlation {:.2}, {:.1} standard errors above white noise's, over {} \
+                 correlation {}{:.2}, {:.1} standard errors above white noise's, over {} \
                  windows of {} frames): the tests use its long-run size, {:.2} mm, {:.2} deg \
                  (a filtering tracker; give --noise-position and --noise-rotation to override)",
+                if k.at_least { "at least " } else { "" },
                 k.rho,
                 k.z,
                 k.windows,
