@@ -269,10 +269,7 @@ impl Learner {
     /// smooth, and both are the floor).
     fn correlated_noise(&self, recording: &Recording) -> Option<CorrelatedNoise> {
         let robust = &self.config.robust;
-        if self.config.method != crate::classify::Method::Robust
-            || robust.noise.is_some()
-            || recording.object_stride > 1
-        {
+        if !self.estimates_noise(recording) {
             return None;
         }
         let object: Vec<crate::noise::PoseSample> = recording
@@ -395,6 +392,14 @@ impl Learner {
         }
     }
 
+    /// Whether the robust method estimates the noise (none given), and the record kept every
+    /// object frame (the checks of the noise need consecutive frames).
+    fn estimates_noise(&self, recording: &Recording) -> bool {
+        self.config.method == crate::classify::Method::Robust
+            && self.config.robust.noise.is_none()
+            && recording.object_stride == 1
+    }
+
     /// Whether the robust method estimated the noise (none given) from frames whose motion
     /// dominates their second differences ([`crate::noise::motion_dominated`]): then the
     /// estimate is the motion's, every test passes everything, and features would be taught
@@ -402,10 +407,7 @@ impl Learner {
     /// `warmup_frames`; all of them when the record kept every frame of those).
     fn noise_unmeasurable(&self, recording: &Recording) -> bool {
         let robust = &self.config.robust;
-        if self.config.method != crate::classify::Method::Robust
-            || robust.noise.is_some()
-            || recording.object_stride > 1
-        {
+        if !self.estimates_noise(recording) {
             return false;
         }
         let samples: Vec<crate::noise::PoseSample> = recording
