@@ -18,7 +18,8 @@
 //! (position and rotation each normalised by its own scale), its standard error is the
 //! jackknife's over windows, and ρ is `R⁻¹` of it. A slow creep is a low frequency too, and
 //! the quadratic takes it out: the creep of a box down a tilting palm (MuJoCo, 0.3 mm noise)
-//! measures ρ ≈ 0, as white noise does.
+//! measures ρ ≈ 0, as white noise does. The windows resolve ρ up to [`MAX_RHO`]; beyond, ρ is
+//! said to be at least that.
 
 use crate::noise::{NoiseModel, PoseSample};
 use crate::se3::so3_log;
@@ -61,16 +62,14 @@ pub struct Correlation {
 
 impl Correlation {
     /// Whether the noise is correlated beyond the statistic's sampling error: one-sided at
-    /// `alpha`, against Student's t with one fewer degree of freedom than windows (the
-    /// jackknife's standard error is itself estimated from the windows: over 120 files of
-    /// independent noise and motion, z reached 3.0 with 14 windows, beyond the normal
-    /// quantile 3.09 at 10⁻³ in all but name).
+    /// `alpha`, against Student's t with one fewer degree of freedom than windows, since the
+    /// jackknife's standard error is itself estimated from the windows. (Against the normal
+    /// quantile, 3.09 at 10⁻³, 120 files of independent noise with motion came close: z = 3.0
+    /// with 14 windows, where t's quantile is 3.85.)
     pub fn significant(&self, alpha: f64) -> bool {
         self.rho > 0.0 && self.z > student_t_quantile(1.0 - alpha, self.windows as f64 - 1.0)
     }
-}
 
-impl Correlation {
     /// Whether the long-run noise exceeds the noise the same windows give as independent by
     /// more than `tolerance` (position \[m\], rotation \[rad\]) in quadrature, in position or
     /// rotation: what a test that adds `tolerance` to the noise would notice. Exact poses
@@ -91,8 +90,8 @@ impl Correlation {
 }
 
 /// The quantile of Student's t with `nu` degrees of freedom at `p`, by the Cornish-Fisher
-/// expansion about the normal quantile (within 2% for p ≤ 0.999 and ν ≥ 5, as [`MIN_WINDOWS`] makes it; the terms given by
-/// Abramowitz and Stegun 26.7.5).
+/// expansion about the normal quantile (Abramowitz and Stegun 26.7.5): within 2% for
+/// p ≤ 0.999 and ν ≥ 5, which [`MIN_WINDOWS`] ensures.
 fn student_t_quantile(p: f64, nu: f64) -> f64 {
     let z = crate::stats::normal_quantile(p);
     let (z3, z5, z7) = (z.powi(3), z.powi(5), z.powi(7));
