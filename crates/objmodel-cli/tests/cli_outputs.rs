@@ -609,3 +609,48 @@ fn completion_scripts() {
         "the message should name the shell and the ones there are",
     );
 }
+
+/// `classify --json` says what it measured of noise correlated from frame to frame
+/// (`noise_correlation`): a camera's (correlated at 0.5) is found, with a long-run noise above
+/// the independent one; independent noise gives none.
+#[test]
+fn classify_json_reports_correlated_noise() {
+    let d = TempDir::new("correlated");
+    let mut found = 0;
+    for (noise, seed) in [("camera", 1), ("camera", 2), ("camera", 3), ("real", 1)] {
+        let out = d.join(&format!("{noise}{seed}"));
+        run(&[
+            "simulate".to_string(),
+            "slide".into(),
+            "--noise".into(),
+            noise.into(),
+            "--seed".into(),
+            seed.to_string(),
+            "-q".into(),
+            "-o".into(),
+            s(&out),
+        ])
+        .ok();
+        let demo = out.join(format!("slide_{noise}_s{seed}.tum"));
+        let v = classify_json(&demo, &[]);
+        let k = &v["noise_correlation"];
+        if noise == "real" {
+            assert!(k.is_null(), "independent noise: {k}");
+            continue;
+        }
+        if k.is_null() {
+            continue;
+        }
+        found += 1;
+        let rho = k["object"]["rho"].as_f64().unwrap();
+        assert!((0.2..=0.7).contains(&rho), "rho {rho}");
+        let long_run = k["object"]["long_run"]["sigma_position"].as_f64().unwrap();
+        let white = k["object"]["white"]["sigma_position"].as_f64().unwrap();
+        assert!(long_run > 1.3 * white, "{long_run} vs {white}");
+        assert_eq!(v["noise"]["sigma_position"].as_f64().unwrap(), long_run);
+        assert!(v["warnings"]
+            .to_string()
+            .contains("correlated from frame to frame"));
+    }
+    assert!(found >= 2, "found in {found} of 3 camera slides");
+}

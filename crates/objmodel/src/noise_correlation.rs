@@ -24,6 +24,7 @@
 use crate::noise::{NoiseModel, PoseSample};
 use crate::se3::so3_log;
 use nalgebra::{DMatrix, SMatrix};
+use serde::{Deserialize, Serialize};
 
 /// Frames per window.
 pub const WINDOW: usize = 10;
@@ -41,7 +42,7 @@ pub const MAX_RHO: f64 = 0.7;
 type Square = SMatrix<f64, WINDOW, WINDOW>;
 
 /// The correlation of a tracker's noise between consecutive frames, measured.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Correlation {
     /// Lag-one correlation ρ of the noise (first-order autoregressive model), at most
     /// [`MAX_RHO`].
@@ -58,6 +59,16 @@ pub struct Correlation {
     pub long_run: NoiseModel,
     /// The per-axis noise the same windows give taken as independent (ρ = 0).
     pub white: NoiseModel,
+}
+
+/// The correlated noise of a demonstration's trackers, where the object's is: the learner
+/// then tests with the long-run noise of each.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrackerCorrelations {
+    /// The object's tracker.
+    pub object: Correlation,
+    /// The palm's tracker, where its own frames are correlated too.
+    pub palm: Option<Correlation>,
 }
 
 impl Correlation {

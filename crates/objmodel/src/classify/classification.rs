@@ -266,6 +266,10 @@ pub struct Classification {
     /// the palm for an instrumented demonstration), rather than estimated from the data.
     #[serde(default)]
     pub noise_given: bool,
+    /// Where the trackers' noise is correlated from frame to frame: what was measured, and
+    /// `noise` is then from the long-run noise ([`crate::noise_correlation`]).
+    #[serde(default)]
+    pub noise_correlation: Option<crate::noise_correlation::TrackerCorrelations>,
     /// Motion segments.
     pub segments: Vec<Segment>,
     /// The topples (segments grouped by edge), with their edges.

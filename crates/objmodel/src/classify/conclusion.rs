@@ -58,6 +58,7 @@ pub(super) fn conclude(
         votes,
         noise: segmented.noise,
         noise_given: config0.robust.noise.is_some(),
+        noise_correlation: None,
         segments,
         topples,
         labels: runs(&segmented.blocks),

@@ -278,6 +278,7 @@ impl PaperMethod {
             votes: self.votes,
             noise: None,
             noise_given: false,
+            noise_correlation: None,
             topples: edge
                 .clone()
                 .map(|e| super::Topple {

@@ -53,6 +53,7 @@ use crate::classify::{classify, Classification};
 use crate::format::bag::{read_bag_demonstrations, BagSelection};
 use crate::format::{conversion_warning, detect_time_unit_of, to_seconds, TimeUnit};
 use crate::noise::NoiseModel;
+use crate::noise_correlation::TrackerCorrelations;
 use crate::observation::Observation;
 use crate::recording::{Recorder, Recording, DEFAULT_CAPACITY};
 use crate::trajectory::Demonstration;
@@ -242,7 +243,7 @@ impl Learner {
             config = rest.config(&config);
         }
         if let Some(correlated) = &correlated {
-            config = correlated.config(&config);
+            config = with_long_run_noise(&config, correlated);
         }
         let learner = Learner {
             config,
@@ -251,7 +252,7 @@ impl Learner {
         let mut c = again(&learner.config)?;
         // (The long-run noise replaces the rest's, which is then not worth a word.)
         match (&correlated, &rest) {
-            (Some(correlated), _) => correlated.reclassified(&mut c),
+            (Some(correlated), _) => say_correlated(&mut c, correlated),
             (None, Some(rest)) => rest.reclassified(&mut c),
             (None, None) => {}
         }
@@ -267,7 +268,7 @@ impl Learner {
     /// exceed what the same frames give as independent noise by more than the model tolerance
     /// that the tests add to the noise anyway (exact poses: the contacts' micro-motion is
     /// smooth, and both are the floor).
-    fn correlated_noise(&self, recording: &Recording) -> Option<CorrelatedNoise> {
+    fn correlated_noise(&self, recording: &Recording) -> Option<TrackerCorrelations> {
         let robust = &self.config.robust;
         if !self.estimates_noise(recording) {
             return None;
@@ -293,7 +294,7 @@ impl Learner {
             })
             .flatten()
             .filter(|c| c.significant(robust.alpha));
-        Some(CorrelatedNoise { object, palm })
+        Some(TrackerCorrelations { object, palm })
     }
 
     /// Whether the noise the classification `c` used measures the tracker: estimated (none
@@ -687,50 +688,42 @@ impl RestNoise {
     }
 }
 
-/// The long-run noise of trackers whose noise is correlated from frame to frame, in place of
-/// the estimate from differences of neighbouring frames ([`crate::noise_correlation`]).
-struct CorrelatedNoise {
-    object: crate::noise_correlation::Correlation,
-    /// The palm's, where its own noise is correlated too.
-    palm: Option<crate::noise_correlation::Correlation>,
+/// `config` with the long-run noise of correlated trackers given: the object's and, where
+/// measured, the palm's ([`crate::noise_correlation`]).
+fn with_long_run_noise(config: &Config, correlated: &TrackerCorrelations) -> Config {
+    let mut config = *config;
+    config.robust.noise = Some(correlated.object.long_run);
+    if let Some(palm) = &correlated.palm {
+        config.robust.palm_noise = Some(palm.long_run);
+    }
+    config
 }
 
-impl CorrelatedNoise {
-    /// `config` with the long-run noise given: the object's and, where measured, the palm's.
-    fn config(&self, config: &Config) -> Config {
-        let mut config = *config;
-        config.robust.noise = Some(self.object.long_run);
-        if let Some(palm) = &self.palm {
-            config.robust.palm_noise = Some(palm.long_run);
-        }
-        config
+/// Say in the classification made with the long-run noise where the noise came from.
+fn say_correlated(c: &mut Classification, correlated: &TrackerCorrelations) {
+    let say = |who: &str, k: &crate::noise_correlation::Correlation| {
+        format!(
+            "the {who}'s tracking noise is correlated from frame to frame (lag-one \
+             correlation {}{:.2}, {:.1} standard errors above white noise's, over {} \
+             windows of {} frames): the tests use its long-run size, {:.2} mm, {:.2} deg \
+             (a filtering tracker; give --noise-position and --noise-rotation to override)",
+            if k.at_least { "at least " } else { "" },
+            k.rho,
+            k.z,
+            k.windows,
+            crate::noise_correlation::WINDOW,
+            k.long_run.sigma_position * 1e3,
+            k.long_run.sigma_rotation.to_degrees()
+        )
+    };
+    let mut said = vec![say("object", &correlated.object)];
+    if let Some(palm) = &correlated.palm {
+        said.push(say("palm", palm));
     }
-
-    /// Say in the classification made with this noise where the noise came from.
-    fn reclassified(&self, c: &mut Classification) {
-        let say = |who: &str, k: &crate::noise_correlation::Correlation| {
-            format!(
-                "the {who}'s tracking noise is correlated from frame to frame (lag-one \
-                 correlation {}{:.2}, {:.1} standard errors above white noise's, over {} \
-                 windows of {} frames): the tests use its long-run size, {:.2} mm, {:.2} deg \
-                 (a filtering tracker; give --noise-position and --noise-rotation to override)",
-                if k.at_least { "at least " } else { "" },
-                k.rho,
-                k.z,
-                k.windows,
-                crate::noise_correlation::WINDOW,
-                k.long_run.sigma_position * 1e3,
-                k.long_run.sigma_rotation.to_degrees()
-            )
-        };
-        let mut said = vec![say("object", &self.object)];
-        if let Some(palm) = &self.palm {
-            said.push(say("palm", palm));
-        }
-        c.warnings.splice(0..0, said);
-        // Measured, not given by the user.
-        c.noise_given = false;
-    }
+    c.warnings.splice(0..0, said);
+    // Measured, not given by the user.
+    c.noise_given = false;
+    c.noise_correlation = Some(*correlated);
 }
 
 /// The longest time \[s\] between the demonstration's motion segments (or before the first,
