@@ -263,8 +263,8 @@ impl Learner {
     /// The long-run noise of a tracker whose noise is correlated from frame to frame
     /// ([`crate::noise_correlation`]), where the robust method estimates the noise (none given)
     /// and every frame was kept: measured on the object's frames and, with a palm whose noise
-    /// is not given, on the palm's; `None` where neither is correlated beyond its sampling
-    /// error (one-sided at the tests' `alpha`), or where the object's long-run noise does not
+    /// is not given, on the palm's; `None` where the object's is not correlated beyond its
+    /// sampling error (one-sided at the tests' `alpha`), or where its long-run noise does not
     /// exceed what the same frames give as independent noise by more than the model tolerance
     /// that the tests add to the noise anyway (exact poses: the contacts' micro-motion is
     /// smooth, and both are the floor).
