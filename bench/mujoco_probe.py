@@ -56,15 +56,18 @@ NOISE = float(os.environ.get("NOISE", "1"))
 CORRELATION = float(os.environ.get("CORRELATION", "0"))
 
 
+def ar_step(previous, draw):
+    """The next frame's first-order autoregressive noise from the previous frame's and an
+    independent draw, of the draw's variance; the draw itself at CORRELATION 0."""
+    return CORRELATION * previous + math.sqrt(1 - CORRELATION**2) * draw
+
+
 def correlated(draws):
     """First-order autoregressive noise from independent draws (rows are frames), each frame's
     variance that of the draws; the draws themselves at CORRELATION 0."""
     out = np.array(draws, dtype=float)
-    if CORRELATION == 0:
-        return out
-    out[0] = draws[0]
     for k in range(1, len(out)):
-        out[k] = CORRELATION * out[k - 1] + math.sqrt(1 - CORRELATION**2) * draws[k]
+        out[k] = ar_step(out[k - 1], out[k])
     return out
 
 
@@ -218,7 +221,7 @@ def tag_track(poses, rng):
         draw = np.concatenate([rng.normal(scale=1e-3 * NOISE, size=3),
                                rng.normal(scale=0.5 * DEG * NOISE, size=3)])
         # (A dropped frame's noise is not drawn: the correlation is between tracked frames.)
-        state = draw if state is None else correlated([state, draw])[1]
+        state = draw if state is None else ar_step(state, draw)
         p = p + state[:3]
         r = r * R.from_rotvec(state[3:])
         if rng.random() < 0.01 * NOISE:

@@ -23,12 +23,13 @@
 
 use crate::noise::{NoiseModel, PoseSample};
 use crate::se3::so3_log;
-use nalgebra::{DMatrix, SMatrix};
+use nalgebra::SMatrix;
 use serde::{Deserialize, Serialize};
 
 /// Frames per window.
 pub const WINDOW: usize = 10;
-/// Fewest kept windows for a measurement.
+/// Fewest kept windows for a measurement (Student's t quantile of [`Correlation::significant`]
+/// is then within 2%).
 pub const MIN_WINDOWS: usize = 6;
 /// How many times the quieter quarter's residual scale a window may have and be kept.
 const QUIET_FACTOR: f64 = 2.0;
@@ -78,7 +79,8 @@ impl Correlation {
     /// quantile, 3.09 at 10⁻³, 120 files of independent noise with motion came close: z = 3.0
     /// with 14 windows, where t's quantile is 3.85.)
     pub fn significant(&self, alpha: f64) -> bool {
-        self.rho > 0.0 && self.z > student_t_quantile(1.0 - alpha, self.windows as f64 - 1.0)
+        self.rho > 0.0
+            && self.z > crate::stats::student_t_quantile(1.0 - alpha, self.windows as f64 - 1.0)
     }
 
     /// Whether the long-run noise exceeds the noise the same windows give as independent by
@@ -100,28 +102,16 @@ impl Correlation {
     }
 }
 
-/// The quantile of Student's t with `nu` degrees of freedom at `p`, by the Cornish-Fisher
-/// expansion about the normal quantile (Abramowitz and Stegun 26.7.5): within 2% for
-/// p ≤ 0.999 and ν ≥ 5, which [`MIN_WINDOWS`] ensures.
-fn student_t_quantile(p: f64, nu: f64) -> f64 {
-    let z = crate::stats::normal_quantile(p);
-    let (z3, z5, z7) = (z.powi(3), z.powi(5), z.powi(7));
-    z + (z3 + z) / (4.0 * nu)
-        + (5.0 * z5 + 16.0 * z3 + 3.0 * z) / (96.0 * nu * nu)
-        + (3.0 * z7 + 19.0 * z5 + 17.0 * z3 - 15.0 * z) / (384.0 * nu.powi(3))
-}
-
 /// The residual maker of a quadratic in time on [`WINDOW`] evenly spaced frames:
 /// `I − X (XᵀX)⁻¹ Xᵀ`.
 fn residual_maker() -> Square {
-    let x = DMatrix::from_fn(WINDOW, 3, |i, j| {
+    let x = SMatrix::<f64, WINDOW, 3>::from_fn(|i, j| {
         (i as f64 - (WINDOW as f64 - 1.0) / 2.0).powi(j as i32)
     });
-    let xtx = (x.transpose() * &x)
+    let xtx = (x.transpose() * x)
         .try_inverse()
         .expect("a quadratic on distinct times is determined");
-    let hat = &x * xtx * x.transpose();
-    Square::identity() - Square::from_iterator(hat.iter().copied())
+    Square::identity() - x * xtx * x.transpose()
 }
 
 /// `M Γ(ρ) M` for the residual maker `M` and the correlation matrix `Γ(ρ)_ij = ρ^|i−j|`.
@@ -437,21 +427,6 @@ mod tests {
         // Correlated camera noise does matter.
         let camera = measure(&frames(150, 0.5, 0.0, 0.0, 5)).unwrap();
         assert!(camera.matters((3e-4, 0.5f64.to_radians())), "{camera:?}");
-    }
-
-    #[test]
-    fn student_quantiles_are_the_tables() {
-        // Tables of Student's t, one-sided 0.999 and 0.99.
-        for (p, nu, t) in [
-            (0.999, 5.0, 5.893),
-            (0.999, 9.0, 4.297),
-            (0.999, 20.0, 3.552),
-            (0.99, 5.0, 3.365),
-            (0.99, 30.0, 2.457),
-        ] {
-            let q = student_t_quantile(p, nu);
-            assert!((q / t - 1.0).abs() < 0.02, "{p} {nu}: {q} vs {t}");
-        }
     }
 
     #[test]

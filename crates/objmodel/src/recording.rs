@@ -35,6 +35,13 @@ pub struct RecordedFrame {
     pub position: Vector3<f64>,
 }
 
+impl RecordedFrame {
+    /// The frame as a sample of the noise estimators ([`crate::noise::PoseSample`]).
+    pub fn sample(&self) -> crate::noise::PoseSample {
+        (self.t, self.rotation, self.position)
+    }
+}
+
 /// What a [`Recorder`] kept of a demonstration.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Recording {

@@ -55,7 +55,7 @@ use crate::format::{conversion_warning, detect_time_unit_of, to_seconds, TimeUni
 use crate::noise::NoiseModel;
 use crate::noise_correlation::TrackerCorrelations;
 use crate::observation::Observation;
-use crate::recording::{Recorder, Recording, DEFAULT_CAPACITY};
+use crate::recording::{RecordedFrame, Recorder, Recording, DEFAULT_CAPACITY};
 use crate::trajectory::Demonstration;
 use crate::tree::Tree;
 use crate::Result;
@@ -215,8 +215,10 @@ impl Learner {
 
     /// `first`, the classification with the noise estimated from the first frames (or given),
     /// checked against the kept frames ([`Learner::check`]); or, where those frames measured
-    /// the motion and a rest measures the noise ([`Learner::noise_check`]), the classification
-    /// `again` makes with the rest's noise, checked.
+    /// the motion and a rest measures the noise ([`Learner::noise_check`]), or where the noise
+    /// is correlated from frame to frame ([`Learner::correlated_noise`]), the classification
+    /// `again` makes with the rest's noise or the long-run noise (which then replaces the
+    /// rest's), checked.
     fn checked(
         &self,
         first: Classification,
@@ -233,29 +235,26 @@ impl Learner {
             }
         };
         let correlated = self.correlated_noise(recording);
-        if rest.is_none() && correlated.is_none() {
-            let mut c = first;
-            self.check(&mut c, recording, false);
-            return Ok(c);
-        }
-        let mut config = self.config;
-        if let Some(rest) = &rest {
-            config = rest.config(&config);
-        }
-        if let Some(correlated) = &correlated {
-            config = with_long_run_noise(&config, correlated);
-        }
+        // The config to classify again with, and what the classification is told of it.
+        type Say<'a> = Box<dyn Fn(&mut Classification) + 'a>;
+        let (config, say): (Config, Say) = match (&correlated, &rest) {
+            (Some(k), _) => (
+                with_long_run_noise(&self.config, k),
+                Box::new(move |c| say_correlated(c, k)),
+            ),
+            (None, Some(r)) => (r.config(&self.config), Box::new(move |c| r.reclassified(c))),
+            (None, None) => {
+                let mut c = first;
+                self.check(&mut c, recording, false);
+                return Ok(c);
+            }
+        };
         let learner = Learner {
             config,
             ..self.clone()
         };
         let mut c = again(&learner.config)?;
-        // (The long-run noise replaces the rest's, which is then not worth a word.)
-        match (&correlated, &rest) {
-            (Some(correlated), _) => say_correlated(&mut c, correlated),
-            (None, Some(rest)) => rest.reclassified(&mut c),
-            (None, None) => {}
-        }
+        say(&mut c);
         learner.check(&mut c, recording, false);
         Ok(c)
     }
@@ -273,11 +272,8 @@ impl Learner {
         if !self.estimates_noise(recording) {
             return None;
         }
-        let object: Vec<crate::noise::PoseSample> = recording
-            .object
-            .iter()
-            .map(|f| (f.t, f.rotation, f.position))
-            .collect();
+        let object: Vec<crate::noise::PoseSample> =
+            recording.object.iter().map(RecordedFrame::sample).collect();
         let object = crate::noise_correlation::measure(&object)?;
         let tolerance = (robust.edge_tolerance_m, robust.edge_tolerance_rad);
         if !object.significant(robust.alpha) || !object.matters(tolerance) {
@@ -324,7 +320,7 @@ impl Learner {
             .object
             .iter()
             .filter(|f| f.t > measured.0 && f.t < measured.1)
-            .map(|f| (f.t, f.rotation, f.position))
+            .map(RecordedFrame::sample)
             .collect();
         if t1 - t0 < window && samples.len() < crate::noise::SCATTER_WINDOW {
             return NoiseCheck::Unmeasurable;
@@ -415,7 +411,7 @@ impl Learner {
             .object
             .iter()
             .take(robust.warmup_frames.max(3))
-            .map(|f| (f.t, f.rotation, f.position))
+            .map(RecordedFrame::sample)
             .collect();
         crate::noise::motion_dominated(
             &samples,
