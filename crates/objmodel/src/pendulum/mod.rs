@@ -18,7 +18,11 @@
 //!   For an instrumented demonstration φ is the palm's tilt at τ (the paper's method).
 //! * [`fit_fall`]: nonlinear least squares (Levenberg-Marquardt on an RK4 integration) of the
 //!   equation of motion to ψ(t) over the frames where the object still turns about its edge.
+//!
+//! Each fit's φ σ is the larger of the least-squares one and the sandwich under errors
+//! correlated from frame to frame (`hac`); a free fall's is then checked by the jackknife.
 
+mod hac;
 mod jackknife;
 mod onset;
 
@@ -260,6 +264,10 @@ pub fn fit_fall(t: &[f64], psi: &[f64], sigma: f64, phi0: f64) -> Option<FallFit
     let (p, cur, jtj) = fall_lm(t, psi, None, p)?;
     let mut fit = fit_result(p[0], p[1], cur, &jtj, 4, sigma, Scale::Residuals, t)?;
     fit.start_state = [p[2], p[3]];
+    // Serially correlated residuals (see [`fit_on_support`]).
+    if let Some(ar1) = hac::phi_sigma(&fall_residuals(t, psi, None), p, fall_steps(&p)) {
+        fit.phi_sigma = fit.phi_sigma.max(ar1);
+    }
     Some(fit)
 }
 
@@ -272,22 +280,31 @@ pub(crate) fn fall_lm(
     w: Option<&[f64]>,
     p: [f64; 4],
 ) -> Option<([f64; 4], f64, [[f64; 4]; 4])> {
-    let t0 = t[0];
-    let resid = |p: &[f64; 4]| -> Vec<f64> {
-        let m = simulate(p[0], p[1], t0, p[2], p[3], t);
+    let (p, cur, jtj) = levenberg_marquardt(p, fall_residuals(t, psi, w), fall_steps, |q| {
+        [q[0], q[1].max(1e-3), q[2], q[3]]
+    });
+    (p[0] > 0.0 && p[0] < std::f64::consts::FRAC_PI_2 && p[1] > 0.0).then_some((p, cur, jtj))
+}
+
+/// The free fall's residuals ψᵢ − model at the parameters (φ, k, ψ₀, ψ̇₀), weighted by `w`.
+fn fall_residuals<'a>(
+    t: &'a [f64],
+    psi: &'a [f64],
+    w: Option<&'a [f64]>,
+) -> impl Fn(&[f64; 4]) -> Vec<f64> + 'a {
+    move |p: &[f64; 4]| {
+        let m = simulate(p[0], p[1], t[0], p[2], p[3], t);
         m.iter()
             .zip(psi)
             .enumerate()
             .map(|(i, (a, b))| (b - a) * w.map_or(1.0, |w| w[i]))
             .collect()
-    };
-    let (p, cur, jtj) = levenberg_marquardt(
-        p,
-        resid,
-        |p| [1e-6, 1e-4 * p[1].max(1.0), 1e-6, 1e-5],
-        |q| [q[0], q[1].max(1e-3), q[2], q[3]],
-    );
-    (p[0] > 0.0 && p[0] < std::f64::consts::FRAC_PI_2 && p[1] > 0.0).then_some((p, cur, jtj))
+    }
+}
+
+/// The free fall's forward-difference steps at the parameters `p`.
+fn fall_steps(p: &[f64; 4]) -> [f64; 4] {
+    [1e-6, 1e-4 * p[1].max(1.0), 1e-6, 1e-5]
 }
 
 /// Significance level of the test that a fall is not uniform motion ([`fit_fall`]).
@@ -447,16 +464,18 @@ pub fn fit_on_support(
             .map(|(m, y)| y - m)
             .collect()
     };
-    let (p, cur, jtj) = levenberg_marquardt(
-        best.1,
-        resid,
-        |p| [1e-5, 1e-4 * p[1]],
-        |q| [q[0], q[1].max(1e-3)],
-    );
+    let steps = |p: &[f64; 2]| [1e-5, 1e-4 * p[1]];
+    let (p, cur, jtj) = levenberg_marquardt(best.1, resid, steps, |q| [q[0], q[1].max(1e-3)]);
     if !(p[0] > 0.0 && p[0] < std::f64::consts::FRAC_PI_2) {
         return None;
     }
-    fit_result(p[0], p[1], cur, &jtj, 2, sigma, Scale::Noise, t)
+    let mut fit = fit_result(p[0], p[1], cur, &jtj, 2, sigma, Scale::Noise, t)?;
+    // The residuals' own serial correlation (a filtering tracker, a creeping contact) is not
+    // in the least-squares covariance: where the sandwich estimator shows more, it stands.
+    if let Some(hac) = hac::phi_sigma(&resid, p, steps(&p)) {
+        fit.phi_sigma = fit.phi_sigma.max(hac);
+    }
+    Some(fit)
 }
 
 #[cfg(test)]
