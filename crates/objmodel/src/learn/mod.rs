@@ -16,8 +16,8 @@
 //! tree together ([`Tree::add`]), under the identity of its poses (the kept frames'
 //! fingerprint, not its name). A file is read a second time only where its first frames
 //! measured the motion rather than the noise and a rest measures the noise
-//! (`Learner::noise_check`), or where the tracker's noise is correlated from frame to frame
-//! (`Learner::correlated_noise`): it is classified again with that noise. Gravity comes from the
+//! (`tracker_noise::noise_check`), or where the tracker's noise is correlated from frame to frame
+//! (`tracker_noise::correlated_noise`): it is classified again with that noise. Gravity comes from the
 //! [`Config`]: without it the topples'
 //! dynamics cannot be measured (their angles are from the vertical), which the report says.
 //! A demonstration without motion teaches nothing and is not added.
@@ -52,10 +52,8 @@ pub use crate::classify::Config;
 use crate::classify::{classify, Classification};
 use crate::format::bag::{read_bag_demonstrations, BagSelection};
 use crate::format::{conversion_warning, detect_time_unit_of, to_seconds, TimeUnit};
-use crate::noise::NoiseModel;
-use crate::noise_correlation::TrackerCorrelations;
 use crate::observation::Observation;
-use crate::recording::{RecordedFrame, Recorder, Recording, DEFAULT_CAPACITY};
+use crate::recording::{Recorder, Recording, DEFAULT_CAPACITY};
 use crate::trajectory::Demonstration;
 use crate::tree::Tree;
 use crate::Result;
@@ -63,8 +61,10 @@ use std::borrow::Cow;
 use std::path::Path;
 
 mod gravity_check;
+mod tracker_noise;
 
 pub use gravity_check::NOT_LEARNT;
+use tracker_noise::{say_correlated, with_long_run_noise, NoiseCheck};
 
 /// Where a demonstration comes from.
 #[derive(Clone, Copy, Debug)]
@@ -215,8 +215,8 @@ impl Learner {
 
     /// `first`, the classification with the noise estimated from the first frames (or given),
     /// checked against the kept frames ([`Learner::check`]); or, where those frames measured
-    /// the motion and a rest measures the noise ([`Learner::noise_check`]), or where the noise
-    /// is correlated from frame to frame ([`Learner::correlated_noise`]), the classification
+    /// the motion and a rest measures the noise ([`tracker_noise::noise_check`]), or where the noise
+    /// is correlated from frame to frame ([`tracker_noise::correlated_noise`]), the classification
     /// `again` makes with the rest's noise or the long-run noise (which then replaces the
     /// rest's), checked.
     fn checked(
@@ -225,7 +225,7 @@ impl Learner {
         recording: &Recording,
         again: impl FnOnce(&Config) -> Result<Classification>,
     ) -> Result<Classification> {
-        let rest = match self.noise_check(&first, recording) {
+        let rest = match tracker_noise::noise_check(&self.config, &first, recording) {
             NoiseCheck::OnRest(rest) => Some(rest),
             NoiseCheck::Measured => None,
             NoiseCheck::Unmeasurable => {
@@ -234,7 +234,7 @@ impl Learner {
                 return Ok(c);
             }
         };
-        let correlated = self.correlated_noise(recording);
+        let correlated = tracker_noise::correlated_noise(&self.config, recording);
         // The config to classify again with, and what the classification is told of it.
         type Say<'a> = Box<dyn Fn(&mut Classification) + 'a>;
         let (config, say): (Config, Say) = match (&correlated, &rest) {
@@ -257,95 +257,6 @@ impl Learner {
         say(&mut c);
         learner.check(&mut c, recording, false);
         Ok(c)
-    }
-
-    /// The long-run noise of a tracker whose noise is correlated from frame to frame
-    /// ([`crate::noise_correlation`]), where the robust method estimates the noise (none given)
-    /// and every frame was kept: measured on the object's frames and, with a palm whose noise
-    /// is not given, on the palm's; `None` where the object's is not correlated beyond its
-    /// sampling error (one-sided at the tests' `alpha`), or where its long-run noise does not
-    /// exceed what the same frames give as independent noise by more than the model tolerance
-    /// that the tests add to the noise anyway (exact poses: the contacts' micro-motion is
-    /// smooth, and both are the floor).
-    fn correlated_noise(&self, recording: &Recording) -> Option<TrackerCorrelations> {
-        let robust = &self.config.robust;
-        if !self.estimates_noise(recording) {
-            return None;
-        }
-        let object: Vec<crate::noise::PoseSample> =
-            recording.object.iter().map(RecordedFrame::sample).collect();
-        let object = crate::noise_correlation::measure(&object)?;
-        let tolerance = (robust.edge_tolerance_m, robust.edge_tolerance_rad);
-        if !object.significant(robust.alpha) || !object.matters(tolerance) {
-            return None;
-        }
-        let palm = (robust.palm_noise.is_none() && recording.palm_stride == 1)
-            .then(|| {
-                let palm: Vec<crate::noise::PoseSample> = recording
-                    .palm
-                    .iter()
-                    .map(|p| (p.t, p.pose.rotation, p.pose.translation.vector))
-                    .collect();
-                crate::noise_correlation::measure(&palm)
-            })
-            .flatten()
-            .filter(|c| c.significant(robust.alpha));
-        Some(TrackerCorrelations { object, palm })
-    }
-
-    /// Whether the noise the classification `c` used measures the tracker: estimated (none
-    /// given) from first frames whose motion dominates their second differences
-    /// ([`Learner::noise_unmeasurable`]), it may be the motion's (10 mm for 1 mm at 30 Hz, for
-    /// a thrown object whose file starts in flight), and then every test passes everything, a
-    /// 3-frame "topple" among them. The longest rest measures it if it lasts the rest test's
-    /// window, or if, shorter, the frames of its second half are at least one
-    /// [`crate::noise::SCATTER_WINDOW`] (a tracker at 100-250 Hz; 30 Hz needs the window);
-    /// otherwise the noise is unmeasurable. Its first half window (or first half) is dropped:
-    /// with the motion's noise a motion's end is found late or early, and its last frames may
-    /// still be in the "rest". Where the first frames' estimate exceeds the rest's beyond
-    /// their sampling errors ([`crate::noise::exceeds`]), the rest's is the noise. Otherwise
-    /// the first frames' estimate stands (a demonstration shorter than the warm-up holds its
-    /// motion among the first frames, and its rests keep the estimate at the noise).
-    fn noise_check(&self, c: &Classification, recording: &Recording) -> NoiseCheck {
-        if !self.noise_unmeasurable(recording) {
-            return NoiseCheck::Measured;
-        }
-        let robust = &self.config.robust;
-        let window = robust.rest_window_s;
-        let Some((t0, t1)) = longest_rest(c, recording) else {
-            return NoiseCheck::Unmeasurable;
-        };
-        let measured = (t0 + 0.5 * window.min(t1 - t0), t1);
-        let samples: Vec<crate::noise::PoseSample> = recording
-            .object
-            .iter()
-            .filter(|f| f.t > measured.0 && f.t < measured.1)
-            .map(RecordedFrame::sample)
-            .collect();
-        if t1 - t0 < window && samples.len() < crate::noise::SCATTER_WINDOW {
-            return NoiseCheck::Unmeasurable;
-        }
-        let tolerance = (robust.edge_tolerance_m, robust.edge_tolerance_rad);
-        let first_frames = recording.object.len().min(robust.warmup_frames.max(3));
-        match (crate::noise::estimate(&samples), c.noise) {
-            (Some(noise), Some(first))
-                if !crate::noise::motion_dominated(&samples, robust.alpha, tolerance)
-                    && crate::noise::exceeds(
-                        &first,
-                        first_frames,
-                        &noise,
-                        samples.len(),
-                        robust.alpha,
-                    ) =>
-            {
-                NoiseCheck::OnRest(RestNoise {
-                    noise,
-                    first,
-                    measured,
-                })
-            }
-            _ => NoiseCheck::Measured,
-        }
     }
 
     /// What the kept frames say of a classification: nothing is taught when the noise could
@@ -387,37 +298,6 @@ impl Learner {
         if !unmeasurable {
             crate::roll::mark_rolls(classification, recording, &self.config);
         }
-    }
-
-    /// Whether the robust method estimates the noise (none given), and the record kept every
-    /// object frame (the checks of the noise need consecutive frames).
-    fn estimates_noise(&self, recording: &Recording) -> bool {
-        self.config.method == crate::classify::Method::Robust
-            && self.config.robust.noise.is_none()
-            && recording.object_stride == 1
-    }
-
-    /// Whether the robust method estimated the noise (none given) from frames whose motion
-    /// dominates their second differences ([`crate::noise::motion_dominated`]): then the
-    /// estimate is the motion's, every test passes everything, and features would be taught
-    /// with confidence from anything. Tested on the frames the estimate used (the first
-    /// `warmup_frames`; all of them when the record kept every frame of those).
-    fn noise_unmeasurable(&self, recording: &Recording) -> bool {
-        let robust = &self.config.robust;
-        if !self.estimates_noise(recording) {
-            return false;
-        }
-        let samples: Vec<crate::noise::PoseSample> = recording
-            .object
-            .iter()
-            .take(robust.warmup_frames.max(3))
-            .map(RecordedFrame::sample)
-            .collect();
-        crate::noise::motion_dominated(
-            &samples,
-            robust.alpha,
-            (robust.edge_tolerance_m, robust.edge_tolerance_rad),
-        )
     }
 
     /// Analyse every demonstration of a source: one for files and memory, one per part of a
@@ -633,109 +513,6 @@ impl Learner {
             None => Ok(out),
         }
     }
-}
-
-/// What [`Learner::noise_check`] found.
-enum NoiseCheck {
-    /// The noise was given, or the first frames measured it.
-    Measured,
-    /// The first frames measured the motion; a rest measured the noise.
-    OnRest(RestNoise),
-    /// The first frames measured the motion, and no rest measures the noise.
-    Unmeasurable,
-}
-
-/// The tracking noise measured on a rest, in place of the first frames' estimate.
-struct RestNoise {
-    noise: NoiseModel,
-    first: NoiseModel,
-    /// The span \[s\] of the frames it was measured on.
-    measured: (f64, f64),
-}
-
-impl RestNoise {
-    /// `config` with this noise given.
-    fn config(&self, config: &Config) -> Config {
-        let mut config = *config;
-        config.robust.noise = Some(self.noise);
-        config
-    }
-
-    /// Say in the classification made with this noise where the noise came from.
-    fn reclassified(&self, c: &mut Classification) {
-        let mm = |n: &NoiseModel| n.sigma_position * 1e3;
-        let deg = |n: &NoiseModel| n.sigma_rotation.to_degrees();
-        c.warnings.insert(
-            0,
-            format!(
-                "the tracking noise was measured on the rest at {:.2}-{:.2} s ({:.2} mm, \
-                 {:.2} deg): the first frames are motion, and the estimate from them was \
-                 {:.2} mm, {:.2} deg",
-                self.measured.0,
-                self.measured.1,
-                mm(&self.noise),
-                deg(&self.noise),
-                mm(&self.first),
-                deg(&self.first)
-            ),
-        );
-        // Measured on the rest, not given by the user.
-        c.noise_given = false;
-    }
-}
-
-/// `config` with the long-run noise of correlated trackers given: the object's and, where
-/// measured, the palm's ([`crate::noise_correlation`]).
-fn with_long_run_noise(config: &Config, correlated: &TrackerCorrelations) -> Config {
-    let mut config = *config;
-    config.robust.noise = Some(correlated.object.long_run);
-    if let Some(palm) = &correlated.palm {
-        config.robust.palm_noise = Some(palm.long_run);
-    }
-    config
-}
-
-/// Say in the classification made with the long-run noise where the noise came from.
-fn say_correlated(c: &mut Classification, correlated: &TrackerCorrelations) {
-    let say = |who: &str, k: &crate::noise_correlation::Correlation| {
-        format!(
-            "the {who}'s tracking noise is correlated from frame to frame (lag-one \
-             correlation {}{:.2}, {:.1} standard errors above white noise's, over {} \
-             windows of {} frames): the tests use its long-run size, {:.2} mm, {:.2} deg \
-             (a filtering tracker; give --noise-position and --noise-rotation to override)",
-            if k.at_least { "at least " } else { "" },
-            k.rho,
-            k.z,
-            k.windows,
-            crate::noise_correlation::WINDOW,
-            k.long_run.sigma_position * 1e3,
-            k.long_run.sigma_rotation.to_degrees()
-        )
-    };
-    let mut said = vec![say("object", &correlated.object)];
-    if let Some(palm) = &correlated.palm {
-        said.push(say("palm", palm));
-    }
-    c.warnings.splice(0..0, said);
-    // Measured, not given by the user.
-    c.noise_given = false;
-    c.noise_correlation = Some(*correlated);
-}
-
-/// The longest time \[s\] between the demonstration's motion segments (or before the first,
-/// or after the last), as (start, end); `None` without frames.
-fn longest_rest(c: &Classification, recording: &Recording) -> Option<(f64, f64)> {
-    let (first, last) = (recording.object.first()?, recording.object.last()?);
-    let mut bounds = vec![first.t];
-    for s in &c.segments {
-        bounds.push(s.t_start);
-        bounds.push(s.t_end);
-    }
-    bounds.push(last.t);
-    bounds
-        .chunks(2)
-        .map(|w| (w[0], w[1]))
-        .max_by(|a, b| (a.1 - a.0).total_cmp(&(b.1 - b.0)))
 }
 
 /// What a demonstration without motion is told.
