@@ -116,7 +116,7 @@ mod tests {
 
     /// A fall whose first frames are driven (a pusher turning the object at a steady rate
     /// past its balance point before letting go) is not a free pendulum. The driven frames'
-    /// misfit is serially correlated, and the fit's σ (with the AR(1) sandwich, `super::hac`)
+    /// misfit is serially correlated, and the fit's σ (with the AR(1) sandwich, `super::ar1_sandwich`)
     /// holds it; the jackknife, given the fit with an overconfident σ (the least-squares one
     /// was below a fifth of the error), finds it too.
     #[test]

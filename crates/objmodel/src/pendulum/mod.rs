@@ -20,9 +20,9 @@
 //!   equation of motion to ψ(t) over the frames where the object still turns about its edge.
 //!
 //! Each fit's φ σ is the larger of the least-squares one and the sandwich under errors
-//! correlated from frame to frame (`hac`); a free fall's is then checked by the jackknife.
+//! correlated from frame to frame (`ar1_sandwich`); a free fall's is then checked by the jackknife.
 
-mod hac;
+mod ar1_sandwich;
 mod jackknife;
 mod onset;
 
@@ -265,7 +265,7 @@ pub fn fit_fall(t: &[f64], psi: &[f64], sigma: f64, phi0: f64) -> Option<FallFit
     let mut fit = fit_result(p[0], p[1], cur, &jtj, 4, sigma, Scale::Residuals, t)?;
     fit.start_state = [p[2], p[3]];
     // Serially correlated residuals (see [`fit_on_support`]).
-    if let Some(ar1) = hac::phi_sigma(&fall_residuals(t, psi, None), p, fall_steps(&p)) {
+    if let Some(ar1) = ar1_sandwich::phi_sigma(&fall_residuals(t, psi, None), p, fall_steps(&p)) {
         fit.phi_sigma = fit.phi_sigma.max(ar1);
     }
     Some(fit)
@@ -470,10 +470,11 @@ pub fn fit_on_support(
         return None;
     }
     let mut fit = fit_result(p[0], p[1], cur, &jtj, 2, sigma, Scale::Noise, t)?;
-    // The residuals' own serial correlation (a filtering tracker, a creeping contact) is not
-    // in the least-squares covariance: where the sandwich estimator shows more, it stands.
-    if let Some(hac) = hac::phi_sigma(&resid, p, steps(&p)) {
-        fit.phi_sigma = fit.phi_sigma.max(hac);
+    // Errors correlated from frame to frame (a filtering tracker, a creeping contact) are not
+    // in the least-squares covariance: where the sandwich under AR(1) errors shows more, it
+    // stands.
+    if let Some(ar1) = ar1_sandwich::phi_sigma(&resid, p, steps(&p)) {
+        fit.phi_sigma = fit.phi_sigma.max(ar1);
     }
     Some(fit)
 }

@@ -14,13 +14,15 @@
 //! (it follows their slow part), so its residuals are smaller and less correlated than the
 //! errors. Their expected moments through the residual maker `M` (as
 //! [`crate::noise_correlation`] does for its windows) are solved for ρ, then σ² (see
-//! [`Linearised::ar1_errors`]); taken as they were, on 100 falls of 60 frames at 120 Hz and
+//! [`Linearised::ar1_errors`]). Taken as they were, on 100 falls of 60 frames at 120 Hz and
 //! ρ 0.8 (the test below) φ was up to 5.1 σ off (χ² per degree of freedom 0.3-0.8 where it
-//! was beyond 3 σ), through `M` at most 3.6 σ (median 0.56). The nonparametric sandwich of Newey & West (1987), which takes
-//! products of the residuals themselves, was tried first and does not work here: the normal
-//! equations make `Σᵢ aᵢ r̂ᵢ = 0`, and over the few frames that determine φ (the onset and the
-//! early fall) its lag window then takes most of the correlation away (median |error|/σ 1.38 at
-//! ρ 0.8, where honest is 0.67).
+//! was beyond 3 σ); through `M`, at most 3.6 σ (median 0.56).
+//!
+//! The nonparametric sandwich of Newey & West (1987), which takes products of the residuals
+//! themselves, was tried first and does not work here: the normal equations make
+//! `Σᵢ aᵢ r̂ᵢ = 0`, and over the few frames that determine φ (the onset and the early fall)
+//! its lag window then takes most of the correlation away (median |error|/σ 1.38 at ρ 0.8,
+//! where honest is 0.67).
 
 /// φ's (the first parameter's) standard deviation under AR(1) errors at the least-squares
 /// solution `p` of the residuals `resid`, the Jacobian by forward differences of steps `h`.
@@ -251,11 +253,9 @@ mod tests {
                 };
                 let lin = Linearised::at(&resid, [fit.phi, fit.k], [1e-5, 1e-4 * fit.k])
                     .expect("enough samples");
-                let (bread, r) = (lin.bread[(0, 0)], lin.residuals);
                 // The least-squares σ: `sqrt(((JᵀJ)⁻¹)₀₀) σ`, widened by a χ² beyond its dof.
                 let chi2 = fit.chi2_per_dof.max(1.0);
-                let ls = (bread * sigma * sigma * chi2).sqrt();
-                assert!(!r.is_empty());
+                let ls = (lin.bread[(0, 0)] * sigma * sigma * chi2).sqrt();
                 z_ls.push((fit.phi - phi).abs() / ls);
             }
             let med = crate::stats::median(&mut z.clone()).unwrap();
