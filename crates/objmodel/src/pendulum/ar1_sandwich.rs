@@ -178,7 +178,10 @@ fn ar1_quadratic_form(a: &[f64], rho: f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{fit_fall, fit_on_support, jackknife_fall, simulate, simulate_on_support};
+    use super::super::{
+        fit_fall, fit_on_support, jackknife_fall, on_support_residuals, on_support_steps, simulate,
+        simulate_on_support,
+    };
     use super::*;
     use rand::{rngs::StdRng, SeedableRng};
     use rand_distr::{Distribution, Normal};
@@ -244,15 +247,9 @@ mod tests {
                     .collect();
                 let fit = fit_on_support(t, &theta, beta, sigma, phi + 0.02).expect("a fit");
                 z.push((fit.phi - phi).abs() / fit.phi_sigma);
-                let resid = |p: &[f64; 2]| -> Vec<f64> {
-                    simulate_on_support(p[0], p[1], t, beta)
-                        .iter()
-                        .zip(&theta)
-                        .map(|(m, y)| y - m)
-                        .collect()
-                };
-                let lin = Linearised::at(&resid, [fit.phi, fit.k], [1e-5, 1e-4 * fit.k])
-                    .expect("enough samples");
+                let p = [fit.phi, fit.k];
+                let resid = on_support_residuals(t, &theta, beta);
+                let lin = Linearised::at(&resid, p, on_support_steps(&p)).expect("enough samples");
                 // The least-squares σ: `sqrt(((JᵀJ)⁻¹)₀₀) σ`, widened by a χ² beyond its dof.
                 let chi2 = fit.chi2_per_dof.max(1.0);
                 let ls = (lin.bread[(0, 0)] * sigma * sigma * chi2).sqrt();

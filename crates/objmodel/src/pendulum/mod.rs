@@ -457,15 +457,9 @@ pub fn fit_on_support(
             }
         }
     }
-    let resid = |p: &[f64; 2]| -> Vec<f64> {
-        simulate_on_support(p[0], p[1], t, beta)
-            .iter()
-            .zip(theta)
-            .map(|(m, y)| y - m)
-            .collect()
-    };
-    let steps = |p: &[f64; 2]| [1e-5, 1e-4 * p[1]];
-    let (p, cur, jtj) = levenberg_marquardt(best.1, resid, steps, |q| [q[0], q[1].max(1e-3)]);
+    let resid = on_support_residuals(t, theta, beta);
+    let (p, cur, jtj) =
+        levenberg_marquardt(best.1, &resid, on_support_steps, |q| [q[0], q[1].max(1e-3)]);
     if !(p[0] > 0.0 && p[0] < std::f64::consts::FRAC_PI_2) {
         return None;
     }
@@ -473,10 +467,30 @@ pub fn fit_on_support(
     // Errors correlated from frame to frame (a filtering tracker, a creeping contact) are not
     // in the least-squares covariance: where the sandwich under AR(1) errors shows more, it
     // stands.
-    if let Some(ar1) = ar1_sandwich::phi_sigma(&resid, p, steps(&p)) {
+    if let Some(ar1) = ar1_sandwich::phi_sigma(&resid, p, on_support_steps(&p)) {
         fit.phi_sigma = fit.phi_sigma.max(ar1);
     }
     Some(fit)
+}
+
+/// The pendulum on a support's residuals θᵢ − model at the parameters (φ, k).
+fn on_support_residuals<'a>(
+    t: &'a [f64],
+    theta: &'a [f64],
+    beta: &'a [f64],
+) -> impl Fn(&[f64; 2]) -> Vec<f64> + 'a {
+    move |p: &[f64; 2]| {
+        simulate_on_support(p[0], p[1], t, beta)
+            .iter()
+            .zip(theta)
+            .map(|(m, y)| y - m)
+            .collect()
+    }
+}
+
+/// The pendulum on a support's forward-difference steps at the parameters `p`.
+fn on_support_steps(p: &[f64; 2]) -> [f64; 2] {
+    [1e-5, 1e-4 * p[1]]
 }
 
 #[cfg(test)]
