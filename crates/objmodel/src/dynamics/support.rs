@@ -1,12 +1,15 @@
 //! An instrumented topple on its tilting palm: where the object starts to turn relative to the
 //! palm (the onset, and the palm's tilt there: the paper's φ), and the pendulum on the tilting
-//! palm fitted to the onset and the early fall jointly.
+//! palm fitted to the onset and the early fall jointly. Both read φ off the palm, so both carry
+//! how far the object lags the palm: measured where the palm starts to tilt
+//! ([`lag_variance`]).
 
 use super::budget::Budget;
 use super::regression::{linear_at, slope, smooth};
 use super::series::AngleSeries;
 use super::tolerances::{
-    passes_with, ONSET_REST_S, ONSET_WINDOW_RAD, PENDULUM_TOLERANCE_RAD, SMOOTH_S, SUPPORT_FIT_RAD,
+    passes_with, MIN_ONSET_FRAMES, ONSET_REST_S, ONSET_WINDOW_RAD, PALM_SETTLE_S, PALM_START_RAD,
+    PENDULUM_TOLERANCE_RAD, SMOOTH_S, SUPPORT_FIT_RAD,
 };
 use crate::pendulum::{self, FallFit, Onset};
 
@@ -34,12 +37,11 @@ pub(super) fn onset(
     }
     let rel = relative(series);
     let n = series.t.len();
-    let start = series
-        .t
-        .partition_point(|&t| t < first_moving - ONSET_REST_S);
-    let end = (start..n)
-        .find(|&k| series.t[k] > first_moving && rel[k].abs() > ONSET_WINDOW_RAD)
-        .unwrap_or(n);
+    let OnsetWindow {
+        start,
+        end,
+        palm_start,
+    } = onset_window(series, &rel, first_moving, sigma);
     let base = rel[start];
     // The rotation from the rest, signed the way the object turns off the palm. Its absolute
     // value folded the rest's noise into a plateau above zero (0.8 σ on average), which the
@@ -82,21 +84,120 @@ pub(super) fn onset(
             // The balance angle of a real contact (a compliant support, an edge that is not
             // perfectly sharp) departs from the ideal one by about the pendulum's tolerance,
             // which the fits take per sample; here it is one offset of the whole onset.
+            // And the object's lag behind the palm, measured where the palm starts: the same
+            // contact (or latency) that delays its start delays the onset's.
+            let lag = palm_start.map_or(0.0, |k| lag_variance(series, &rel, k, start, o.t, sigma));
             let s = (se * se
                 + (slope * o.sigma_t).powi(2)
                 + budget.resting_normal()
                 + budget.palm_reference()
-                + PENDULUM_TOLERANCE_RAD.powi(2))
-            .sqrt();
+                + PENDULUM_TOLERANCE_RAD.powi(2)
+                + lag)
+                .sqrt();
             (Some(o), Some(v), Some(s))
         }
         None => (Some(o), None, None),
     }
 }
 
-/// The pendulum on the tilting palm, fitted to the rotation relative to the palm from the rest
-/// before (`first_moving`) to the end of the pivot (`last_pivot`), against the smoothed tilt;
-/// `None` without a palm or when the fit fails its χ² test.
+/// The samples the onset is sought in: `start..end`, and the sample where the palm starts to
+/// tilt within them, if it does.
+struct OnsetWindow {
+    start: usize,
+    end: usize,
+    palm_start: Option<usize>,
+}
+
+/// From [`ONSET_REST_S`] before the motion's first frame (`first_moving`) to where the object
+/// has turned [`ONSET_WINDOW_RAD`] off the palm (`rel`). Where the palm starts to tilt after a
+/// rest ([`palm_start`]), the object lags it by a step (a compliant contact, or a latency
+/// between the trackers) that the onset model, flat and then rising, cannot follow, and the
+/// rest before is not the steady tilt whose rate the model takes: the window then starts
+/// [`PALM_SETTLE_S`] after the palm's start, where that is later and leaves samples to fit.
+fn onset_window(series: &AngleSeries, rel: &[f64], first_moving: f64, sigma: f64) -> OnsetWindow {
+    let n = series.t.len();
+    let start = series
+        .t
+        .partition_point(|&t| t < first_moving - ONSET_REST_S);
+    let end = (start..n)
+        .find(|&k| series.t[k] > first_moving && rel[k].abs() > ONSET_WINDOW_RAD)
+        .unwrap_or(n);
+    let palm_start = palm_start(series, end, sigma / std::f64::consts::SQRT_2);
+    let start = palm_start
+        .map(|k| {
+            series
+                .t
+                .partition_point(|&t| t < series.t[k] + PALM_SETTLE_S)
+        })
+        .filter(|&s| s > start && end >= s + 2 * MIN_ONSET_FRAMES)
+        .unwrap_or(start);
+    OnsetWindow {
+        start,
+        end,
+        palm_start,
+    }
+}
+
+/// The first sample of `series` before `end` where the palm has left the tilt it had at the
+/// first sample by more than its noise allows (5 σ of one sample, `palm_sigma`, and at least
+/// [`PALM_START_RAD`]), after a rest: `None` where it does not leave it, or where it was
+/// already tilting (its samples up to [`PALM_SETTLE_S`] before show a slope, 3 σ from zero:
+/// a slow tilt stays within the threshold for a while), or where that rest has fewer than
+/// [`MIN_ONSET_FRAMES`] samples.
+fn palm_start(series: &AngleSeries, end: usize, palm_sigma: f64) -> Option<usize> {
+    let (t, palm) = (&series.t, &series.palm);
+    let threshold = (5.0 * palm_sigma).max(PALM_START_RAD);
+    let k = (0..end).find(|&k| (palm[k] - palm[0]).abs() > threshold)?;
+    let rest = t[..k].partition_point(|&x| x <= t[k] - PALM_SETTLE_S);
+    if rest < MIN_ONSET_FRAMES {
+        return None;
+    }
+    let (rate, rate_sigma) = slope(&t[..rest], &palm[..rest], palm_sigma)?;
+    (rate.abs() <= 3.0 * rate_sigma).then_some(k)
+}
+
+/// The variance \[rad²\] that the object's lag behind a palm starting to tilt adds to φ at the
+/// onset: the mean of the angle relative to the palm (`rel`) over the steady tilt (from
+/// `steady`, the window's start, to the onset at `onset_t`) less its mean over the rest
+/// before the palm started (`palm_start`, less [`PALM_SETTLE_S`]), squared, less that
+/// difference's own noise variance (`sigma` per sample) so that a lag hidden in the noise adds
+/// nothing on average; 0 where either part has fewer than [`MIN_ONSET_FRAMES`] samples.
+///
+/// A tracker latency `d` between palm and object shifts the angle relative to the palm by
+/// `β̇ d` while the palm tilts, and the palm's tilt read at the onset by the same; a compliant
+/// contact lags the palm's start and leans before the onset (MuJoCo's soft box on a palm
+/// tilting at 4-24°/s: steps of 0.4-0.9°, onsets 0.1-0.9° late; rapier's rigid contact: none).
+fn lag_variance(
+    series: &AngleSeries,
+    rel: &[f64],
+    palm_start: usize,
+    steady: usize,
+    onset_t: f64,
+    sigma: f64,
+) -> f64 {
+    let t_rest = series.t[palm_start] - PALM_SETTLE_S;
+    let rest: Vec<f64> = (0..palm_start)
+        .filter(|&k| series.t[k] <= t_rest)
+        .map(|k| rel[k])
+        .collect();
+    let steady: Vec<f64> = (steady..rel.len())
+        .take_while(|&k| series.t[k] < onset_t)
+        .map(|k| rel[k])
+        .collect();
+    if rest.len() < MIN_ONSET_FRAMES || steady.len() < MIN_ONSET_FRAMES {
+        return 0.0;
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let d = mean(&steady) - mean(&rest);
+    let noise = sigma * sigma * (1.0 / rest.len() as f64 + 1.0 / steady.len() as f64);
+    (d * d - noise).max(0.0)
+}
+
+/// The pendulum on the tilting palm, fitted to the rotation relative to the palm from the
+/// onset's window (from the rest before `first_moving`, or from the palm's steady tilt: see
+/// [`onset_window`]) to the end of the pivot (`last_pivot`), against the smoothed tilt; `None`
+/// without a palm or when the fit fails its χ² test. Its φ, like the onset's, carries the
+/// object's lag behind the palm ([`lag_variance`]).
 pub(super) fn on_support(
     series: &AngleSeries,
     first_moving: f64,
@@ -109,14 +210,23 @@ pub(super) fn on_support(
     if series.palm.is_empty() {
         return None;
     }
-    let start = series
-        .t
-        .partition_point(|&t| t < first_moving - ONSET_REST_S);
+    let rel = relative(series);
+    let window = onset_window(series, &rel, first_moving, sigma);
+    let start = window.start;
     if start > last_pivot {
         return None; // No frame between the rest and the pivot's end.
     }
-    let rel = relative(series);
-    let base = rel[start];
+    // The model's zero is the object at rest on the palm: the mean of the angle relative to the
+    // palm before the onset (one sample put its noise into every θ).
+    let before: Vec<f64> = (start..=last_pivot)
+        .take_while(|&k| onset.is_some_and(|o| series.t[k] < o.t))
+        .map(|k| rel[k])
+        .collect();
+    let base = if before.len() >= MIN_ONSET_FRAMES {
+        before.iter().sum::<f64>() / before.len() as f64
+    } else {
+        rel[start]
+    };
     let end = (start..=last_pivot)
         .find(|&k| series.t[k] > first_moving && (rel[k] - base).abs() > SUPPORT_FIT_RAD)
         .unwrap_or(last_pivot);
@@ -133,6 +243,88 @@ pub(super) fn on_support(
     // φ is the palm's tilt where the object starts to turn: its offsets (see `budget`) are one
     // value for every sample.
     let at = onset.map_or(first_moving, |o| o.t);
-    fit.phi_sigma = (fit.phi_sigma.powi(2) + budget.palm_tilt_at(&series.t, at)).sqrt();
+    let lag = match (window.palm_start, onset) {
+        (Some(k), Some(o)) => lag_variance(series, &rel, k, start, o.t, sigma),
+        _ => 0.0,
+    };
+    fit.phi_sigma = (fit.phi_sigma.powi(2) + budget.palm_tilt_at(&series.t, at) + lag).sqrt();
     Some(fit)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{rngs::StdRng, SeedableRng};
+    use rand_distr::{Distribution, Normal};
+
+    /// 100 Hz for 3 s: the palm at rest until `palm_from` \[s\], then tilting at 0.2 rad/s.
+    fn palm_series(palm_from: f64) -> AngleSeries {
+        let t: Vec<f64> = (0..300).map(|k| k as f64 / 100.0).collect();
+        let palm = t.iter().map(|&x| 0.2 * (x - palm_from).max(0.0)).collect();
+        AngleSeries {
+            object: vec![0.0; t.len()],
+            t,
+            palm,
+        }
+    }
+
+    /// A palm that starts from rest is found where it first leaves the rest by the threshold;
+    /// one that tilts from the first sample on, or starts too soon to show a rest, is not.
+    #[test]
+    fn a_palm_start_is_found_after_a_rest_only() {
+        let s = palm_series(1.0);
+        let k = palm_start(&s, s.t.len(), 1e-4).expect("the palm starts at 1 s");
+        // The threshold (0.2°) is crossed 17.5 ms after the start, at the next sample.
+        assert!((s.t[k] - 1.02).abs() < 1e-9, "{}", s.t[k]);
+        assert_eq!(palm_start(&palm_series(0.0), 300, 1e-4), None);
+        assert_eq!(palm_start(&palm_series(-1.0), 300, 1e-4), None);
+        // 0.1 s of rest: fewer than MIN_ONSET_FRAMES samples before the settling time.
+        assert_eq!(palm_start(&palm_series(0.1), 300, 1e-4), None);
+        // Noisier than the whole tilt before the window's end: no start.
+        assert_eq!(palm_start(&s, 110, 0.01), None);
+    }
+
+    /// The lag variance is the step's square where the angle relative to the palm steps when
+    /// the palm starts (exact samples), and close to nothing where it does not: the noise's
+    /// own share is taken off, so over many noisy series without a step its mean stays a
+    /// fraction of the difference's noise variance, while a step of 3 of those σ is measured
+    /// within 20%.
+    #[test]
+    fn the_lag_is_the_step_at_the_palm_start_less_its_noise() {
+        let s = palm_series(1.0);
+        let k = palm_start(&s, s.t.len(), 1e-4).unwrap();
+        let steady = s.t.partition_point(|&t| t < s.t[k] + PALM_SETTLE_S);
+        let onset_t = 2.5;
+        let step =
+            |d: f64| -> Vec<f64> { s.t.iter().map(|&t| if t > 1.0 { d } else { 0.0 }).collect() };
+        let exact = lag_variance(&s, &step(0.01), k, steady, onset_t, 1e-6);
+        assert!((exact - 1e-4).abs() < 1e-9, "{exact}");
+        let sigma = 0.005;
+        let n_rest = s.t.iter().filter(|&&t| t <= s.t[k] - PALM_SETTLE_S).count();
+        let n_steady = (steady..s.t.len())
+            .take_while(|&i| s.t[i] < onset_t)
+            .count();
+        let var_d = sigma * sigma * (1.0 / n_rest as f64 + 1.0 / n_steady as f64);
+        let noise = Normal::new(0.0, sigma).unwrap();
+        let mean_over = |d: f64| {
+            let mut rng = StdRng::seed_from_u64(5);
+            (0..400)
+                .map(|_| {
+                    let rel: Vec<f64> =
+                        step(d).iter().map(|x| x + noise.sample(&mut rng)).collect();
+                    lag_variance(&s, &rel, k, steady, onset_t, sigma)
+                })
+                .sum::<f64>()
+                / 400.0
+        };
+        let none = mean_over(0.0);
+        assert!(none < 0.5 * var_d, "no step: {none} against {var_d}");
+        let d = 3.0 * var_d.sqrt();
+        let some = mean_over(d);
+        assert!(
+            (some / (d * d) - 1.0).abs() < 0.2,
+            "{some} against {}",
+            d * d
+        );
+    }
 }

@@ -6,6 +6,16 @@ use crate::pendulum;
 /// Largest relative rotation \[rad\] (15°) kept in the onset window: enough of the start of the
 /// topple to fix the change-point model, before the fall stops being polynomial.
 pub const ONSET_WINDOW_RAD: f64 = 0.26;
+/// Time \[s\] after the palm starts to tilt before the object's angle relative to it is taken
+/// as steady in the onset window: a compliant contact (or a latency between the palm's tracker
+/// and the object's) makes the object lag the palm's start by a step, which settles within
+/// about 20 ms on MuJoCo's soft contact.
+pub const PALM_SETTLE_S: f64 = 0.1;
+/// Least change of the palm's tilt \[rad\] (0.2°) taken as its start, however small its noise.
+pub const PALM_START_RAD: f64 = 0.003_490_658_503_988_659;
+/// Fewest samples of each phase (the rest, the steady tilt before the onset) that the onset
+/// window keeps.
+pub const MIN_ONSET_FRAMES: usize = 5;
 /// Rest before the first moving frame \[s\] included in the onset window.
 pub const ONSET_REST_S: f64 = 2.0;
 /// Relative rotation \[rad\] (8.6°) up to which the pendulum-on-palm model is fitted (the palm

@@ -30,3 +30,14 @@ pub fn truth_edge(name: &str) -> Line {
     };
     Line::through(v("point"), v("direction"))
 }
+
+/// The true φ \[rad\] of the scene `name` (`{name}.truth.json`: the homogeneous box's, about
+/// its truth edge from the face it rests on).
+#[allow(dead_code)]
+pub fn truth_phi(name: &str) -> f64 {
+    let truth: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(data(&format!("{name}.truth.json"))).unwrap(),
+    )
+    .unwrap();
+    truth["phi"].as_f64().unwrap()
+}
