@@ -117,8 +117,9 @@ pub fn analyse(
         let first_pivot = (0..idx.len())
             .find(|&k| in_topple(idx[k]))
             .unwrap_or(last_pivot);
+        let palm_onset = support::onset(&series, first_moving, sigma, &budget);
         let (onset_r, phi_onset, phi_onset_sigma) =
-            support::onset(&series, first_moving, sigma, &budget);
+            (palm_onset.onset, palm_onset.phi, palm_onset.phi_sigma);
         let fall = fall::fit(
             &series,
             first_pivot,
@@ -132,8 +133,7 @@ pub fn analyse(
             &series,
             first_moving,
             last_pivot,
-            onset_r,
-            phi_onset,
+            &palm_onset,
             sigma,
             &budget,
         );

@@ -23,17 +23,40 @@ fn relative(series: &AngleSeries) -> Vec<f64> {
         .collect()
 }
 
-/// The onset relative to the palm, and the palm's tilt there with its standard deviation
-/// (`None`s without a palm or an onset); `first_moving` the time of the motion's first frame,
-/// `sigma` the rotation noise.
+/// What the palm tells of a topple's start: the onset relative to the palm, the palm's tilt
+/// there (the paper's φ) with its standard deviation, and what the pendulum on the palm takes
+/// from the same window.
+pub(super) struct PalmOnset {
+    /// The onset (`None` without a palm, or where the onset model finds none).
+    pub onset: Option<Onset>,
+    /// The palm's tilt at the onset \[rad\].
+    pub phi: Option<f64>,
+    /// Its standard deviation \[rad\].
+    pub phi_sigma: Option<f64>,
+    /// The onset window's first sample ([`onset_window`]).
+    window_start: usize,
+    /// The variance \[rad²\] the object's lag behind the palm adds to a φ read off the palm
+    /// ([`lag_variance`]; 0 where the palm's start or the onset is not seen).
+    lag: f64,
+}
+
+/// The onset relative to the palm and the palm's tilt there ([`PalmOnset`]); `first_moving`
+/// the time of the motion's first frame, `sigma` the rotation noise.
 pub(super) fn onset(
     series: &AngleSeries,
     first_moving: f64,
     sigma: f64,
     budget: &Budget,
-) -> (Option<Onset>, Option<f64>, Option<f64>) {
+) -> PalmOnset {
+    let mut out = PalmOnset {
+        onset: None,
+        phi: None,
+        phi_sigma: None,
+        window_start: 0,
+        lag: 0.0,
+    };
     if series.palm.is_empty() {
-        return (None, None, None);
+        return out;
     }
     let rel = relative(series);
     let n = series.t.len();
@@ -42,6 +65,7 @@ pub(super) fn onset(
         end,
         palm_start,
     } = onset_window(series, &rel, first_moving, sigma);
+    out.window_start = start;
     let base = rel[start];
     // The rotation from the rest, signed the way the object turns off the palm. Its absolute
     // value folded the rest's noise into a plateau above zero (0.8 σ on average), which the
@@ -55,7 +79,7 @@ pub(super) fn onset(
     };
     let w: Vec<f64> = rel[start..end].iter().map(|x| (x - base) * turn).collect();
     let Some(free) = pendulum::onset(&series.t[start..end], &w, sigma) else {
-        return (None, None, None);
+        return out;
     };
     let palm_sigma = sigma / std::f64::consts::SQRT_2;
     // The palm's tilt at `at` by a straight line through its samples within 0.3 s: the tilt,
@@ -79,25 +103,24 @@ pub(super) fn onset(
         .filter(|&(rate, rate_sigma)| rate.abs() > 3.0 * rate_sigma)
         .and_then(|(rate, _)| pendulum::onset_at_rate(window, &w, sigma, Some(rate.abs())))
         .unwrap_or(free);
-    match palm_near(o.t) {
-        Some((v, se, slope)) => {
-            // The balance angle of a real contact (a compliant support, an edge that is not
-            // perfectly sharp) departs from the ideal one by about the pendulum's tolerance,
-            // which the fits take per sample; here it is one offset of the whole onset.
-            // And the object's lag behind the palm, measured where the palm starts: the same
-            // contact (or latency) that delays its start delays the onset's.
-            let lag = palm_start.map_or(0.0, |k| lag_variance(series, &rel, k, start, o.t, sigma));
-            let s = (se * se
-                + (slope * o.sigma_t).powi(2)
-                + budget.resting_normal()
-                + budget.palm_reference()
-                + PENDULUM_TOLERANCE_RAD.powi(2)
-                + lag)
-                .sqrt();
-            (Some(o), Some(v), Some(s))
-        }
-        None => (Some(o), None, None),
+    // The object's lag behind the palm, measured where the palm starts: the same contact (or
+    // latency) that delays its start delays the onset's.
+    out.lag = palm_start.map_or(0.0, |k| lag_variance(series, &rel, k, start, o.t, sigma));
+    out.onset = Some(o);
+    if let Some((v, se, slope)) = palm_near(o.t) {
+        // The balance angle of a real contact (a compliant support, an edge that is not
+        // perfectly sharp) departs from the ideal one by about the pendulum's tolerance, which
+        // the fits take per sample; here it is one offset of the whole onset.
+        let var = se * se
+            + (slope * o.sigma_t).powi(2)
+            + budget.resting_normal()
+            + budget.palm_reference()
+            + PENDULUM_TOLERANCE_RAD.powi(2)
+            + out.lag;
+        out.phi = Some(v);
+        out.phi_sigma = Some(var.sqrt());
     }
+    out
 }
 
 /// The samples the onset is sought in: `start..end`, and the sample where the palm starts to
@@ -202,24 +225,22 @@ pub(super) fn on_support(
     series: &AngleSeries,
     first_moving: f64,
     last_pivot: usize,
-    onset: Option<Onset>,
-    phi_onset: Option<f64>,
+    palm: &PalmOnset,
     sigma: f64,
     budget: &Budget,
 ) -> Option<FallFit> {
     if series.palm.is_empty() {
         return None;
     }
-    let rel = relative(series);
-    let window = onset_window(series, &rel, first_moving, sigma);
-    let start = window.start;
+    let start = palm.window_start;
     if start > last_pivot {
         return None; // No frame between the rest and the pivot's end.
     }
+    let rel = relative(series);
     // The model's zero is the object at rest on the palm: the mean of the angle relative to the
     // palm before the onset (one sample put its noise into every θ).
     let before: Vec<f64> = (start..=last_pivot)
-        .take_while(|&k| onset.is_some_and(|o| series.t[k] < o.t))
+        .take_while(|&k| palm.onset.is_some_and(|o| series.t[k] < o.t))
         .map(|k| rel[k])
         .collect();
     let base = if before.len() >= MIN_ONSET_FRAMES {
@@ -238,16 +259,12 @@ pub(super) fn on_support(
     // tolerance; like the fall, the fit must pass its χ² test.
     let sigma_rel = (2.0 * sigma * sigma + PENDULUM_TOLERANCE_RAD.powi(2)).sqrt();
     let mut fit =
-        pendulum::fit_on_support(tt, &theta, beta, sigma_rel, phi_onset.unwrap_or(beta[0]))
+        pendulum::fit_on_support(tt, &theta, beta, sigma_rel, palm.phi.unwrap_or(beta[0]))
             .filter(|f| passes_with(f, 2))?;
     // φ is the palm's tilt where the object starts to turn: its offsets (see `budget`) are one
     // value for every sample.
-    let at = onset.map_or(first_moving, |o| o.t);
-    let lag = match (window.palm_start, onset) {
-        (Some(k), Some(o)) => lag_variance(series, &rel, k, start, o.t, sigma),
-        _ => 0.0,
-    };
-    fit.phi_sigma = (fit.phi_sigma.powi(2) + budget.palm_tilt_at(&series.t, at) + lag).sqrt();
+    let at = palm.onset.map_or(first_moving, |o| o.t);
+    fit.phi_sigma = (fit.phi_sigma.powi(2) + budget.palm_tilt_at(&series.t, at) + palm.lag).sqrt();
     Some(fit)
 }
 
