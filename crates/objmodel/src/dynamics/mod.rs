@@ -117,7 +117,13 @@ pub fn analyse(
         let first_pivot = (0..idx.len())
             .find(|&k| in_topple(idx[k]))
             .unwrap_or(last_pivot);
-        let palm_onset = support::onset(&series, first_moving, sigma, &budget);
+        // The palm's start that led to this topple comes after the topple before it (a
+        // recording may hold several, the object put back on the palm between them).
+        let after = c.topples[..ti]
+            .iter()
+            .flat_map(|t| t.segments.iter().map(|&i| c.segments[i].t_end))
+            .fold(f64::NEG_INFINITY, f64::max);
+        let palm_onset = support::onset(&series, first_moving, after, sigma, &budget);
         let (onset_r, phi_onset, phi_onset_sigma) =
             (palm_onset.onset, palm_onset.phi, palm_onset.phi_sigma);
         let fall = fall::fit(

@@ -41,10 +41,12 @@ pub(super) struct PalmOnset {
 }
 
 /// The onset relative to the palm and the palm's tilt there ([`PalmOnset`]); `first_moving`
-/// the time of the motion's first frame, `sigma` the rotation noise.
+/// the time of the motion's first frame, `after` \[s\] a time the palm's start (see
+/// [`onset_window`]) comes after, `sigma` the rotation noise.
 pub(super) fn onset(
     series: &AngleSeries,
     first_moving: f64,
+    after: f64,
     sigma: f64,
     budget: &Budget,
 ) -> PalmOnset {
@@ -64,7 +66,8 @@ pub(super) fn onset(
         start,
         end,
         palm_start,
-    } = onset_window(series, &rel, first_moving, sigma);
+        palm_rest_from,
+    } = onset_window(series, &rel, first_moving, after, sigma);
     out.window_start = start;
     let base = rel[start];
     // The rotation from the rest, signed the way the object turns off the palm. Its absolute
@@ -105,7 +108,9 @@ pub(super) fn onset(
         .unwrap_or(free);
     // The object's lag behind the palm, measured where the palm starts: the same contact (or
     // latency) that delays its start delays the onset's.
-    out.lag = palm_start.map_or(0.0, |k| lag_variance(series, &rel, k, start, o.t, sigma));
+    out.lag = palm_start.map_or(0.0, |k| {
+        lag_variance(series, &rel, palm_rest_from, k, start, o.t, sigma)
+    });
     out.onset = Some(o);
     if let Some((v, se, slope)) = palm_near(o.t) {
         // The balance angle of a real contact (a compliant support, an edge that is not
@@ -129,6 +134,8 @@ struct OnsetWindow {
     start: usize,
     end: usize,
     palm_start: Option<usize>,
+    /// The first sample the palm's rest before its start may hold.
+    palm_rest_from: usize,
 }
 
 /// From [`ONSET_REST_S`] before the motion's first frame (`first_moving`) to where the object
@@ -137,7 +144,15 @@ struct OnsetWindow {
 /// between the trackers) that the onset model, flat and then rising, cannot follow, and the
 /// rest before is not the steady tilt whose rate the model takes: the window then starts
 /// [`PALM_SETTLE_S`] after the palm's start, where that is later and leaves samples to fit.
-fn onset_window(series: &AngleSeries, rel: &[f64], first_moving: f64, sigma: f64) -> OnsetWindow {
+/// The palm's start is sought from the first sample after `after` \[s\] (the end of the
+/// topple before, if any).
+fn onset_window(
+    series: &AngleSeries,
+    rel: &[f64],
+    first_moving: f64,
+    after: f64,
+    sigma: f64,
+) -> OnsetWindow {
     let n = series.t.len();
     let start = series
         .t
@@ -145,7 +160,8 @@ fn onset_window(series: &AngleSeries, rel: &[f64], first_moving: f64, sigma: f64
     let end = (start..n)
         .find(|&k| series.t[k] > first_moving && rel[k].abs() > ONSET_WINDOW_RAD)
         .unwrap_or(n);
-    let palm_start = palm_start(series, end, sigma / std::f64::consts::SQRT_2);
+    let from = series.t.partition_point(|&t| t <= after);
+    let palm_start = palm_start(series, from, end, sigma / std::f64::consts::SQRT_2);
     let start = palm_start
         .map(|k| {
             series
@@ -158,31 +174,32 @@ fn onset_window(series: &AngleSeries, rel: &[f64], first_moving: f64, sigma: f64
         start,
         end,
         palm_start,
+        palm_rest_from: from,
     }
 }
 
-/// The first sample of `series` before `end` where the palm has left the tilt it had at the
-/// first sample by more than its noise allows (5 σ of one sample, `palm_sigma`, and at least
+/// The first sample of `series` in `from..end` where the palm has left the tilt it had at
+/// `from` by more than its noise allows (5 σ of one sample, `palm_sigma`, and at least
 /// [`PALM_START_RAD`]), after a rest: `None` where it does not leave it, or where it was
 /// already tilting (its samples up to [`PALM_SETTLE_S`] before show a slope, 3 σ from zero:
 /// a slow tilt stays within the threshold for a while), or where that rest has fewer than
 /// [`MIN_ONSET_FRAMES`] samples.
-fn palm_start(series: &AngleSeries, end: usize, palm_sigma: f64) -> Option<usize> {
+fn palm_start(series: &AngleSeries, from: usize, end: usize, palm_sigma: f64) -> Option<usize> {
     let (t, palm) = (&series.t, &series.palm);
     let threshold = (5.0 * palm_sigma).max(PALM_START_RAD);
-    let k = (0..end).find(|&k| (palm[k] - palm[0]).abs() > threshold)?;
-    let rest = t[..k].partition_point(|&x| x <= t[k] - PALM_SETTLE_S);
-    if rest < MIN_ONSET_FRAMES {
+    let k = (from..end).find(|&k| (palm[k] - palm[from]).abs() > threshold)?;
+    let rest = from..from + t[from..k].partition_point(|&x| x <= t[k] - PALM_SETTLE_S);
+    if rest.len() < MIN_ONSET_FRAMES {
         return None;
     }
-    let (rate, rate_sigma) = slope(&t[..rest], &palm[..rest], palm_sigma)?;
+    let (rate, rate_sigma) = slope(&t[rest.clone()], &palm[rest], palm_sigma)?;
     (rate.abs() <= 3.0 * rate_sigma).then_some(k)
 }
 
 /// The variance \[rad²\] that the object's lag behind a palm starting to tilt adds to φ at the
 /// onset: the mean of the angle relative to the palm (`rel`) over the steady tilt (from
 /// `steady`, the window's start, to the onset at `onset_t`) less its mean over the rest
-/// before the palm started (`palm_start`, less [`PALM_SETTLE_S`]), squared, less that
+/// before the palm started (from `rest_from` to `palm_start` less [`PALM_SETTLE_S`]), squared, less that
 /// difference's own noise variance (`sigma` per sample) so that a lag hidden in the noise adds
 /// nothing on average; 0 where either part has fewer than [`MIN_ONSET_FRAMES`] samples.
 ///
@@ -193,13 +210,14 @@ fn palm_start(series: &AngleSeries, end: usize, palm_sigma: f64) -> Option<usize
 fn lag_variance(
     series: &AngleSeries,
     rel: &[f64],
+    rest_from: usize,
     palm_start: usize,
     steady: usize,
     onset_t: f64,
     sigma: f64,
 ) -> f64 {
     let t_rest = series.t[palm_start] - PALM_SETTLE_S;
-    let rest: Vec<f64> = (0..palm_start)
+    let rest: Vec<f64> = (rest_from..palm_start)
         .filter(|&k| series.t[k] <= t_rest)
         .map(|k| rel[k])
         .collect();
@@ -290,15 +308,36 @@ mod tests {
     #[test]
     fn a_palm_start_is_found_after_a_rest_only() {
         let s = palm_series(1.0);
-        let k = palm_start(&s, s.t.len(), 1e-4).expect("the palm starts at 1 s");
+        let k = palm_start(&s, 0, s.t.len(), 1e-4).expect("the palm starts at 1 s");
         // The threshold (0.2°) is crossed 17.5 ms after the start, at the next sample.
         assert!((s.t[k] - 1.02).abs() < 1e-9, "{}", s.t[k]);
-        assert_eq!(palm_start(&palm_series(0.0), 300, 1e-4), None);
-        assert_eq!(palm_start(&palm_series(-1.0), 300, 1e-4), None);
+        assert_eq!(palm_start(&palm_series(0.0), 0, 300, 1e-4), None);
+        assert_eq!(palm_start(&palm_series(-1.0), 0, 300, 1e-4), None);
         // 0.1 s of rest: fewer than MIN_ONSET_FRAMES samples before the settling time.
-        assert_eq!(palm_start(&palm_series(0.1), 300, 1e-4), None);
+        assert_eq!(palm_start(&palm_series(0.1), 0, 300, 1e-4), None);
         // Noisier than the whole tilt before the window's end: no start.
-        assert_eq!(palm_start(&s, 110, 0.01), None);
+        assert_eq!(palm_start(&s, 0, 110, 0.01), None);
+    }
+
+    /// A recording with two tilts (the palm tilts at 0.5 s, rests from 0.8 s, tilts again at
+    /// 1.6 s): sought after the first topple's end, the start is the second tilt's.
+    #[test]
+    fn the_palm_start_is_sought_after_the_topple_before() {
+        let t: Vec<f64> = (0..300).map(|k| k as f64 / 100.0).collect();
+        let palm = t
+            .iter()
+            .map(|&x| 0.2 * ((x.min(0.8) - 0.5).max(0.0) + (x - 1.6).max(0.0)))
+            .collect();
+        let s = AngleSeries {
+            object: vec![0.0; t.len()],
+            t,
+            palm,
+        };
+        let k = palm_start(&s, 0, 300, 1e-4).unwrap();
+        assert!((s.t[k] - 0.52).abs() < 1e-9, "{}", s.t[k]);
+        let from = s.t.partition_point(|&x| x <= 0.9);
+        let k = palm_start(&s, from, 300, 1e-4).unwrap();
+        assert!((s.t[k] - 1.62).abs() < 1e-9, "{}", s.t[k]);
     }
 
     /// The lag variance is the step's square where the angle relative to the palm steps when
@@ -309,12 +348,12 @@ mod tests {
     #[test]
     fn the_lag_is_the_step_at_the_palm_start_less_its_noise() {
         let s = palm_series(1.0);
-        let k = palm_start(&s, s.t.len(), 1e-4).unwrap();
+        let k = palm_start(&s, 0, s.t.len(), 1e-4).unwrap();
         let steady = s.t.partition_point(|&t| t < s.t[k] + PALM_SETTLE_S);
         let onset_t = 2.5;
         let step =
             |d: f64| -> Vec<f64> { s.t.iter().map(|&t| if t > 1.0 { d } else { 0.0 }).collect() };
-        let exact = lag_variance(&s, &step(0.01), k, steady, onset_t, 1e-6);
+        let exact = lag_variance(&s, &step(0.01), 0, k, steady, onset_t, 1e-6);
         assert!((exact - 1e-4).abs() < 1e-9, "{exact}");
         let sigma = 0.005;
         let n_rest = s.t.iter().filter(|&&t| t <= s.t[k] - PALM_SETTLE_S).count();
@@ -329,7 +368,7 @@ mod tests {
                 .map(|_| {
                     let rel: Vec<f64> =
                         step(d).iter().map(|x| x + noise.sample(&mut rng)).collect();
-                    lag_variance(&s, &rel, k, steady, onset_t, sigma)
+                    lag_variance(&s, &rel, 0, k, steady, onset_t, sigma)
                 })
                 .sum::<f64>()
                 / 400.0
