@@ -128,8 +128,8 @@ pub(super) fn onset(
     out
 }
 
-/// The samples the onset is sought in: `start..end`, and the sample where the palm starts to
-/// tilt within them, if it does.
+/// The samples the onset is sought in, `start..end`; the sample where the palm starts to tilt
+/// after a rest, if it does before `end`; and where that rest may begin.
 struct OnsetWindow {
     start: usize,
     end: usize,
@@ -199,9 +199,10 @@ fn palm_start(series: &AngleSeries, from: usize, end: usize, palm_sigma: f64) ->
 /// The variance \[rad²\] that the object's lag behind a palm starting to tilt adds to φ at the
 /// onset: the mean of the angle relative to the palm (`rel`) over the steady tilt (from
 /// `steady`, the window's start, to the onset at `onset_t`) less its mean over the rest
-/// before the palm started (from `rest_from` to `palm_start` less [`PALM_SETTLE_S`]), squared, less that
-/// difference's own noise variance (`sigma` per sample) so that a lag hidden in the noise adds
-/// nothing on average; 0 where either part has fewer than [`MIN_ONSET_FRAMES`] samples.
+/// before the palm started (from `rest_from` to `palm_start` less [`PALM_SETTLE_S`]),
+/// squared, less that difference's own noise variance (`sigma` per sample) so that a lag
+/// hidden in the noise adds nothing on average; 0 where either part has fewer than
+/// [`MIN_ONSET_FRAMES`] samples.
 ///
 /// A tracker latency `d` between palm and object shifts the angle relative to the palm by
 /// `β̇ d` while the palm tilts, and the palm's tilt read at the onset by the same; a compliant
