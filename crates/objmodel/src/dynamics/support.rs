@@ -23,6 +23,11 @@ fn relative(series: &AngleSeries) -> Vec<f64> {
         .collect()
 }
 
+/// The mean of `v` (NaN when empty).
+fn mean(v: &[f64]) -> f64 {
+    v.iter().sum::<f64>() / v.len() as f64
+}
+
 /// What the palm tells of a topple's start: the onset relative to the palm, the palm's tilt
 /// there (the paper's φ) with its standard deviation, and what the pendulum on the palm takes
 /// from the same window.
@@ -62,12 +67,7 @@ pub(super) fn onset(
     }
     let rel = relative(series);
     let n = series.t.len();
-    let OnsetWindow {
-        start,
-        end,
-        palm_start,
-        palm_rest_from,
-    } = onset_window(series, &rel, first_moving, after, sigma);
+    let OnsetWindow { start, end, palm } = onset_window(series, &rel, first_moving, after, sigma);
     out.window_start = start;
     let base = rel[start];
     // The rotation from the rest, signed the way the object turns off the palm. Its absolute
@@ -108,8 +108,8 @@ pub(super) fn onset(
         .unwrap_or(free);
     // The object's lag behind the palm, measured where the palm starts: the same contact (or
     // latency) that delays its start delays the onset's.
-    out.lag = palm_start.map_or(0.0, |k| {
-        lag_variance(series, &rel, palm_rest_from, k, start, o.t, sigma)
+    out.lag = palm.map_or(0.0, |p| {
+        lag_variance(series, &rel, p.rest, start, o.t, sigma)
     });
     out.onset = Some(o);
     if let Some((v, se, slope)) = palm_near(o.t) {
@@ -128,14 +128,20 @@ pub(super) fn onset(
     out
 }
 
-/// The samples the onset is sought in, `start..end`; the sample where the palm starts to tilt
-/// after a rest, if it does before `end`; and where that rest may begin.
+/// The samples the onset is sought in, `start..end`, and where the palm starts to tilt after
+/// a rest, if it does before `end`.
 struct OnsetWindow {
     start: usize,
     end: usize,
-    palm_start: Option<usize>,
-    /// The first sample the palm's rest before its start may hold.
-    palm_rest_from: usize,
+    palm: Option<PalmStart>,
+}
+
+/// Where the palm starts to tilt ([`palm_start`]).
+struct PalmStart {
+    /// The first sample off the palm's rest.
+    at: usize,
+    /// The rest's samples, up to [`PALM_SETTLE_S`] before `at`.
+    rest: std::ops::Range<usize>,
 }
 
 /// From [`ONSET_REST_S`] before the motion's first frame (`first_moving`) to where the object
@@ -161,21 +167,17 @@ fn onset_window(
         .find(|&k| series.t[k] > first_moving && rel[k].abs() > ONSET_WINDOW_RAD)
         .unwrap_or(n);
     let from = series.t.partition_point(|&t| t <= after);
-    let palm_start = palm_start(series, from, end, sigma / std::f64::consts::SQRT_2);
-    let start = palm_start
-        .map(|k| {
+    let palm = palm_start(series, from, end, sigma / std::f64::consts::SQRT_2);
+    let start = palm
+        .as_ref()
+        .map(|p| {
             series
                 .t
-                .partition_point(|&t| t < series.t[k] + PALM_SETTLE_S)
+                .partition_point(|&t| t < series.t[p.at] + PALM_SETTLE_S)
         })
         .filter(|&s| s > start && end >= s + 2 * MIN_ONSET_FRAMES)
         .unwrap_or(start);
-    OnsetWindow {
-        start,
-        end,
-        palm_start,
-        palm_rest_from: from,
-    }
+    OnsetWindow { start, end, palm }
 }
 
 /// The first sample of `series` in `from..end` where the palm has left the tilt it had at
@@ -184,7 +186,7 @@ fn onset_window(
 /// already tilting (its samples up to [`PALM_SETTLE_S`] before show a slope, 3 σ from zero:
 /// a slow tilt stays within the threshold for a while), or where that rest has fewer than
 /// [`MIN_ONSET_FRAMES`] samples.
-fn palm_start(series: &AngleSeries, from: usize, end: usize, palm_sigma: f64) -> Option<usize> {
+fn palm_start(series: &AngleSeries, from: usize, end: usize, palm_sigma: f64) -> Option<PalmStart> {
     let (t, palm) = (&series.t, &series.palm);
     let threshold = (5.0 * palm_sigma).max(PALM_START_RAD);
     let k = (from..end).find(|&k| (palm[k] - palm[from]).abs() > threshold)?;
@@ -192,15 +194,14 @@ fn palm_start(series: &AngleSeries, from: usize, end: usize, palm_sigma: f64) ->
     if rest.len() < MIN_ONSET_FRAMES {
         return None;
     }
-    let (rate, rate_sigma) = slope(&t[rest.clone()], &palm[rest], palm_sigma)?;
-    (rate.abs() <= 3.0 * rate_sigma).then_some(k)
+    let (rate, rate_sigma) = slope(&t[rest.clone()], &palm[rest.clone()], palm_sigma)?;
+    (rate.abs() <= 3.0 * rate_sigma).then_some(PalmStart { at: k, rest })
 }
 
 /// The variance \[rad²\] that the object's lag behind a palm starting to tilt adds to φ at the
 /// onset: the mean of the angle relative to the palm (`rel`) over the steady tilt (from
-/// `steady`, the window's start, to the onset at `onset_t`) less its mean over the rest
-/// before the palm started (from `rest_from` to `palm_start` less [`PALM_SETTLE_S`]),
-/// squared, less that difference's own noise variance (`sigma` per sample) so that a lag
+/// `steady`, the window's start, to the onset at `onset_t`) less its mean over the palm's
+/// rest before it started (`rest`, [`PalmStart::rest`]), squared, less that difference's own noise variance (`sigma` per sample) so that a lag
 /// hidden in the noise adds nothing on average; 0 where either part has fewer than
 /// [`MIN_ONSET_FRAMES`] samples.
 ///
@@ -211,17 +212,12 @@ fn palm_start(series: &AngleSeries, from: usize, end: usize, palm_sigma: f64) ->
 fn lag_variance(
     series: &AngleSeries,
     rel: &[f64],
-    rest_from: usize,
-    palm_start: usize,
+    rest: std::ops::Range<usize>,
     steady: usize,
     onset_t: f64,
     sigma: f64,
 ) -> f64 {
-    let t_rest = series.t[palm_start] - PALM_SETTLE_S;
-    let rest: Vec<f64> = (rest_from..palm_start)
-        .filter(|&k| series.t[k] <= t_rest)
-        .map(|k| rel[k])
-        .collect();
+    let rest = &rel[rest];
     let steady: Vec<f64> = (steady..rel.len())
         .take_while(|&k| series.t[k] < onset_t)
         .map(|k| rel[k])
@@ -229,8 +225,7 @@ fn lag_variance(
     if rest.len() < MIN_ONSET_FRAMES || steady.len() < MIN_ONSET_FRAMES {
         return 0.0;
     }
-    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
-    let d = mean(&steady) - mean(&rest);
+    let d = mean(&steady) - mean(rest);
     let noise = sigma * sigma * (1.0 / rest.len() as f64 + 1.0 / steady.len() as f64);
     (d * d - noise).max(0.0)
 }
@@ -263,7 +258,7 @@ pub(super) fn on_support(
         .map(|k| rel[k])
         .collect();
     let base = if before.len() >= MIN_ONSET_FRAMES {
-        before.iter().sum::<f64>() / before.len() as f64
+        mean(&before)
     } else {
         rel[start]
     };
@@ -309,15 +304,17 @@ mod tests {
     #[test]
     fn a_palm_start_is_found_after_a_rest_only() {
         let s = palm_series(1.0);
-        let k = palm_start(&s, 0, s.t.len(), 1e-4).expect("the palm starts at 1 s");
+        let k = palm_start(&s, 0, s.t.len(), 1e-4)
+            .expect("the palm starts at 1 s")
+            .at;
         // The threshold (0.2°) is crossed 17.5 ms after the start, at the next sample.
         assert!((s.t[k] - 1.02).abs() < 1e-9, "{}", s.t[k]);
-        assert_eq!(palm_start(&palm_series(0.0), 0, 300, 1e-4), None);
-        assert_eq!(palm_start(&palm_series(-1.0), 0, 300, 1e-4), None);
+        assert!(palm_start(&palm_series(0.0), 0, 300, 1e-4).is_none());
+        assert!(palm_start(&palm_series(-1.0), 0, 300, 1e-4).is_none());
         // 0.1 s of rest: fewer than MIN_ONSET_FRAMES samples before the settling time.
-        assert_eq!(palm_start(&palm_series(0.1), 0, 300, 1e-4), None);
+        assert!(palm_start(&palm_series(0.1), 0, 300, 1e-4).is_none());
         // Noisier than the whole tilt before the window's end: no start.
-        assert_eq!(palm_start(&s, 0, 110, 0.01), None);
+        assert!(palm_start(&s, 0, 110, 0.01).is_none());
     }
 
     /// A recording with two tilts (the palm tilts at 0.5 s, rests from 0.8 s, tilts again at
@@ -334,10 +331,10 @@ mod tests {
             t,
             palm,
         };
-        let k = palm_start(&s, 0, 300, 1e-4).unwrap();
+        let k = palm_start(&s, 0, 300, 1e-4).unwrap().at;
         assert!((s.t[k] - 0.52).abs() < 1e-9, "{}", s.t[k]);
         let from = s.t.partition_point(|&x| x <= 0.9);
-        let k = palm_start(&s, from, 300, 1e-4).unwrap();
+        let k = palm_start(&s, from, 300, 1e-4).unwrap().at;
         assert!((s.t[k] - 1.62).abs() < 1e-9, "{}", s.t[k]);
     }
 
@@ -349,15 +346,17 @@ mod tests {
     #[test]
     fn the_lag_is_the_step_at_the_palm_start_less_its_noise() {
         let s = palm_series(1.0);
-        let k = palm_start(&s, 0, s.t.len(), 1e-4).unwrap();
+        let palm = palm_start(&s, 0, s.t.len(), 1e-4).unwrap();
+        let k = palm.at;
         let steady = s.t.partition_point(|&t| t < s.t[k] + PALM_SETTLE_S);
         let onset_t = 2.5;
         let step =
             |d: f64| -> Vec<f64> { s.t.iter().map(|&t| if t > 1.0 { d } else { 0.0 }).collect() };
-        let exact = lag_variance(&s, &step(0.01), 0, k, steady, onset_t, 1e-6);
+        let exact = lag_variance(&s, &step(0.01), palm.rest.clone(), steady, onset_t, 1e-6);
         assert!((exact - 1e-4).abs() < 1e-9, "{exact}");
         let sigma = 0.005;
         let n_rest = s.t.iter().filter(|&&t| t <= s.t[k] - PALM_SETTLE_S).count();
+        assert_eq!(palm.rest, 0..n_rest);
         let n_steady = (steady..s.t.len())
             .take_while(|&i| s.t[i] < onset_t)
             .count();
@@ -369,7 +368,7 @@ mod tests {
                 .map(|_| {
                     let rel: Vec<f64> =
                         step(d).iter().map(|x| x + noise.sample(&mut rng)).collect();
-                    lag_variance(&s, &rel, 0, k, steady, onset_t, sigma)
+                    lag_variance(&s, &rel, palm.rest.clone(), steady, onset_t, sigma)
                 })
                 .sum::<f64>()
                 / 400.0
