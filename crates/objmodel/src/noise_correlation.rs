@@ -129,22 +129,7 @@ fn expected_statistic(m: &Square, rho: f64) -> f64 {
 
 /// `R⁻¹(r)` by bisection on ρ in [−0.9, 0.98] (R increases with ρ).
 fn rho_of(m: &Square, r: f64) -> f64 {
-    let (mut lo, mut hi) = (-0.9, 0.98);
-    if r <= expected_statistic(m, lo) {
-        return lo;
-    }
-    if r >= expected_statistic(m, hi) {
-        return hi;
-    }
-    for _ in 0..60 {
-        let mid = 0.5 * (lo + hi);
-        if expected_statistic(m, mid) < r {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
+    crate::stats::invert_increasing(|rho| expected_statistic(m, rho), r, (-0.9, 0.98), 60)
 }
 
 /// One window's sums per axis (rotation x, y, z, position x, y, z): of the residuals'

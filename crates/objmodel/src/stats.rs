@@ -208,6 +208,31 @@ pub fn chi2_threshold(dof: f64, alpha: f64) -> f64 {
     x
 }
 
+/// The `x` in `[lo, hi]` where an increasing `f` reaches `target`, by bisection (`halvings`
+/// halvings of the interval): `lo` where `target <= f(lo)`, `hi` where `target >= f(hi)`.
+pub fn invert_increasing(
+    f: impl Fn(f64) -> f64,
+    target: f64,
+    (mut lo, mut hi): (f64, f64),
+    halvings: usize,
+) -> f64 {
+    if target <= f(lo) {
+        return lo;
+    }
+    if target >= f(hi) {
+        return hi;
+    }
+    for _ in 0..halvings {
+        let mid = 0.5 * (lo + hi);
+        if f(mid) < target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
 /// Median of a slice (reorders it). `None` when empty.
 pub fn median(xs: &mut [f64]) -> Option<f64> {
     if xs.is_empty() {
@@ -252,6 +277,22 @@ pub(crate) fn golden_min(f: &impl Fn(f64) -> f64, mut lo: f64, mut hi: f64, tol:
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The bisection finds the cube root to the interval's width over 2^halvings, and clamps
+    /// to its ends outside the range f covers.
+    #[test]
+    fn an_increasing_function_is_inverted_and_clamped() {
+        let cube = |x: f64| x * x * x;
+        for target in [-0.5, 0.001, 0.3, 0.9] {
+            let x = invert_increasing(cube, target, (-1.0, 1.0), 50);
+            assert!(
+                (x - f64::cbrt(target)).abs() < 2.0 / 2f64.powi(50) + 1e-15,
+                "{target}"
+            );
+        }
+        assert_eq!(invert_increasing(cube, -2.0, (-1.0, 1.0), 50), -1.0);
+        assert_eq!(invert_increasing(cube, 1.0, (-1.0, 1.0), 50), 1.0);
+    }
 
     #[test]
     fn student_quantiles_are_the_tables() {

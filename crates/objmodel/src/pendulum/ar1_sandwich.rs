@@ -104,22 +104,7 @@ impl Linearised {
             let (lag1, trace) = self.residual_moments(rho);
             lag1 / trace
         };
-        let rho = if observed <= ratio(0.0) {
-            0.0
-        } else if observed >= ratio(MAX_RHO) {
-            MAX_RHO
-        } else {
-            let (mut lo, mut hi) = (0.0, MAX_RHO);
-            for _ in 0..50 {
-                let mid = 0.5 * (lo + hi);
-                if ratio(mid) < observed {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
-            0.5 * (lo + hi)
-        };
+        let rho = crate::stats::invert_increasing(ratio, observed, (0.0, MAX_RHO), 50);
         (rho, sse / self.residual_moments(rho).1)
     }
 
