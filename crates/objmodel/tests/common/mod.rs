@@ -16,10 +16,7 @@ pub fn data(file: &str) -> PathBuf {
 /// test binary that includes this module reads one.)
 #[allow(dead_code)]
 pub fn truth_edge(name: &str) -> Line {
-    let truth: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(data(&format!("{name}.truth.json"))).unwrap(),
-    )
-    .unwrap();
+    let truth = truth(name);
     let v = |k: &str| {
         let a = truth["edge"][k].as_array().unwrap();
         Vector3::new(
@@ -35,9 +32,12 @@ pub fn truth_edge(name: &str) -> Line {
 /// its truth edge from the face it rests on).
 #[allow(dead_code)]
 pub fn truth_phi(name: &str) -> f64 {
-    let truth: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(data(&format!("{name}.truth.json"))).unwrap(),
-    )
-    .unwrap();
-    truth["phi"].as_f64().unwrap()
+    truth(name)["phi"].as_f64().unwrap()
+}
+
+/// The scene `name`'s truth file, `{name}.truth.json`.
+#[allow(dead_code)]
+fn truth(name: &str) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(data(&format!("{name}.truth.json"))).unwrap())
+        .unwrap()
 }
