@@ -201,9 +201,9 @@ fn palm_start(series: &AngleSeries, from: usize, end: usize, palm_sigma: f64) ->
 /// The variance \[rad²\] that the object's lag behind a palm starting to tilt adds to φ at the
 /// onset: the mean of the angle relative to the palm (`rel`) over the steady tilt (from
 /// `steady`, the window's start, to the onset at `onset_t`) less its mean over the palm's
-/// rest before it started (`rest`, [`PalmStart::rest`]), squared, less that difference's own noise variance (`sigma` per sample) so that a lag
-/// hidden in the noise adds nothing on average; 0 where either part has fewer than
-/// [`MIN_ONSET_FRAMES`] samples.
+/// rest before it started (`rest`, [`PalmStart::rest`]), squared, less that difference's own
+/// noise variance (`sigma` per sample) so that a lag hidden in the noise adds nothing on
+/// average; 0 where either part has fewer than [`MIN_ONSET_FRAMES`] samples.
 ///
 /// A tracker latency `d` between palm and object shifts the angle relative to the palm by
 /// `β̇ d` while the palm tilts, and the palm's tilt read at the onset by the same; a compliant

@@ -116,9 +116,9 @@ mod tests {
 
     /// A fall whose first frames are driven (a pusher turning the object at a steady rate
     /// past its balance point before letting go) is not a free pendulum. The driven frames'
-    /// misfit is serially correlated, and the fit's σ (with the AR(1) sandwich, `super::ar1_sandwich`)
-    /// holds it; the jackknife, given the fit with an overconfident σ (the least-squares one
-    /// was below a fifth of the error), finds it too.
+    /// misfit is serially correlated, and the fit's σ (with the AR(1) sandwich,
+    /// `super::ar1_sandwich`) holds it; the jackknife, given the fit with an overconfident σ
+    /// (the least-squares one was below a fifth of the error), finds it too.
     #[test]
     fn a_driven_start_shows_in_the_sigma() {
         let (phi, k) = (0.6, 30.0);
