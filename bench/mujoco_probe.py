@@ -210,14 +210,24 @@ def tag_track(poses, rng):
     """The tag's poses (on the top face, offset and turned), with tracking noise."""
     box_from_tag_t = np.array([rng.uniform(-0.01, 0.01), rng.uniform(-0.01, 0.01), 0.0])
     box_from_tag_r = R.from_euler("z", rng.uniform(-180, 180), degrees=True)
+    tag = []
+    for row in poses:
+        wb_r = R.from_quat(row[4:8])
+        tag.append([row[0], *(row[1:4] + wb_r.apply(box_from_tag_t)),
+                    *(wb_r * box_from_tag_r).as_quat()])
+    return track(tag, rng), box_from_tag_t, box_from_tag_r
+
+
+def track(tag_poses, rng):
+    """A tracker's view of the tag's exact poses (rows t x y z qx qy qz qw): dropped frames,
+    noise (correlated as CORRELATION says), single-frame mirror flips, quaternion sign flips."""
     out = []
     state = None
-    for row in poses:
+    for row in tag_poses:
         if rng.random() < 0.03:
             continue  # dropped frame
-        wb_r = R.from_quat(row[4:8])
-        p = row[1:4] + wb_r.apply(box_from_tag_t)
-        r = wb_r * box_from_tag_r
+        p = np.array(row[1:4])
+        r = R.from_quat(row[4:8])
         draw = np.concatenate([rng.normal(scale=1e-3 * NOISE, size=3),
                                rng.normal(scale=0.5 * DEG * NOISE, size=3)])
         # (A dropped frame's noise is not drawn: the correlation is between tracked frames.)
@@ -230,7 +240,7 @@ def tag_track(poses, rng):
         if rng.random() < 0.05:
             q = -q
         out.append([row[0], *p, *q])
-    return np.array(out), box_from_tag_t, box_from_tag_r
+    return np.array(out)
 
 
 def truth_kind_topple(kind):

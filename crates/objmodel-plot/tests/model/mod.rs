@@ -53,6 +53,8 @@ fn edge(id: usize, point: Vector3<f64>, direction: Vector3<f64>, faces: [usize; 
         pendulums: Vec::new(),
         observations: Vec::new(),
         between_sigma_m: None,
+        conditioned_on: Vec::new(),
+        observed: None,
     }
 }
 

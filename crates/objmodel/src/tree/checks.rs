@@ -64,8 +64,8 @@ impl Tree {
                 // Nor does it lie outside the shape: its point (closest to the object origin,
                 // which lies on the object, so within the edge's extent on a box) is inside
                 // every face.
-                if let Some((d, sf)) = shape.outside(&e.point).filter(|(d, _)| *d > 0.0) {
-                    let var = e.sigma_point_m.powi(2)
+                if let Some((d, sf)) = shape.outside(&e.own().point).filter(|(d, _)| *d > 0.0) {
+                    let var = e.own().sigma_point_m.powi(2)
                         + sf.offset_sigma_m.powi(2)
                         + SYSTEMATIC_POINT_M.powi(2);
                     let limit1 = crate::stats::chi2_threshold(1.0, MATCH_ALPHA);
@@ -173,7 +173,7 @@ impl Tree {
     }
 }
 
-/// χ² (2 dof) of the edge `e` lying in the plane of unit normal `normal` (its σ per axis
+/// χ² (2 dof) of the edge `e` (its own estimate, [`super::Edge::own`]) lying in the plane of unit normal `normal` (its σ per axis
 /// `sigma_normal`) and, when known, offset `plane = (d, σ_d)`: its direction along the plane
 /// (n·u ≈ 0) and its point on it (n·p ≈ d), with the fusion's per-demonstration systematic
 /// errors. Also the point's signed distance from the plane \[m\] (0 without an offset) and
@@ -184,6 +184,7 @@ fn edge_in_plane(
     sigma_normal: f64,
     plane: Option<(f64, f64)>,
 ) -> (f64, f64, f64) {
+    let e = e.own();
     let tilt = normal.dot(&e.direction).clamp(-1.0, 1.0).asin();
     let var_dir =
         e.sigma_direction_rad.powi(2) + sigma_normal.powi(2) + SYSTEMATIC_DIRECTION_RAD.powi(2);

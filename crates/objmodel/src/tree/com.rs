@@ -26,13 +26,16 @@ impl Tree {
     fn com_planes_owned(&self) -> Vec<(ComPlane, (usize, usize))> {
         let mut planes = Vec::new();
         for (ei, e) in self.edges.iter().enumerate() {
+            // The edge's own estimate: conditioned on its faces, edges share their errors,
+            // which the planes' fit would count as independent (`tree/edge_faces.rs`).
+            let own = e.own();
             for (pi, p) in e.pendulums.iter().enumerate() {
                 let Some(phi) = p.phi else { continue };
                 // The fused edge's direction, turned the way this pendulum toppled.
-                let axis = if e.direction.dot(&p.toppling_axis) < 0.0 {
-                    -e.direction
+                let axis = if own.direction.dot(&p.toppling_axis) < 0.0 {
+                    -own.direction
                 } else {
-                    e.direction
+                    own.direction
                 };
                 let normal_sigma = self
                     .faces
@@ -45,10 +48,10 @@ impl Tree {
                 let plane = ComPlane {
                     phi,
                     phi_sigma: p.phi_sigma.unwrap_or(UNKNOWN_PHI_SIGMA_RAD),
-                    point: e.point,
-                    point_cov: m(&e.point_cov),
+                    point: own.point,
+                    point_cov: m(&own.point_cov),
                     axis,
-                    axis_cov: m(&e.direction_cov),
+                    axis_cov: m(&own.direction_cov),
                     normal: p.resting_face_normal,
                     normal_sigma,
                 };

@@ -39,6 +39,32 @@ pub struct Edge {
     /// included in `point_cov` and `sigma_point_m`; absent where no landed face tests the edge.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub between_sigma_m: Option<f64>,
+    /// The faces whose planes, as the other demonstrations measure them, `point`, `direction`
+    /// and their covariances are conditioned on (`tree/edge_faces.rs`); empty where the edge is
+    /// its observations' estimate alone.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub conditioned_on: Vec<String>,
+    /// The estimate from the edge's own observations alone, where `conditioned_on` is not
+    /// empty. The tree's tests of its features against each other use it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub observed: Option<EdgeEstimate>,
+}
+
+/// A line estimate with its covariances (as [`Edge`] keeps them).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EdgeEstimate {
+    /// Point of the line closest to the object-frame origin \[m\].
+    pub point: Vector3<f64>,
+    /// Unit direction.
+    pub direction: Vector3<f64>,
+    /// Covariance of `point` \[m²\], rows.
+    pub point_cov: [[f64; 3]; 3],
+    /// Covariance of `direction` \[rad²\], rows.
+    pub direction_cov: [[f64; 3]; 3],
+    /// RMS standard deviation of `point` normal to the line \[m\].
+    pub sigma_point_m: f64,
+    /// RMS standard deviation of `direction` \[rad\].
+    pub sigma_direction_rad: f64,
 }
 
 impl Edge {
@@ -57,6 +83,8 @@ impl Edge {
             pendulums: Vec::new(),
             observations: vec![obs],
             between_sigma_m: None,
+            conditioned_on: Vec::new(),
+            observed: None,
         };
         e.refit();
         e
@@ -68,6 +96,18 @@ impl Edge {
             point: self.point,
             direction: self.direction,
         }
+    }
+
+    /// The estimate from the edge's own observations (before any conditioning on its faces).
+    pub fn own(&self) -> EdgeEstimate {
+        self.observed.clone().unwrap_or(EdgeEstimate {
+            point: self.point,
+            direction: self.direction,
+            point_cov: self.point_cov,
+            direction_cov: self.direction_cov,
+            sigma_point_m: self.sigma_point_m,
+            sigma_direction_rad: self.sigma_direction_rad,
+        })
     }
 
     /// Recompute the estimate from the observations.
@@ -91,6 +131,8 @@ impl Edge {
         self.direction_cov = rows(&cd);
         self.sigma_point_m = (cp.trace() / 2.0).sqrt();
         self.between_sigma_m = None;
+        self.conditioned_on.clear();
+        self.observed = None;
         self.sigma_direction_rad = (cd.trace() / 2.0).sqrt();
         self.support = self.observations.iter().map(|o| o.demo.clone()).collect();
         self.support.dedup();
@@ -116,15 +158,17 @@ impl Edge {
     }
 
     /// χ² (4 dof) of an observation against this edge.
+    /// Against the edge's own estimate ([`Edge::own`]).
     pub(super) fn match_chi2(&self, o: &EdgeObservation) -> f64 {
-        let u = self.direction;
+        let own = self.own();
+        let u = own.direction;
         let p = Matrix3::identity() - u * u.transpose();
-        let d = p * (o.line.point - self.point);
+        let d = p * (o.line.point - own.point);
         let var_p =
-            self.sigma_point_m.powi(2) + o.sigma_point().powi(2) + SYSTEMATIC_POINT_M.powi(2);
+            own.sigma_point_m.powi(2) + o.sigma_point().powi(2) + SYSTEMATIC_POINT_M.powi(2);
         let ang = angle(&u, &o.line.direction);
         let ang = ang.min(std::f64::consts::PI - ang);
-        let var_d = self.sigma_direction_rad.powi(2)
+        let var_d = own.sigma_direction_rad.powi(2)
             + o.sigma_direction().powi(2)
             + SYSTEMATIC_DIRECTION_RAD.powi(2);
         d.norm_squared() / var_p + ang * ang / var_d

@@ -73,7 +73,6 @@ impl Face {
         let (mut sum, mut wsum, mut wsum2) = (Vector3::zeros(), 0.0, 0.0);
         // The known offsets, signed as the reference normal, with their weights.
         let mut offsets: Vec<(f64, f64)> = Vec::new();
-        let mut common_offset: Vec<f64> = Vec::new();
         let mut evidence = Evidence::default();
         for o in &self.observations {
             let w = 1.0 / (o.sigma_normal().powi(2) + 1e-12);
@@ -95,7 +94,6 @@ impl Face {
                 // (the contact's depth of the edge it came through) is added back below.
                 let own = (v - o.offset_common_var).max(0.0);
                 offsets.push((d, 1.0 / (own + 1e-12)));
-                common_offset.push(o.offset_common_var);
             }
             match o.source {
                 FaceSource::Slide => evidence.slide += 1,
@@ -123,7 +121,7 @@ impl Face {
         let off_w: f64 = offsets.iter().map(|(_, w)| w).sum();
         self.offset =
             (off_w > 0.0).then(|| offsets.iter().map(|(d, w)| d * w).sum::<f64>() / off_w);
-        let common = common_offset.iter().sum::<f64>() / common_offset.len().max(1) as f64;
+        let common = self.offset_common_var();
         self.offset_sigma_m = self
             .offset
             .map(|mean| (birge_ratio(&offsets, mean) / off_w + common).sqrt());
@@ -132,6 +130,31 @@ impl Face {
         self.support.dedup();
         self.n_support = self.support.len();
         self.evidence = evidence;
+    }
+
+    /// The variance \[m²\] common to the known offsets (the contact's depth of the edges they
+    /// came through), which their number does not average down: its mean over them, a part of
+    /// [`Self::offset_sigma_m`].
+    pub(super) fn offset_common_var(&self) -> f64 {
+        let common: Vec<f64> = self
+            .observations
+            .iter()
+            .filter(|o| o.offset.is_some() && o.offset_var.is_some())
+            .map(|o| o.offset_common_var)
+            .collect();
+        common.iter().sum::<f64>() / common.len().max(1) as f64
+    }
+
+    /// The face as the demonstrations other than `demos` show it, if any of its observations
+    /// is theirs.
+    pub(super) fn without(&self, demos: &[String]) -> Option<Face> {
+        let mut f = self.clone();
+        f.observations.retain(|o| !demos.contains(&o.demo));
+        if f.observations.is_empty() {
+            return None;
+        }
+        f.refit();
+        Some(f)
     }
 
     /// RMS standard deviation \[rad\] of the normal per axis without the support's level

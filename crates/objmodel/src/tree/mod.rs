@@ -37,6 +37,7 @@ mod com_planes;
 mod contradiction;
 mod derived;
 mod edge;
+mod edge_faces;
 mod face;
 mod file;
 mod landing;
@@ -50,7 +51,7 @@ mod withheld_edge;
 pub use com_conflicts::{com_without_conflicts, ComConflict};
 pub use com_planes::{com_from_planes, CentreOfMass, ComPlane, UNKNOWN_PHI_SIGMA_RAD};
 pub use contradiction::Contradiction;
-pub use edge::Edge;
+pub use edge::{Edge, EdgeEstimate};
 pub use face::{Evidence, Face};
 pub use pendulums::{Pendulum, PendulumObservation};
 use serde::{Deserialize, Serialize};
@@ -397,12 +398,14 @@ impl Tree {
             .for_each(|e| e.faces.retain(|f| ids.contains(f)));
     }
 
-    /// Recompute what depends on all the features: the support's height and the offsets it
-    /// gives the landings' faces, the centre of mass, the shape and the contradictions between
-    /// them.
+    /// Recompute what depends on all the features: the edges' own estimates, the support's
+    /// height and the offsets it gives the landings' faces, the edges conditioned on their
+    /// faces, the centre of mass, the shape and the contradictions between them.
     fn refit_whole(&mut self) {
+        self.edges.iter_mut().for_each(Edge::refit);
         self.withhold_edges_off_landed_faces();
         self.refit_support();
+        self.condition_edges_on_faces();
         self.refit_centre_of_mass();
         self.shape = self.reconstruct_shape().ok();
         self.contradictions = self.contradictions();

@@ -1,0 +1,375 @@
+//! An edge is where two faces of the object meet: each edge's estimate conditioned on the
+//! planes of the faces it joins, as the other demonstrations measure them.
+//!
+//! A topple teaches its edge from the frames of one turn: at 30 Hz a fall of a fraction of a
+//! second locates it to a few millimetres and degrees. The faces it joins are measured far
+//! better: a face's normal by every rest on it (gravity in the object frame), its offset by
+//! every edge in it (each topple's edge lies in the faces it rested on: `n · p = d`). An edge
+//! `(p, u)` in a face `(n, d)` satisfies `n · u = 0` and `n · p = d`; those are two linear
+//! measurements of the edge, with the face's uncertainty for noise, and each face the edge
+//! joins gives them.
+//!
+//! The face is taken *without* the edge's own demonstrations ([`super::Face::without`]): its
+//! offset came partly through this very edge (and its normal, from the rest, is made normal to
+//! the edge's direction), and counting that twice would shrink the σ for nothing. Conditioned
+//! on what the other demonstrations measure, the estimate is the joint one of the edge and
+//! its faces.
+//!
+//! The part of the point's covariance common to every edge of the object (the contact's depth,
+//! [`crate::edge::EdgeObservation::add_contact_depth_var`]) is common to the faces' offsets
+//! too, which came through other edges: it cancels in the test, and it does not average down,
+//! so it is taken out before the update and added back after it. A face the edge's own
+//! estimate contradicts (χ² with one degree of freedom per measurement at [`MATCH_ALPHA`]) is
+//! not used: the checks report it (`tree/checks.rs`, against the edge's own estimate, which
+//! [`super::Edge::observed`] keeps).
+//!
+//! What uses which: the centre of mass, the matching of new observations and the checks use
+//! the edge's own estimate ([`super::Edge::own`]): the conditioned edges share their faces'
+//! errors, which those would count as independent; the edge's `point` and `direction`, which
+//! plans, plots and other programs read, are the conditioned ones.
+
+use super::{Edge, EdgeEstimate, Face, Tree, MATCH_ALPHA};
+use crate::stats::chi2_threshold;
+use nalgebra::{Matrix3, Vector3};
+
+/// A face as one measurement of an edge: its plane from the other demonstrations.
+struct FacePlane {
+    id: String,
+    normal: Vector3<f64>,
+    /// Variance \[rad²\] of the normal per axis.
+    normal_var: f64,
+    /// Offset \[m\] and the variance \[m²\] of its own part (without the common one).
+    offset: Option<(f64, f64)>,
+}
+
+impl FacePlane {
+    fn of(face: &Face, demos: &[String]) -> Option<Self> {
+        let f = face.without(demos)?;
+        let own_var = |s: f64| (s * s - f.offset_common_var()).max(0.0);
+        Some(Self {
+            id: f.id.clone(),
+            normal: f.normal,
+            normal_var: f.sigma_normal_rad.powi(2),
+            offset: f.offset.zip(f.offset_sigma_m.map(own_var)),
+        })
+    }
+}
+
+/// One scalar measurement `g · x = value` of a vector with covariance `cov`, of variance
+/// `var`: its χ² and the Kalman update.
+struct Measurement {
+    g: Vector3<f64>,
+    value: f64,
+    var: f64,
+}
+
+impl Measurement {
+    fn innovation(&self, x: &Vector3<f64>, cov: &Matrix3<f64>) -> (f64, f64) {
+        (
+            self.value - self.g.dot(x),
+            self.g.dot(&(cov * self.g)) + self.var,
+        )
+    }
+
+    fn chi2(&self, x: &Vector3<f64>, cov: &Matrix3<f64>) -> f64 {
+        let (r, s) = self.innovation(x, cov);
+        r * r / s
+    }
+
+    fn update(&self, x: &mut Vector3<f64>, cov: &mut Matrix3<f64>) {
+        let (r, s) = self.innovation(x, cov);
+        if s.is_nan() || s <= 0.0 {
+            return;
+        }
+        let k = *cov * self.g / s;
+        *x += k * r;
+        let c = *cov - k * (cov.transpose() * self.g).transpose();
+        *cov = (c + c.transpose()) * 0.5;
+    }
+}
+
+/// The edge's measurements from the plane: its direction along it, its point on it (the
+/// normal's error moves the plane at the point by its lever, the point's part along the face).
+fn measurements(own: &EdgeEstimate, plane: &FacePlane) -> (Measurement, Option<Measurement>) {
+    let n = plane.normal;
+    let direction = Measurement {
+        g: n,
+        value: 0.0,
+        var: plane.normal_var,
+    };
+    let point = plane.offset.map(|(d, var)| {
+        let lever = (own.point - n * n.dot(&own.point)).norm_squared();
+        Measurement {
+            g: n,
+            value: d,
+            var: var + plane.normal_var * lever,
+        }
+    });
+    (direction, point)
+}
+
+/// The edge conditioned on the planes it lies in, and the ids of those used (see the module
+/// documentation); `None` where none is used.
+fn conditioned(e: &Edge, planes: &[FacePlane]) -> Option<(EdgeEstimate, Vec<String>)> {
+    let own = e.own();
+    let m = |r: &[[f64; 3]; 3]| Matrix3::from_fn(|i, j| r[i][j]);
+    let common = e.common_point_cov();
+    let own_point_cov = m(&own.point_cov) - common;
+    let own_direction_cov = m(&own.direction_cov);
+    let mut used = Vec::new();
+    let (mut point, mut point_cov) = (own.point, own_point_cov);
+    let (mut direction, mut direction_cov) = (own.direction, own_direction_cov);
+    for plane in planes {
+        let (dir, pt) = measurements(&own, plane);
+        let chi2 = dir.chi2(&own.direction, &own_direction_cov)
+            + pt.as_ref()
+                .map_or(0.0, |p| p.chi2(&own.point, &own_point_cov));
+        let dof = 1.0 + f64::from(u8::from(pt.is_some()));
+        // (A NaN χ² fails too.)
+        if chi2.is_nan() || chi2 > chi2_threshold(dof, MATCH_ALPHA) {
+            continue;
+        }
+        dir.update(&mut direction, &mut direction_cov);
+        if let Some(p) = pt {
+            p.update(&mut point, &mut point_cov);
+        }
+        used.push(plane.id.clone());
+    }
+    if used.is_empty() {
+        return None;
+    }
+    let u = direction.normalize();
+    let across = Matrix3::identity() - u * u.transpose();
+    let point_cov = across * (point_cov + common) * across;
+    let direction_cov = across * direction_cov * across;
+    let rows = super::rows;
+    Some((
+        EdgeEstimate {
+            point: point - u * u.dot(&point),
+            direction: u,
+            point_cov: rows(&point_cov),
+            direction_cov: rows(&direction_cov),
+            sigma_point_m: (point_cov.trace() / 2.0).max(0.0).sqrt(),
+            sigma_direction_rad: (direction_cov.trace() / 2.0).max(0.0).sqrt(),
+        },
+        used,
+    ))
+}
+
+impl Tree {
+    /// Condition every edge on the planes of the faces it joins (see the module
+    /// documentation). The edges must hold their own estimates ([`Edge::refit`]).
+    pub(super) fn condition_edges_on_faces(&mut self) {
+        let faces = &self.faces;
+        for e in &mut self.edges {
+            let planes: Vec<FacePlane> = e
+                .faces
+                .iter()
+                .filter_map(|id| faces.iter().find(|f| &f.id == id))
+                .filter_map(|f| FacePlane::of(f, &e.support))
+                .collect();
+            if let Some((estimate, used)) = conditioned(e, &planes) {
+                e.observed = Some(e.own());
+                e.point = estimate.point;
+                e.direction = estimate.direction;
+                e.point_cov = estimate.point_cov;
+                e.direction_cov = estimate.direction_cov;
+                e.sigma_point_m = estimate.sigma_point_m;
+                e.sigma_direction_rad = estimate.sigma_direction_rad;
+                e.conditioned_on = used;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::edge::EdgeObservation;
+    use crate::geometry::Line;
+    use rand::{rngs::StdRng, Rng, SeedableRng};
+    use rand_distr::StandardNormal;
+
+    /// The true edge: along z through (50, 30) mm, where the faces x = 50 mm and y = 30 mm meet.
+    const X: f64 = 0.05;
+    const Y: f64 = 0.03;
+
+    fn across(u: &Vector3<f64>) -> Matrix3<f64> {
+        Matrix3::identity() - u * u.transpose()
+    }
+
+    /// An edge observed at `point` along `direction`, σ `sp` \[m\] and `sd` \[rad\] per axis,
+    /// with a common part of σ `sc` \[m\] per axis.
+    fn edge(point: Vector3<f64>, direction: Vector3<f64>, sp: f64, sd: f64, sc: f64) -> Edge {
+        let u = direction.normalize();
+        let n = across(&u);
+        let o = EdgeObservation {
+            demo: "own".into(),
+            line: Line {
+                point: point - u * u.dot(&point),
+                direction: u,
+            },
+            point_cov: n * (sp * sp + sc * sc),
+            direction_cov: n * sd * sd,
+            paper_line: None,
+            frames: 10,
+            max_angle: 1.5,
+            chi2_per_dof: 1.0,
+            common_point_cov: n * sc * sc,
+        };
+        Edge::new("e0".into(), o)
+    }
+
+    fn plane(id: &str, normal: Vector3<f64>, offset: f64, sd: f64, sn: f64) -> FacePlane {
+        FacePlane {
+            id: id.into(),
+            normal: normal.normalize(),
+            normal_var: sn * sn,
+            offset: Some((offset, sd * sd)),
+        }
+    }
+
+    fn gauss(rng: &mut StdRng) -> f64 {
+        rng.sample(StandardNormal)
+    }
+
+    /// A vector normal to `n` with independent N(0, σ²) components on its two axes.
+    fn tangent(rng: &mut StdRng, n: &Vector3<f64>, sigma: f64) -> Vector3<f64> {
+        let [a, b] = crate::geometry::normal_axes(n);
+        (a * gauss(rng) + b * gauss(rng)) * sigma
+    }
+
+    /// Squared Mahalanobis distance of `x` from `mean` in the plane normal to `u`.
+    fn mahalanobis2(
+        x: &Vector3<f64>,
+        mean: &Vector3<f64>,
+        cov: &[[f64; 3]; 3],
+        u: &Vector3<f64>,
+    ) -> f64 {
+        let [a, b] = crate::geometry::normal_axes(u);
+        let c = Matrix3::from_fn(|i, j| cov[i][j]);
+        let d = x - mean;
+        let r = nalgebra::Vector2::new(a.dot(&d), b.dot(&d));
+        let s = nalgebra::Matrix2::new(
+            a.dot(&(c * a)),
+            a.dot(&(c * b)),
+            b.dot(&(c * a)),
+            b.dot(&(c * b)),
+        );
+        r.dot(&(s.try_inverse().unwrap() * r))
+    }
+
+    /// Exact faces put the edge on their line, whatever its own error.
+    #[test]
+    fn exact_faces_put_the_edge_where_they_meet() {
+        let e = edge(
+            Vector3::new(X + 0.006, Y - 0.004, 0.0),
+            Vector3::new(0.05, -0.03, 1.0),
+            0.004,
+            0.04,
+            0.0,
+        );
+        let planes = [
+            plane("fx", Vector3::x(), X, 1e-7, 1e-7),
+            plane("fy", Vector3::y(), Y, 1e-7, 1e-7),
+        ];
+        let (c, used) = conditioned(&e, &planes).expect("both faces agree with the edge");
+        assert_eq!(used, ["fx", "fy"]);
+        assert!(
+            (c.point - Vector3::new(X, Y, 0.0)).norm() < 1e-5,
+            "{}",
+            c.point
+        );
+        assert!(
+            c.direction.cross(&Vector3::z()).norm() < 1e-5,
+            "{}",
+            c.direction
+        );
+        assert!(c.sigma_point_m < 1e-5 && c.sigma_direction_rad < 1e-5);
+    }
+
+    /// A face the edge's own estimate contradicts is not used, and without any the edge keeps
+    /// its own estimate.
+    #[test]
+    fn a_contradicting_face_is_not_used() {
+        let e = edge(Vector3::new(X, Y, 0.0), Vector3::z(), 0.001, 0.01, 0.0);
+        let far = plane("far", Vector3::x(), X + 0.03, 3e-4, 0.01);
+        assert!(conditioned(&e, &[far]).is_none());
+        let near = plane("near", Vector3::y(), Y, 3e-4, 0.01);
+        let far = plane("far", Vector3::x(), X + 0.03, 3e-4, 0.01);
+        let (_, used) = conditioned(&e, &[far, near]).unwrap();
+        assert_eq!(used, ["near"]);
+    }
+
+    /// The common part (the contact's depth) does not shrink: it is the edge's and the faces'
+    /// alike, however well the faces are known.
+    #[test]
+    fn the_common_part_stays() {
+        let sc = 0.001;
+        let e = edge(Vector3::new(X, Y, 0.0), Vector3::z(), 0.003, 0.02, sc);
+        let planes = [
+            plane("fx", Vector3::x(), X, 1e-6, 1e-5),
+            plane("fy", Vector3::y(), Y, 1e-6, 1e-5),
+        ];
+        let (c, _) = conditioned(&e, &planes).unwrap();
+        let var_x = c.point_cov[0][0];
+        assert!(
+            (var_x - sc * sc).abs() < 0.05 * sc * sc,
+            "{var_x} vs {}",
+            sc * sc
+        );
+    }
+
+    /// Against truth, over many draws: the edge's own error (3 mm, 2° per axis) and the
+    /// faces' (0.5 mm, 0.5°), independent. The conditioned edge is closer to the truth than its
+    /// own estimate, and its covariance says how close: its squared Mahalanobis errors average
+    /// the two degrees of freedom, as χ²₂ does (and so does the direction's).
+    #[test]
+    fn the_conditioned_edge_is_nearer_and_its_sigma_honest() {
+        let mut rng = StdRng::seed_from_u64(7);
+        let (sp, sd, fo, fn_) = (0.003, 2f64.to_radians(), 5e-4, 0.5f64.to_radians());
+        let truth = Vector3::new(X, Y, 0.0);
+        let n = 2000;
+        let (mut own_err, mut err, mut z2, mut z2_dir) = (0.0, 0.0, 0.0, 0.0);
+        let mut used_both = 0;
+        for _ in 0..n {
+            let u = (Vector3::z() + tangent(&mut rng, &Vector3::z(), sd)).normalize();
+            let p = truth + tangent(&mut rng, &Vector3::z(), sp);
+            let e = edge(p, u, sp, sd, 0.0);
+            let nx = (Vector3::x() + tangent(&mut rng, &Vector3::x(), fn_)).normalize();
+            let ny = (Vector3::y() + tangent(&mut rng, &Vector3::y(), fn_)).normalize();
+            // Each face's plane tilted about its point nearest the origin, as the model has it.
+            let planes = [
+                plane("fx", nx, X + fo * gauss(&mut rng), fo, fn_),
+                plane("fy", ny, Y + fo * gauss(&mut rng), fo, fn_),
+            ];
+            let (c, used) = conditioned(&e, &planes).unwrap();
+            used_both += usize::from(used.len() == 2);
+            let on_line = |q: &Vector3<f64>, u: &Vector3<f64>| {
+                let d = truth - q;
+                (d - u * u.dot(&d)).norm()
+            };
+            own_err += on_line(&e.point, &e.direction);
+            err += on_line(&c.point, &c.direction);
+            // The truth's point on the conditioned line's normal plane.
+            let t = truth - c.direction * c.direction.dot(&(truth - c.point));
+            z2 += mahalanobis2(&t, &c.point, &c.point_cov, &c.direction);
+            let true_u = Vector3::z() * c.direction.z.signum();
+            z2_dir += mahalanobis2(&true_u, &c.direction, &c.direction_cov, &c.direction);
+        }
+        let nf = n as f64;
+        assert!(used_both as f64 > 0.99 * nf, "{used_both}");
+        assert!(
+            err < 0.35 * own_err,
+            "{} vs {} mm",
+            err / nf * 1e3,
+            own_err / nf * 1e3
+        );
+        assert!((z2 / nf - 2.0).abs() < 0.3, "point: mean χ² {}", z2 / nf);
+        assert!(
+            (z2_dir / nf - 2.0).abs() < 0.3,
+            "direction: mean χ² {}",
+            z2_dir / nf
+        );
+    }
+}
