@@ -161,22 +161,24 @@ def main():
           "| direction deg | own: along (z) | own: across (z) | own: direction deg |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     rows = []
+
+    def errors(est):
+        p, u = np.array(est["point"]), np.array(est["direction"])
+        cov = np.array(est["point_cov"])
+        best = min(box_edges, key=lambda t: np.linalg.norm((p - t[0]) - u * ((p - t[0]) @ u)) / 5e-3
+                   + math.degrees(math.acos(min(1, abs(u @ t[1])))) / 3)
+        q, v, b = best
+        d = p - q
+        d = d - u * (d @ u)
+        b = b - u * (b @ u)
+        b /= np.linalg.norm(b)
+        a = np.cross(u, b)
+        ang = math.degrees(math.acos(min(1, abs(u @ v))))
+        zb = (d @ b) / math.sqrt(max(b @ cov @ b, 1e-18))
+        za = (d @ a) / math.sqrt(max(a @ cov @ a, 1e-18))
+        return d @ b * 1e3, zb, d @ a * 1e3, za, ang
+
     for e in tree["edges"]:
-        def errors(est):
-            p, u = np.array(est["point"]), np.array(est["direction"])
-            cov = np.array(est["point_cov"])
-            best = min(box_edges, key=lambda t: np.linalg.norm((p - t[0]) - u * ((p - t[0]) @ u)) / 5e-3
-                       + math.degrees(math.acos(min(1, abs(u @ t[1])))) / 3)
-            q, v, b = best
-            d = p - q
-            d = d - u * (d @ u)
-            b = b - u * (b @ u)
-            b /= np.linalg.norm(b)
-            a = np.cross(u, b)
-            ang = math.degrees(math.acos(min(1, abs(u @ v))))
-            zb = (d @ b) / math.sqrt(max(b @ cov @ b, 1e-18))
-            za = (d @ a) / math.sqrt(max(a @ cov @ a, 1e-18))
-            return d @ b * 1e3, zb, d @ a * 1e3, za, ang
         new = errors(e)
         own = errors(e["observed"]) if e.get("observed") else new
         rows.append((new, own, bool(e.get("conditioned_on"))))
@@ -184,6 +186,17 @@ def main():
               f"{','.join(e.get('conditioned_on', [])) or '-'} | {new[0]:+.2f} ({new[1]:+.1f}) | "
               f"{new[2]:+.2f} ({new[3]:+.1f}) | {new[4]:.2f} | {own[0]:+.2f} ({own[1]:+.1f}) | "
               f"{own[2]:+.2f} ({own[3]:+.1f}) | {own[4]:.2f} |")
+    # Each push learnt alone: the edges off the box (beyond 5 mm or 3 degrees).
+    alone_wrong, alone_edges = [], 0
+    for path in paths:
+        r = subprocess.run([BIN, "learn", path, "--json", "--quiet"], capture_output=True, text=True)
+        edges = json.loads(r.stdout)["edges"] if r.returncode == 0 else []
+        alone_edges += len(edges)
+        for e in edges:
+            along, _, across, _, ang = errors(e)
+            if math.hypot(along, across) >= 5 or ang >= 3:
+                alone_wrong.append(f"{os.path.basename(path)} {e['id']}: {math.hypot(along, across):.1f} mm, {ang:.1f} deg")
+    print(f"each push alone: {alone_edges} edges, {len(alone_wrong)} off the box: {alone_wrong}")
     for name, k in (("tree", 0), ("own", 1)):
         a = np.array([r[k] for r in rows])
         if len(a):

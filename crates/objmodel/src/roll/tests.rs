@@ -530,3 +530,91 @@ fn a_flight_whose_centre_of_mass_is_off_the_object_is_no_alternative() {
         "{off_object} of {flights}"
     );
 }
+
+/// Exact frames at [`RATE`] of a turn by `turn` \[rad\] about the world line through `point`
+/// along y, starting from `start`, over `n` frames from time `t0` (evenly in angle).
+fn turn_frames(
+    start: &Isometry3<f64>,
+    point: Vector3<f64>,
+    turn: f64,
+    n: usize,
+    t0: f64,
+) -> Vec<FlightFrame> {
+    (0..n)
+        .map(|k| {
+            let pose = about(point, Vector3::y(), turn * k as f64 / (n - 1) as f64) * start;
+            FlightFrame {
+                t: t0 + k as f64 / RATE,
+                rotation: pose.rotation.to_rotation_matrix().into_inner(),
+                position: pose.translation.vector,
+            }
+        })
+        .collect()
+}
+
+/// One turn about y whose line jumps 8 mm along x half-way, without a frame between (a pivot
+/// that slid as the object turned on): both rolls are found and neither teaches. The same two
+/// turns with a slide of 2 cm between them (0.1 s: a roll, a slip, another roll about a
+/// parallel line) each teach.
+#[test]
+fn a_turn_whose_line_moves_teaches_no_edge() {
+    let noise = NoiseModel {
+        sigma_position: 1e-4,
+        sigma_rotation: 0.05f64.to_radians(),
+    };
+    let test = roll_test(noise, None);
+    let start = Isometry3::from_parts(
+        Translation3::new(0.05, 0.0, 0.04),
+        UnitQuaternion::identity(),
+    );
+    let (a, b) = (Vector3::new(0.0, 0.0, 0.0), Vector3::new(0.008, 0.0, 0.0));
+    let first = turn_frames(&start, a, 0.35, 40, 0.0);
+    let mid = about(a, Vector3::y(), 0.35) * start;
+    let joined: Vec<FlightFrame> = first
+        .iter()
+        .cloned()
+        .chain(
+            turn_frames(&mid, b, 0.35, 40, 40.0 / RATE)
+                .into_iter()
+                .skip(1),
+        )
+        .collect();
+    let rolls = find_rolls(&joined, &test);
+    assert!(rolls.len() >= 2, "{} rolls", rolls.len());
+    assert!(
+        rolls.iter().all(|r| r
+            .withheld
+            .as_deref()
+            .is_some_and(|w| w.contains("line moved"))),
+        "{:?}",
+        rolls.iter().map(|r| &r.withheld).collect::<Vec<_>>()
+    );
+    let end = *first.last().unwrap();
+    let slip = Vector3::new(0.02, 0.0, 0.0);
+    let slide: Vec<FlightFrame> = (1..=20)
+        .map(|k| FlightFrame {
+            t: end.t + k as f64 / RATE,
+            position: end.position + slip * (k as f64 / 20.0),
+            ..end
+        })
+        .collect();
+    let t1 = slide.last().unwrap().t + 1.0 / RATE;
+    let slid = Isometry3::from_parts(Translation3::from(slip), UnitQuaternion::identity()) * mid;
+    let paused: Vec<FlightFrame> = first
+        .iter()
+        .cloned()
+        .chain(slide)
+        .chain(
+            turn_frames(&slid, b + slip, 0.35, 40, t1)
+                .into_iter()
+                .skip(1),
+        )
+        .collect();
+    let rolls = find_rolls(&paused, &test);
+    assert_eq!(rolls.len(), 2);
+    assert!(
+        rolls.iter().all(|r| r.withheld.is_none()),
+        "{:?}",
+        rolls.iter().map(|r| &r.withheld).collect::<Vec<_>>()
+    );
+}

@@ -45,60 +45,12 @@ impl Tree {
         // Every edge is an edge of the shape: the two of its faces it fits best both hold it.
         // Demonstrations of two objects learnt into one tree make a shape of the faces that
         // agree, and the other object's edges are off it.
-        if let Some(shape) = &self.shape {
-            for e in &self.edges {
-                let mut fits: Vec<(f64, &str, f64, f64)> = shape
-                    .faces
-                    .iter()
-                    .map(|sf| {
-                        let sigma_n = self
-                            .faces
-                            .iter()
-                            .find(|f| f.id == sf.id)
-                            .map_or(crate::face::SUPPORT_LEVEL_SIGMA_RAD, |f| f.sigma_normal_rad);
-                        let plane = Some((sf.offset, sf.offset_sigma_m));
-                        let (chi2, off, tilt) = edge_in_plane(e, &sf.normal, sigma_n, plane);
-                        (chi2, sf.id.as_str(), off, tilt)
-                    })
-                    .collect();
-                // Nor does it lie outside the shape: its point (closest to the object origin,
-                // which lies on the object, so within the edge's extent on a box) is inside
-                // every face.
-                if let Some((d, sf)) = shape.outside(&e.own().point).filter(|(d, _)| *d > 0.0) {
-                    let var = e.own().sigma_point_m.powi(2)
-                        + sf.offset_sigma_m.powi(2)
-                        + SYSTEMATIC_POINT_M.powi(2);
-                    let limit1 = crate::stats::chi2_threshold(1.0, MATCH_ALPHA);
-                    if d * d / var > limit1 {
-                        out.push(Contradiction {
-                            features: vec![e.id.clone(), sf.id.clone()],
-                            what: format!(
-                                "edge {} lies {:.1} mm outside the shape, beyond face {} (χ² \
-                                 {:.1} > {limit1:.1}); are all the demonstrations of one object?",
-                                e.id,
-                                d * 1e3,
-                                sf.id,
-                                d * d / var
-                            ),
-                        });
-                    }
-                }
-                fits.sort_by(|a, b| a.0.total_cmp(&b.0));
-                if let [_, (chi2, fid, off, tilt), ..] = fits[..] {
-                    if chi2 > limit {
-                        out.push(Contradiction {
-                            features: vec![e.id.clone(), fid.to_string()],
-                            what: format!(
-                                "edge {} is not an edge of the shape: the second face it fits \
-                                 best, {fid}, is {:.1} mm and {:.1}° from it (χ² {chi2:.1} > \
-                                 {limit:.1}); are all the demonstrations of one object?",
-                                e.id,
-                                off.abs() * 1e3,
-                                tilt.abs().to_degrees()
-                            ),
-                        });
-                    }
-                }
+        // Without a shape, no edge lies outside a face whose outward normal and offset are
+        // known (the object is on its inner side of every face).
+        for e in &self.edges {
+            match &self.shape {
+                Some(shape) => out.extend(self.off_shape(e, shape)),
+                None => out.extend(self.outside_faces(e)),
             }
         }
         // A pendulum the others contradict (left out of the CoM: `tree/com_conflicts.rs`).
@@ -165,6 +117,98 @@ impl Tree {
                         "the centre of mass lies {:.1} mm outside the shape, beyond face {}",
                         outside * 1e3,
                         face.id
+                    ),
+                });
+            }
+        }
+        out
+    }
+
+    /// The faces with a known outward normal and offset that the edge `e` (its own estimate,
+    /// at its point nearest the object origin) lies outside of, beyond their uncertainty with
+    /// the fusion's per-demonstration systematic error.
+    pub(super) fn outside_faces(&self, e: &super::Edge) -> Vec<Contradiction> {
+        let own = e.own();
+        let limit = crate::stats::chi2_threshold(1.0, MATCH_ALPHA);
+        self.faces
+            .iter()
+            .filter(|f| f.sign_known)
+            .filter_map(|f| {
+                let (d, s) = f.offset.zip(f.offset_sigma_m)?;
+                let out = f.normal.dot(&own.point) - d;
+                let chi2 =
+                    out * out / (own.sigma_point_m.powi(2) + s * s + SYSTEMATIC_POINT_M.powi(2));
+                (out > 0.0 && chi2 > limit).then(|| Contradiction {
+                    features: vec![e.id.clone(), f.id.clone()],
+                    what: format!(
+                        "edge {} lies {:.1} mm outside face {} (χ² {chi2:.1} > {limit:.1})",
+                        e.id,
+                        out * 1e3,
+                        f.id
+                    ),
+                })
+            })
+            .collect()
+    }
+
+    /// The contradictions between the edge `e` and the shape: its own estimate lies outside
+    /// the shape, or is not in two of its faces (the two it fits best), beyond their
+    /// uncertainty with the fusion's per-demonstration systematic errors.
+    pub(super) fn off_shape(
+        &self,
+        e: &super::Edge,
+        shape: &crate::shape::Shape,
+    ) -> Vec<Contradiction> {
+        let mut out = Vec::new();
+        let limit = crate::stats::chi2_threshold(2.0, MATCH_ALPHA);
+        let mut fits: Vec<(f64, &str, f64, f64)> = shape
+            .faces
+            .iter()
+            .map(|sf| {
+                let sigma_n = self
+                    .faces
+                    .iter()
+                    .find(|f| f.id == sf.id)
+                    .map_or(crate::face::SUPPORT_LEVEL_SIGMA_RAD, |f| f.sigma_normal_rad);
+                let plane = Some((sf.offset, sf.offset_sigma_m));
+                let (chi2, off, tilt) = edge_in_plane(e, &sf.normal, sigma_n, plane);
+                (chi2, sf.id.as_str(), off, tilt)
+            })
+            .collect();
+        // Nor does it lie outside the shape: its point (closest to the object origin,
+        // which lies on the object, so within the edge's extent on a box) is inside
+        // every face.
+        if let Some((d, sf)) = shape.outside(&e.own().point).filter(|(d, _)| *d > 0.0) {
+            let var = e.own().sigma_point_m.powi(2)
+                + sf.offset_sigma_m.powi(2)
+                + SYSTEMATIC_POINT_M.powi(2);
+            let limit1 = crate::stats::chi2_threshold(1.0, MATCH_ALPHA);
+            if d * d / var > limit1 {
+                out.push(Contradiction {
+                    features: vec![e.id.clone(), sf.id.clone()],
+                    what: format!(
+                        "edge {} lies {:.1} mm outside the shape, beyond face {} (χ² \
+                         {:.1} > {limit1:.1}); are all the demonstrations of one object?",
+                        e.id,
+                        d * 1e3,
+                        sf.id,
+                        d * d / var
+                    ),
+                });
+            }
+        }
+        fits.sort_by(|a, b| a.0.total_cmp(&b.0));
+        if let [_, (chi2, fid, off, tilt), ..] = fits[..] {
+            if chi2 > limit {
+                out.push(Contradiction {
+                    features: vec![e.id.clone(), fid.to_string()],
+                    what: format!(
+                        "edge {} is not an edge of the shape: the second face it fits \
+                         best, {fid}, is {:.1} mm and {:.1}° from it (χ² {chi2:.1} > \
+                         {limit:.1}); are all the demonstrations of one object?",
+                        e.id,
+                        off.abs() * 1e3,
+                        tilt.abs().to_degrees()
                     ),
                 });
             }

@@ -44,6 +44,7 @@ mod landing;
 mod landing_edges;
 mod pendulum_fusion;
 mod pendulums;
+mod rolls_off_shape;
 mod support;
 mod tolerances;
 mod unconfirmed;
@@ -400,14 +401,22 @@ impl Tree {
 
     /// Recompute what depends on all the features: the edges' own estimates, the support's
     /// height and the offsets it gives the landings' faces, the edges conditioned on their
-    /// faces, the centre of mass, the shape and the contradictions between them.
+    /// faces, the centre of mass, the shape (without the rolls' edges off it) and the
+    /// contradictions between them.
     fn refit_whole(&mut self) {
         self.edges.iter_mut().for_each(Edge::refit);
         self.withhold_edges_off_landed_faces();
-        self.refit_support();
-        self.condition_edges_on_faces();
-        self.refit_centre_of_mass();
-        self.shape = self.reconstruct_shape().ok();
+        loop {
+            self.refit_support();
+            self.condition_edges_on_faces();
+            self.refit_centre_of_mass();
+            self.shape = self.reconstruct_shape().ok();
+            // A roll's edge withheld takes its measurement of the support's height out with
+            // it, which may give the landings' faces their offsets: the shape again.
+            if !self.withhold_rolls_off_shape() {
+                break;
+            }
+        }
         self.contradictions = self.contradictions();
         self.refit_mass_properties();
     }

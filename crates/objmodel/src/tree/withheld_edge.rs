@@ -1,11 +1,12 @@
 //! An edge the tree holds back, with why and the faces its topples taught (decided in
-//! `tree/landing_edges.rs`).
+//! `tree/landing_edges.rs` and `tree/rolls_off_shape.rs`).
 
 use super::Edge;
 use crate::face::FaceObservation;
 use serde::{Deserialize, Serialize};
 
-/// An edge the tree holds back: it contradicts the faces the landings show.
+/// An edge the tree holds back: it contradicts the faces the landings show, or it is a roll's
+/// edge off the shape.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WithheldEdge {
     /// The edge, as it would be in the tree.
