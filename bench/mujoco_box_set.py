@@ -60,46 +60,22 @@ def push(half, world_from_box, rng):
     rot = R.from_matrix(world_from_box)
     x, y, z, w = rot.as_quat()
     start = np.array([-ex - 0.03, 0.0, 1.8 * ez])
-    xml = probe.mjcf(0.9, f"""
-    <body name="box" pos="0 0 {ez}" quat="{w} {x} {y} {z}">
-      <freejoint/>
-      <geom type="box" size="{half[0]} {half[1]} {half[2]}" mass="0.5" friction="0.9 0.005 0.0001"/>
-    </body>
-    <body name="finger" mocap="true" pos="{start[0]} {start[1]} {start[2]}">
-      <geom type="sphere" size="0.008" friction="0.1 0.005 0.0001" contype="1" conaffinity="1"/>
-    </body>""")
+    xml = probe.scene(half, 0.9, start, quat=(w, x, y, z), height=ez)
     m = mujoco.MjModel.from_xml_string(xml)
     d = mujoco.MjData(m)
     box = m.body("box").id
     speed = rng.uniform(0.05, 0.12)
     phi = math.atan2(ex, ez)
-    samples, t_next, t, state, t_state = [], 0.0, 0.0, "rest", 0.0
     rest_before, rest_after = rng.uniform(0.8, 1.5), 1.5
-    pos = start.copy()
-    up0 = None
-    while t < 30:
-        if state == "rest" and t >= rest_before:
-            state, t_state = "push", t
-            up0 = d.xmat[box].reshape(3, 3).T @ np.array([0, 0, 1.0])
-        elif state == "push":
-            pos[0] += speed * m.opt.timestep
-            up = d.xmat[box].reshape(3, 3).T @ np.array([0, 0, 1.0])
-            if math.acos(np.clip(up @ up0, -1, 1)) > phi + 8 * DEG:
-                state, t_state = "retract", t
-        elif state == "retract":
-            pos[0] -= 0.1 * m.opt.timestep
-            pos[2] += 0.2 * m.opt.timestep
-            if t - t_state > 0.6:
-                state, t_state = "after", t
-        elif state == "after" and t - t_state > rest_after:
-            break
-        d.mocap_pos[0] = pos
-        mujoco.mj_step(m, d)
-        t += m.opt.timestep
-        if t >= t_next:
-            w_, x_, y_, z_ = d.xquat[box]
-            samples.append([t, *d.xpos[box], x_, y_, z_, w_])
-            t_next += 1.0 / probe.RATE
+    up0 = []  # the box's up in its own frame when the finger starts to push
+
+    def pushed_enough(d, pushed):
+        up = d.xmat[box].reshape(3, 3).T @ np.array([0, 0, 1.0])
+        if not up0:
+            up0.append(up)
+        return math.acos(np.clip(up @ up0[0], -1, 1)) > phi + 8 * DEG
+
+    samples = probe.finger_push(m, d, box, start, speed, rest_before, rest_after, pushed_enough)
     poses = np.array(samples)
     # The far bottom edge: between the face down (-z) and the face toward +x, in the box frame.
     down = world_from_box.T @ np.array([0, 0, -1.0])

@@ -83,11 +83,13 @@ def mjcf(mu, bodies):
 </mujoco>"""
 
 
-def scene(half, mu, finger_start):
-    """A box on the floor and a finger (a mocap sphere) at `finger_start`."""
+def scene(half, mu, finger_start, quat=None, height=None):
+    """A box on the floor and a finger (a mocap sphere) at `finger_start`; the box turned by
+    `quat` (w x y z) with its centre at `height` when given (else upright, `half[2]` high)."""
     hx, hy, hz = half
+    turned = "" if quat is None else ' quat="{} {} {} {}"'.format(*quat)
     return mjcf(mu, f"""
-    <body name="box" pos="0 0 {hz}">
+    <body name="box" pos="0 0 {hz if height is None else height}"{turned}>
       <freejoint/>
       <geom type="box" size="{hx} {hy} {hz}" mass="0.5" friction="{mu} 0.005 0.0001"/>
     </body>
@@ -165,19 +167,38 @@ def run(kind, rng):
     speed = rng.uniform(0.05, 0.12)
     phi = math.atan2(hx, hz)  # balance angle about the far bottom edge
     box = m.body("box").id
-    samples, t_next, t, state, t_state = [], 0.0, 0.0, "rest", 0.0
     rest_before, rest_after = rng.uniform(0.8, 1.5), 1.5
-    pos = start.copy()
     slide_len = rng.uniform(0.08, 0.15)
+
+    def pushed_enough(d, pushed):
+        tilt = math.acos(np.clip(d.xmat[box][8], -1.0, 1.0))  # box z from vertical
+        return (topple and tilt > phi + 8 * DEG) or (not topple and pushed > slide_len + 0.03)
+
+    samples = finger_push(m, d, box, start, speed, rest_before, rest_after, pushed_enough)
+    poses = np.array(samples)
+    # Truth in the box frame: the far bottom edge (topple), the bottom face (slides).
+    truth = {"kind": "topple" if topple else "slide",
+             "edge_point": [hx, 0.0, -hz], "edge_direction": [0.0, 1.0, 0.0],
+             "face_normal": [0.0, 0.0, -1.0], "phi": phi}
+    # Did it do what was scripted? (A topple that fell back, a slide that toppled: skip.)
+    final_tilt = math.acos(np.clip(R.from_quat(poses[-1, 4:8]).as_matrix()[2, 2], -1.0, 1.0))
+    done = (final_tilt > 60 * DEG) if topple else (final_tilt < 5 * DEG)
+    return poses, truth, done
+
+
+def finger_push(m, d, box, start, speed, rest_before, rest_after, pushed_enough):
+    """The finger's script in the scene `m` (state `d`, the box's body id `box`, the finger at
+    `start`): rest `rest_before` s, push along +x at `speed` until `pushed_enough(d, pushed)`
+    (the scene's state and how far the finger went), retract upwards and back for 0.6 s, rest
+    `rest_after` s. Returns the box's poses at RATE, rows [t x y z qx qy qz qw] (at most 30 s)."""
+    samples, t_next, t, state, t_state = [], 0.0, 0.0, "rest", 0.0
+    pos = start.copy()
     while True:
-        # Finger script: rest, push along +x, then retract upwards and back.
         if state == "rest" and t >= rest_before:
             state, t_state = "push", t
         elif state == "push":
             pos[0] += speed * m.opt.timestep
-            tilt = math.acos(np.clip(d.xmat[box][8], -1.0, 1.0))  # box z from vertical
-            pushed = pos[0] - start[0]
-            if (topple and tilt > phi + 8 * DEG) or (not topple and pushed > slide_len + 0.03):
+            if pushed_enough(d, pos[0] - start[0]):
                 state, t_state = "retract", t
         elif state == "retract":
             pos[0] -= 0.1 * m.opt.timestep
@@ -195,15 +216,7 @@ def run(kind, rng):
             t_next += 1.0 / RATE
         if t > 30:
             break
-    poses = np.array(samples)
-    # Truth in the box frame: the far bottom edge (topple), the bottom face (slides).
-    truth = {"kind": "topple" if topple else "slide",
-             "edge_point": [hx, 0.0, -hz], "edge_direction": [0.0, 1.0, 0.0],
-             "face_normal": [0.0, 0.0, -1.0], "phi": phi}
-    # Did it do what was scripted? (A topple that fell back, a slide that toppled: skip.)
-    final_tilt = math.acos(np.clip(R.from_quat(poses[-1, 4:8]).as_matrix()[2, 2], -1.0, 1.0))
-    done = (final_tilt > 60 * DEG) if topple else (final_tilt < 5 * DEG)
-    return poses, truth, done
+    return samples
 
 
 def tag_track(poses, rng):
