@@ -12,7 +12,7 @@ use super::msac::{
 };
 use super::parts::{
     after_other_motion, edge_off_level, edge_on_support, edge_turns_too_little, face_off_level,
-    part_end,
+    part_end, RestPair,
 };
 use super::segments::MotionSegment;
 use super::{Config, Kind, Label, Segment, Votes};
@@ -368,14 +368,17 @@ pub(super) fn analyse_segment(
         config.robust.noise,
         completed,
     ) {
-        match edge_on_support(
-            e,
-            seg,
-            &-down,
-            &noise,
-            config.robust.edge_tolerance_m,
-            alpha,
-        ) {
+        let on_support = RestPair::of_motion(seg).map_or(Ok(None), |rests| {
+            edge_on_support(
+                e,
+                &rests,
+                &-down,
+                &noise,
+                config.robust.edge_tolerance_m,
+                alpha,
+            )
+        });
+        match on_support {
             Ok(Some((var, constraint))) => {
                 e.add_systematic_point_var(var);
                 topple_systematic_var += var;

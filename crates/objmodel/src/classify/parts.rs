@@ -11,7 +11,7 @@ use crate::edge::{EdgeObservation, PointConstraint};
 use crate::face::{FaceObservation, SUPPORT_LEVEL_SIGMA_RAD};
 use crate::landing::{RestPlace, SUPPORT_FLATNESS_M};
 use crate::noise::NoiseModel;
-use nalgebra::Vector3;
+use nalgebra::{UnitQuaternion, Vector3};
 
 /// Whether an edge is not level: an edge a box topples about lies in the face it rests on, and
 /// that face lies on a level support (a table, or a palm in the palm's frame) to within
@@ -61,6 +61,71 @@ pub fn height_difference_var(distance: f64, contact_m: f64) -> f64 {
 /// model is the same rotation about a fixed line, without the rests that refute it.
 pub const OFF_SUPPORT: &str = "it is not on the support in both rests";
 
+/// The rests before and after a motion, where the object's origin was and how it was turned
+/// in each (`world_from_object`), and their frames: what [`edge_on_support`] tests an edge
+/// against.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RestPair {
+    pub before: RestPlace,
+    pub after: RestPlace,
+    pub r_before: UnitQuaternion<f64>,
+    pub r_after: UnitQuaternion<f64>,
+    pub frames_before: f64,
+    pub frames_after: f64,
+}
+
+impl RestPair {
+    /// The pair, when both rests are known (gravity given) and of some length: a
+    /// classification's first or last frames are called rest without the rest test (a file
+    /// that starts or ends moving; the motion before a rest classified backwards,
+    /// `crate::arrival`), and such a "rest" need not be on the support.
+    fn new(
+        places: (Option<RestPlace>, Option<RestPlace>),
+        rotations: (Option<UnitQuaternion<f64>>, Option<UnitQuaternion<f64>>),
+        frames: (f64, f64),
+    ) -> Option<Self> {
+        let window = crate::noise::SCATTER_WINDOW as f64;
+        if frames.0 < window || frames.1 < window {
+            return None;
+        }
+        Some(Self {
+            before: places.0?,
+            after: places.1?,
+            r_before: rotations.0?,
+            r_after: rotations.1?,
+            frames_before: frames.0,
+            frames_after: frames.1,
+        })
+    }
+
+    /// The rests around a segment as the segmenter keeps it.
+    pub(super) fn of_motion(seg: &MotionSegment) -> Option<Self> {
+        Self::new(
+            (seg.rest_before_place, seg.rest_after_place),
+            (seg.rest_before_rotation, seg.rest_after_rotation),
+            (seg.rest_before_frames, seg.rest_after_frames),
+        )
+    }
+
+    /// The rests around a classified segment.
+    pub(crate) fn of_segment(seg: &super::Segment) -> Option<Self> {
+        Self::new(
+            (seg.resting_place_before, seg.resting_place_after),
+            (seg.resting_rotation_before, seg.resting_rotation_after),
+            (
+                seg.resting_frames_before as f64,
+                seg.resting_frames_after as f64,
+            ),
+        )
+    }
+
+    /// The rotation from the rest before to the rest after, in the world
+    /// (`R_after R_before⁻¹`).
+    pub fn turn(&self) -> UnitQuaternion<f64> {
+        self.r_after * self.r_before.inverse()
+    }
+}
+
 /// Whether a completed topple's edge lies on the support in both its rests, and what the rests
 /// measure of it. An edge a box topples about lies on the support in the rest before (in the
 /// face rested on) and in the rest after (in the next face, which meets the first at the
@@ -94,31 +159,20 @@ pub const OFF_SUPPORT: &str = "it is not on the support in both rests";
 /// along), and the measurement the rests make of the point: the difference is zero within the
 /// support and the rests ([`EdgeObservation::condition_on`]). `None` where the rests are not
 /// both long enough to tell.
-pub(super) fn edge_on_support(
+pub(crate) fn edge_on_support(
     e: &EdgeObservation,
-    seg: &MotionSegment,
+    rests: &RestPair,
     up: &Vector3<f64>,
     noise: &NoiseModel,
     contact_m: f64,
     alpha: f64,
 ) -> Result<Option<(f64, PointConstraint)>, String> {
-    let (Some(before), Some(after), Some(r_before), Some(r_after)) = (
-        seg.rest_before_place,
-        seg.rest_after_place,
-        seg.rest_before_rotation,
-        seg.rest_after_rotation,
-    ) else {
-        return Ok(None);
-    };
-    // Rests of some length: a classification's first or last frames are called rest without
-    // the rest test (a file that starts or ends moving; the motion before a rest classified
-    // backwards, `crate::arrival`), and such a "rest" need not be on the support.
-    let window = crate::noise::SCATTER_WINDOW as f64;
-    if seg.rest_before_frames < window || seg.rest_after_frames < window {
-        return Ok(None);
-    }
+    let (before, after) = (rests.before, rests.after);
     let p = e.line.point;
-    let (r_before, r_after) = (r_before.to_rotation_matrix(), r_after.to_rotation_matrix());
+    let (r_before, r_after) = (
+        rests.r_before.to_rotation_matrix(),
+        rests.r_after.to_rotation_matrix(),
+    );
     // The edge point's height in each rest is `place.height + up · (R p)`: the difference
     // measures the point along g.
     let g = (r_before.matrix() - r_after.matrix()).transpose() * up;
@@ -129,7 +183,7 @@ pub(super) fn edge_on_support(
     // error that depends on the pose (a tag seen from another angle, a marker model) does not
     // average down over the rest's frames, and the two rests hold the object turned. It is
     // taken as large as the per-frame noise (the generators have none; a real tracker does).
-    let rests = per_frame * (2.0 + 1.0 / seg.rest_before_frames + 1.0 / seg.rest_after_frames);
+    let rests = per_frame * (2.0 + 1.0 / rests.frames_before + 1.0 / rests.frames_after);
     // Where the edge touched the support in each rest (not where the object's origin was: an
     // edge toppled about without slipping touches the same place in both).
     let at = |place: &RestPlace, r: &nalgebra::Rotation3<f64>| r * p + place.position(&-up);

@@ -33,7 +33,10 @@
 //!
 //! Such a window is a `roll` part. It teaches its edge when the edge is located well enough to
 //! be a feature: within 5 mm and 3° of its estimate but with probability `alpha`
-//! ([`max_sigmas`]); otherwise the part says why it taught nothing.
+//! ([`max_sigmas`]); when the turn does not go on about another line right after it
+//! (`withhold_drifting`: a contact that slides or rolls); and, in a segment between two rests
+//! that turned the object about the roll's line alone, when its edge lies on the support in
+//! both rests (`parts::off_support`); otherwise the part says why it taught nothing.
 
 mod fit;
 mod parts;
