@@ -145,8 +145,8 @@ impl Face {
         common.iter().sum::<f64>() / common.len().max(1) as f64
     }
 
-    /// The face as the demonstrations other than `demos` show it, if any of its observations
-    /// is theirs.
+    /// The face as the demonstrations other than `demos` show it; `None` when only those show
+    /// it.
     pub(super) fn without(&self, demos: &[String]) -> Option<Face> {
         let mut f = self.clone();
         f.observations.retain(|o| !demos.contains(&o.demo));
