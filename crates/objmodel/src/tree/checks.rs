@@ -217,10 +217,10 @@ impl Tree {
     }
 }
 
-/// χ² (2 dof) of the edge `e` (its own estimate, [`super::Edge::own`]) lying in the plane of unit normal `normal` (its σ per axis
-/// `sigma_normal`) and, when known, offset `plane = (d, σ_d)`: its direction along the plane
-/// (n·u ≈ 0) and its point on it (n·p ≈ d), with the fusion's per-demonstration systematic
-/// errors. Also the point's signed distance from the plane \[m\] (0 without an offset) and
+/// χ² (2 dof) of the edge `e` (its own estimate, [`super::Edge::own`]) lying in the plane of
+/// unit normal `normal` (its σ per axis `sigma_normal`) and, when known, offset
+/// `plane = (d, σ_d)`: its direction along the plane (n·u ≈ 0) and its point on it (n·p ≈ d),
+/// with the fusion's per-demonstration systematic errors. Also the point's signed distance from the plane \[m\] (0 without an offset) and
 /// the direction's tilt out of it \[rad\].
 fn edge_in_plane(
     e: &super::Edge,

@@ -10,10 +10,10 @@
 //! and 27 mm outside the box at 18-28 σ, parallel to its edges. No frame and no rest of the
 //! demonstration tells them from a roll on the support; the faces the other demonstrations
 //! measured do: the line lies outside the object. At 120 Hz, 0.3 mm and noise correlated at
-//! 0.8 the same set taught three, 30-47 mm off at 20-28 σ, before the faces closed a shape. An edge a topple taught between two rests
-//! is not withheld here (its rests test its height: `classify::parts::edge_on_support`, and
-//! its faces are part of the shape); the checks report it
-//! ([`Tree::contradictions`]).
+//! 0.8 the same set taught three, 30-47 mm off at 20-28 σ, before the faces closed a shape.
+//! An edge a topple taught between two rests is not withheld here (its rests test its height:
+//! `classify::parts::edge_on_support`, and its faces are part of the shape); the checks
+//! report it ([`Tree::contradictions`]).
 
 use super::{Tree, WithheldEdge};
 
