@@ -48,10 +48,7 @@ impl Tree {
         // Without a shape, no edge lies outside a face whose outward normal and offset are
         // known (the object is on its inner side of every face).
         for e in &self.edges {
-            match &self.shape {
-                Some(shape) => out.extend(self.off_shape(e, shape)),
-                None => out.extend(self.outside_faces(e)),
-            }
+            out.extend(self.off_object(e));
         }
         // A pendulum the others contradict (left out of the CoM: `tree/com_conflicts.rs`).
         for e in &self.edges {
@@ -122,6 +119,16 @@ impl Tree {
             }
         }
         out
+    }
+
+    /// The contradictions between the edge `e` and the object: with a shape, those of
+    /// [`Tree::off_shape`]; without one, the learnt faces it lies outside of
+    /// ([`Tree::outside_faces`]).
+    pub(super) fn off_object(&self, e: &super::Edge) -> Vec<Contradiction> {
+        match &self.shape {
+            Some(shape) => self.off_shape(e, shape),
+            None => self.outside_faces(e),
+        }
     }
 
     /// The faces with a known outward normal and offset that the edge `e` (its own estimate,

@@ -18,8 +18,8 @@
 use super::{Tree, WithheldEdge};
 
 impl Tree {
-    /// Withhold the edges without faces that contradict the shape ([`Tree::off_shape`]), or
-    /// without a shape lie outside a learnt face ([`Tree::outside_faces`]); whether any was.
+    /// Withhold the edges without faces that contradict the shape, or without a shape lie
+    /// outside a learnt face ([`Tree::off_object`]); whether any was.
     pub(super) fn withhold_rolls_off_shape(&mut self) -> bool {
         let off: Vec<(usize, String)> = self
             .edges
@@ -27,10 +27,7 @@ impl Tree {
             .enumerate()
             .filter(|(_, e)| e.faces.is_empty())
             .filter_map(|(i, e)| {
-                let found = match &self.shape {
-                    Some(shape) => self.off_shape(e, shape),
-                    None => self.outside_faces(e),
-                };
+                let found = self.off_object(e);
                 (!found.is_empty()).then(|| {
                     let what: Vec<&str> = found.iter().map(|c| c.what.as_str()).collect();
                     (
