@@ -6,8 +6,7 @@
 //! others is left out, not averaged in.
 
 use super::com_planes::{CentreOfMass, ComPlane, UNKNOWN_PHI_SIGMA_RAD};
-use super::{com_without_conflicts, ComConflict, Tree, SAME_FACE_RAD};
-use nalgebra::Matrix3;
+use super::{com_without_conflicts, matrix, ComConflict, Tree, SAME_FACE_RAD};
 
 /// A pendulum left out of the CoM: its place (edge index, pendulum index in that edge) and
 /// what the others say of it.
@@ -44,14 +43,13 @@ impl Tree {
                     .map(|f| f.sigma_normal_own_rad())
                     .next()
                     .unwrap_or(0.0);
-                let m = |r: &[[f64; 3]; 3]| Matrix3::from_fn(|i, j| r[i][j]);
                 let plane = ComPlane {
                     phi,
                     phi_sigma: p.phi_sigma.unwrap_or(UNKNOWN_PHI_SIGMA_RAD),
                     point: own.point,
-                    point_cov: m(&own.point_cov),
+                    point_cov: matrix(&own.point_cov),
                     axis,
-                    axis_cov: m(&own.direction_cov),
+                    axis_cov: matrix(&own.direction_cov),
                     normal: p.resting_face_normal,
                     normal_sigma,
                 };

@@ -22,7 +22,7 @@
 //! propagated one). Three planes always meet in a point (χ² is 0): their covariance is the
 //! propagated one alone.
 
-use super::CONDITION_MIN;
+use super::{matrix, CONDITION_MIN};
 use crate::geometry::normal_axes;
 use nalgebra::{Matrix3, SymmetricEigen, Vector3};
 use serde::{Deserialize, Serialize};
@@ -54,7 +54,7 @@ pub struct CentreOfMass {
 impl CentreOfMass {
     /// The covariance as a matrix, if known.
     pub fn covariance_matrix(&self) -> Option<Matrix3<f64>> {
-        self.covariance.map(|r| Matrix3::from_fn(|i, j| r[i][j]))
+        self.covariance.as_ref().map(matrix)
     }
 
     /// The error of the CoM against a true `point`, along each eigen-axis of the covariance in

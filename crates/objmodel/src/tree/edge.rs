@@ -1,7 +1,7 @@
 //! An edge of the object in the tree: the information-weighted mean line of its
 //! per-demonstration observations (see the [tree documentation](super)).
 
-use super::{angle, rows, Pendulum, SYSTEMATIC_DIRECTION_RAD, SYSTEMATIC_POINT_M};
+use super::{angle, matrix, rows, Pendulum, SYSTEMATIC_DIRECTION_RAD, SYSTEMATIC_POINT_M};
 use crate::edge::EdgeObservation;
 use crate::geometry::{Line, LineStats};
 use nalgebra::{Matrix2, Matrix3, Matrix3x2, Vector2, Vector3};
@@ -143,8 +143,8 @@ impl Edge {
     /// point's covariance ([`Edge::between_sigma_m`]); [`Edge::refit`] takes it out.
     pub(super) fn add_between(&mut self, sigma: f64) {
         let u = self.direction;
-        let cp = Matrix3::from_fn(|i, j| self.point_cov[i][j])
-            + (Matrix3::identity() - u * u.transpose()) * sigma * sigma;
+        let cp =
+            matrix(&self.point_cov) + (Matrix3::identity() - u * u.transpose()) * sigma * sigma;
         self.point_cov = rows(&cp);
         self.sigma_point_m = (cp.trace() / 2.0).sqrt();
         self.between_sigma_m = Some(sigma);
@@ -341,7 +341,7 @@ mod tests {
             }
             for (obs, sum) in [(with, &mut honest), (without, &mut naive)] {
                 let e = fused(obs);
-                let cov = Matrix3::from_fn(|i, j| e.point_cov[i][j]);
+                let cov = matrix(&e.point_cov);
                 let w = cov.pseudo_inverse(1e-18).unwrap();
                 *sum += e.point.dot(&(w * e.point));
             }

@@ -28,7 +28,7 @@
 //! errors, which those would count as independent; the edge's `point` and `direction`, which
 //! plans, plots and other programs read, are the conditioned ones.
 
-use super::{Edge, EdgeEstimate, Face, Tree, MATCH_ALPHA};
+use super::{matrix, Edge, EdgeEstimate, Face, Tree, MATCH_ALPHA};
 use crate::stats::chi2_threshold;
 use nalgebra::{Matrix3, Vector3};
 
@@ -112,10 +112,9 @@ fn measurements(own: &EdgeEstimate, plane: &FacePlane) -> (Measurement, Option<M
 /// documentation); `None` where none is used.
 fn conditioned(e: &Edge, planes: &[FacePlane]) -> Option<(EdgeEstimate, Vec<String>)> {
     let own = e.own();
-    let m = |r: &[[f64; 3]; 3]| Matrix3::from_fn(|i, j| r[i][j]);
     let common = e.common_point_cov();
-    let own_point_cov = m(&own.point_cov) - common;
-    let own_direction_cov = m(&own.direction_cov);
+    let own_point_cov = matrix(&own.point_cov) - common;
+    let own_direction_cov = matrix(&own.direction_cov);
     let mut used = Vec::new();
     let (mut point, mut point_cov) = (own.point, own_point_cov);
     let (mut direction, mut direction_cov) = (own.direction, own_direction_cov);
@@ -247,7 +246,7 @@ mod tests {
         u: &Vector3<f64>,
     ) -> f64 {
         let [a, b] = crate::geometry::normal_axes(u);
-        let c = Matrix3::from_fn(|i, j| cov[i][j]);
+        let c = matrix(cov);
         let d = x - mean;
         let r = nalgebra::Vector2::new(a.dot(&d), b.dot(&d));
         let s = nalgebra::Matrix2::new(

@@ -32,11 +32,13 @@
 //! covariance ([`Edge::between_sigma_m`]). The test does not use it: an edge off the faces
 //! must not widen the test it is judged by (with it, MuJoCo's wrong roll edges came back).
 
-use super::{Edge, Tree, WithheldEdge, MATCH_ALPHA, SYSTEMATIC_DIRECTION_RAD, SYSTEMATIC_POINT_M};
+use super::{
+    matrix, Edge, Tree, WithheldEdge, MATCH_ALPHA, SYSTEMATIC_DIRECTION_RAD, SYSTEMATIC_POINT_M,
+};
 use crate::face::{FaceObservation, FaceSource};
 use crate::landing::SUPPORT_FLATNESS_M;
 use crate::stats::chi2_threshold;
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 
 /// A face as its confirmed landings show it.
 struct LandedFace {
@@ -278,7 +280,7 @@ fn candidates(e: &Edge, faces: &[LandedFace]) -> Vec<Claim> {
     // The edge's own σ, without the contact's depth: the depth is how far a pivot may lie off
     // its faces, and that is what this test judges (with it, a MuJoCo roll edge 6 mm off its
     // faces passed).
-    let p_cov = Matrix3::from_fn(|i, j| e.point_cov[i][j]) - e.common_point_cov();
+    let p_cov = matrix(&e.point_cov) - e.common_point_cov();
     faces
         .iter()
         .map(|f| {

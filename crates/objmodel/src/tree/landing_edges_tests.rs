@@ -4,6 +4,7 @@ use crate::face::FaceObservation;
 use crate::geometry::Line;
 use crate::landing::{Landing, RestPlace};
 use crate::noise::NoiseModel;
+use nalgebra::Matrix3;
 use rand::{rngs::StdRng, Rng, SeedableRng};
 use rand_distr::{Distribution, Normal};
 
@@ -230,7 +231,7 @@ fn mahalanobis(e: &Edge, p: &Vector3<f64>, u: &Vector3<f64>) -> f64 {
     let b1 = across(u, &mut StdRng::seed_from_u64(0));
     let b2 = u.cross(&b1);
     let basis = nalgebra::Matrix3x2::from_columns(&[b1, b2]);
-    let s = basis.transpose() * Matrix3::from_fn(|i, j| e.point_cov[i][j]) * basis;
+    let s = basis.transpose() * matrix(&e.point_cov) * basis;
     let r = basis.transpose() * w;
     (r.transpose() * s.try_inverse().expect("a covariance") * r)[0].sqrt()
 }

@@ -58,7 +58,7 @@ pub use edge::{Edge, EdgeEstimate};
 pub use face::{Evidence, Face};
 pub use pendulums::{Pendulum, PendulumObservation};
 use serde::{Deserialize, Serialize};
-pub(crate) use tolerances::{angle, rows};
+pub(crate) use tolerances::{angle, matrix, rows};
 pub use tolerances::{
     CONDITION_MIN, MATCH_ALPHA, SAME_FACE_RAD, SYSTEMATIC_DIRECTION_RAD, SYSTEMATIC_POINT_M,
 };

@@ -28,6 +28,11 @@ pub(crate) fn rows(m: &Matrix3<f64>) -> [[f64; 3]; 3] {
     ]
 }
 
+/// A 3x3 matrix from its rows (the inverse of [`rows`]).
+pub(crate) fn matrix(rows: &[[f64; 3]; 3]) -> Matrix3<f64> {
+    Matrix3::from_fn(|i, j| rows[i][j])
+}
+
 /// The angle \[rad\] between two directions.
 pub(crate) fn angle(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
     a.cross(b).norm().atan2(a.dot(b))
