@@ -298,17 +298,11 @@ fn same_turn(a: &RollFit, b: &RollFit, alpha: f64) -> bool {
 /// the change test cut where its contact wandered: on the standard set's rapier sessions,
 /// three windows of one roll 1.2-1.5 mm apart at σ 1 mm).
 fn line_moved(a: &RollFit, b: &RollFit, test: &RollTest) -> Option<f64> {
-    let [e1, e2] = crate::geometry::normal_axes(&a.object_line.direction);
-    let d = b.object_line.point - a.object_line.point;
-    let r = nalgebra::Vector2::new(e1.dot(&d), e2.dot(&d));
-    let cov = a.point_cov + b.point_cov;
-    let wander = 2.0 * test.tolerance_m.powi(2);
-    let s = nalgebra::Matrix2::new(
-        e1.dot(&(cov * e1)) + wander,
-        e1.dot(&(cov * e2)),
-        e2.dot(&(cov * e1)),
-        e2.dot(&(cov * e2)) + wander,
-    );
+    let across =
+        nalgebra::Matrix3x2::from_columns(&crate::geometry::normal_axes(&a.object_line.direction));
+    let r = across.transpose() * (b.object_line.point - a.object_line.point);
+    let wander = nalgebra::Matrix2::identity() * (2.0 * test.tolerance_m.powi(2));
+    let s = across.transpose() * (a.point_cov + b.point_cov) * across + wander;
     let chi2 = s.try_inverse().map_or(f64::INFINITY, |w| r.dot(&(w * r)));
     (chi2 > crate::stats::chi2_threshold(2.0, test.alpha)).then(|| r.norm())
 }

@@ -245,16 +245,9 @@ mod tests {
         cov: &[[f64; 3]; 3],
         u: &Vector3<f64>,
     ) -> f64 {
-        let [a, b] = crate::geometry::normal_axes(u);
-        let c = matrix(cov);
-        let d = x - mean;
-        let r = nalgebra::Vector2::new(a.dot(&d), b.dot(&d));
-        let s = nalgebra::Matrix2::new(
-            a.dot(&(c * a)),
-            a.dot(&(c * b)),
-            b.dot(&(c * a)),
-            b.dot(&(c * b)),
-        );
+        let across = nalgebra::Matrix3x2::from_columns(&crate::geometry::normal_axes(u));
+        let r = across.transpose() * (x - mean);
+        let s = across.transpose() * matrix(cov) * across;
         r.dot(&(s.try_inverse().unwrap() * r))
     }
 
