@@ -17,6 +17,21 @@ fn path(name: &str) -> std::path::PathBuf {
     common::data(&format!("{name}.tum"))
 }
 
+/// The tree `learner` learns from the file `p` alone.
+fn learnt(learner: &Learner, p: &std::path::Path) -> Tree {
+    let mut tree = Tree::default();
+    learner
+        .learn(
+            &mut tree,
+            &[Source::Files {
+                object: p,
+                palm: None,
+            }],
+        )
+        .unwrap();
+    tree
+}
+
 /// The edge whose height differs between the rests by 10.7 mm (±2.8 mm) is not taught, and
 /// the roll finder, whose model is the same rotation without the rests, does not teach it
 /// either: the tree learnt from the demonstration holds no edge. (Nor do its rests teach their
@@ -35,16 +50,7 @@ fn an_edge_off_the_table_in_one_rest_is_not_taught() {
     assert_eq!(c.edges().count(), 0, "{:?}", c.parts);
     let why = c.segments[0].withheld.clone().unwrap_or_default();
     assert!(why.contains(objmodel::classify::OFF_SUPPORT), "{why}");
-    let mut tree = Tree::default();
-    learner
-        .learn(
-            &mut tree,
-            &[Source::Files {
-                object: &p,
-                palm: None,
-            }],
-        )
-        .unwrap();
+    let tree = learnt(&learner, &p);
     assert!(tree.edges.is_empty(), "{:?}", tree.edges);
 }
 
@@ -90,15 +96,6 @@ fn a_fall_about_a_line_below_the_table_teaches_no_roll() {
         let why = r.withheld.clone().unwrap_or_default();
         assert!(why.contains(objmodel::classify::OFF_SUPPORT), "{why}");
     }
-    let mut tree = Tree::default();
-    learner
-        .learn(
-            &mut tree,
-            &[Source::Files {
-                object: &p,
-                palm: None,
-            }],
-        )
-        .unwrap();
+    let tree = learnt(&learner, &p);
     assert!(tree.edges.is_empty(), "{:?}", tree.edges);
 }
