@@ -234,6 +234,9 @@ impl Tree {
         };
         if let Some(old) = &same_poses {
             self.remove_demo(old);
+            // Removing refits the tree, which may hold edges back again (without the poses
+            // about to come back): all are judged afresh with them in.
+            self.restore_withheld_edges();
         }
         self.demos.push(DemoRecord {
             name: name.clone(),
@@ -331,7 +334,10 @@ impl Tree {
                 e.id.clone()
             }
             None => {
-                let id = Self::next_id("e", self.edges.iter().map(|e| e.id.clone()));
+                // Not the id of an edge held back either (removing a demonstration may withhold
+                // one before an edge is added).
+                let held = self.withheld_edges.iter().map(|w| w.edge.id.clone());
+                let id = Self::next_id("e", self.edges.iter().map(|e| e.id.clone()).chain(held));
                 self.edges.push(Edge::new(id.clone(), o));
                 id
             }

@@ -96,6 +96,18 @@ mod tests {
             .contradictions
             .iter()
             .any(|c| c.features == [w.edge.id.clone()]));
+        // A new edge never takes a withheld edge's id (it would come back beside it, two
+        // edges under one name).
+        let mut fresh = t.clone();
+        fresh.add_edge(roll("elsewhere", -0.05));
+        let ids: Vec<&String> = fresh
+            .edges
+            .iter()
+            .chain(fresh.withheld_edges.iter().map(|w| &w.edge))
+            .map(|e| &e.id)
+            .collect();
+        let unique: std::collections::BTreeSet<_> = ids.iter().collect();
+        assert_eq!(unique.len(), ids.len(), "{ids:?}");
         // The first topple alone: no shape, and the edge lies outside its faces.
         let mut one = Tree::default();
         learner
