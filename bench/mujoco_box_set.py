@@ -15,6 +15,8 @@ edge's `point_cov` (and, where the edge was conditioned on its faces, the same f
     PATH=/tmp/venv/bin:$PATH OBJMODEL=target/release/objmodel python3 bench/mujoco_box_set.py 24
     RATE=120 NOISE=0.3 ... (a motion-capture tracker); SEED=5 ... (another box and stream)
 
+Writes the box's edges and faces in the tag frame to box.truth.json beside the files
+(`crates/objmodel/tests/data/mujoco_box_set_30hz` is SEED=11 at 30 Hz: `tests/box_set.rs`).
 Tracking noise, rate and correlation as in `bench/mujoco_probe.py` (RATE, NOISE,
 CORRELATION). Writes into $PROBE_DIR (default /tmp/objmodel-mujoco-set). Needs numpy, scipy
 and mujoco. Not a test: the numbers are for reading.
@@ -126,6 +128,22 @@ def main():
             u[a] = 1
             box_edges.append((to_tag(p), tag_r.inv().apply(u), tag_r.inv().apply(np.sign(p) / np.sqrt(2))))
     shown = {tuple(np.round(to_tag(p), 6)) for p, _, _ in truths}
+    # The box's edges and faces in the tag (object) frame, for readers of the files (the test
+    # fixture `crates/objmodel/tests/data/mujoco_box_set_30hz` is one such directory).
+    faces = []
+    for a in range(3):
+        for s in (1, -1):
+            n_box = np.zeros(3)
+            n_box[a] = s
+            n = tag_r.inv().apply(n_box)
+            faces.append({"normal": n.tolist(), "offset": float(n @ to_tag(n_box * half))})
+    with open(f"{DIR}/box.truth.json", "w") as f:
+        json.dump({"half_extents": half.tolist(),
+                   "edges": [{"point": p.tolist(), "direction": u.tolist(), "outward": o.tolist()}
+                             for p, u, o in box_edges],
+                   "faces": faces,
+                   "rate_hz": probe.RATE, "noise": probe.NOISE, "correlation": probe.CORRELATION,
+                   "seed": int(os.environ.get("SEED", "11")), "pushes": len(paths)}, f, indent=1)
     r = subprocess.run([BIN, "learn", *paths, "--json", "--quiet"], capture_output=True, text=True)
     if r.returncode != 0:
         sys.exit(f"objmodel learn: {r.stderr.strip()[:300]}")
