@@ -123,6 +123,47 @@ fn csv_reordered_and_extra_columns() {
     assert_eq!(poses[0].t, 1.0);
 }
 
+/// Other tools' CSV headers: EuRoC/ASL ground truth (a commented header with units, stamps in
+/// nanoseconds, `w` first), a motion-capture export (units in parentheses, a frame column), and
+/// a ROS message flattened to CSV (dotted paths, a text column). Each reads the same poses.
+#[test]
+fn csv_headers_of_other_tools() {
+    let want = |poses: &[StampedPose]| {
+        assert_eq!(poses.len(), 2);
+        assert_eq!(xyz(&poses[1]), [1.5, -2.5, 3.5]);
+        let q = xyzw(&poses[1]);
+        let n = (0.5f64 * 0.5 * 4.0).sqrt();
+        assert!(q.iter().all(|c| (c.abs() - 0.5 / n).abs() < 1e-12), "{q:?}");
+    };
+    let euroc = "#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],q_RS_w [],q_RS_x [],\
+                 q_RS_y [],q_RS_z []\n\
+                 1403636579758555392,1,2,3,1,0,0,0\n\
+                 1403636579763555584,1.5,-2.5,3.5,0.5,0.5,0.5,0.5\n";
+    let poses = read_str("data.csv", euroc);
+    want(&poses);
+    assert_eq!(poses[0].t, 1403636579758555392.0);
+    let mocap = "Frame,Time (Seconds),X,Y,Z,qX,qY,qZ,qW\n\
+                 0,0.000,1,2,3,0,0,0,1\n\
+                 1,0.004,1.5,-2.5,3.5,0.5,0.5,0.5,0.5\n";
+    let poses = read_str("take.csv", mocap);
+    want(&poses);
+    assert_eq!(poses[1].t, 0.004);
+    let ros = "%time,field.header.seq,field.header.stamp,field.header.frame_id,\
+               field.transform.translation.x,field.transform.translation.y,\
+               field.transform.translation.z,field.transform.rotation.x,\
+               field.transform.rotation.y,field.transform.rotation.z,field.transform.rotation.w\n\
+               10.0,1,10.0,world,1,2,3,0,0,0,1\n\
+               10.1,2,10.1,world,1.5,-2.5,3.5,0.5,0.5,0.5,0.5\n";
+    want(&read_str("tf.csv", ros));
+    // Euler angles under a quaternion's names: no `w`, refused by name.
+    let err = parse_error(
+        "euler.csv",
+        "t,x,y,z,rotation.x,rotation.y,rotation.z\n0,1,2,3,0.1,0.2,0.3\n",
+        1,
+    );
+    assert!(err.contains("no column for qw"), "{err}");
+}
+
 #[test]
 fn detect_format_rules() {
     let p = Path::new("x.tum");

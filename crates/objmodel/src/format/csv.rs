@@ -10,7 +10,7 @@
 //! space became a field with quotes, which is no number; `""` is unescaped), and it split the
 //! 200001 lines of a CSV pose file in 43-56 ms against 12-16 ms here.
 
-use super::layout::{CSV_NAMES, VALUES};
+use super::layout::{column_name, CSV_NAMES, VALUES};
 use super::number::parse_f64;
 use super::problem::Problem;
 
@@ -130,9 +130,10 @@ impl Header {
         while let Some((a, b)) = fields.next_field() {
             let name = String::from_utf8_lossy(&s[a..b]).to_ascii_lowercase();
             let col = roles.len();
+            let known = column_name(&name);
             let role = CSV_NAMES
                 .iter()
-                .position(|names| names.contains(&name.as_str()));
+                .position(|names| names.contains(&known.as_str()));
             match role {
                 Some(r) if cols[r] != usize::MAX => {
                     return Err(Problem::DoubledColumn {

@@ -27,17 +27,43 @@ pub(crate) const TIME: usize = 0;
 /// Index of the quaternion's first value (`qx`) in TUM order; `qx qy qz qw` follow.
 pub(crate) const QUAT: usize = 4;
 
-/// Accepted CSV header names (lower case) for each column, in TUM order.
+/// Accepted CSV header names (lower case) for each column, in TUM order, after
+/// [`column_name`]: ours and TUM's, the EuRoC/ASL ground truth's (`p_RS_R_x [m]`,
+/// `q_RS_w []`), a motion-capture export's (`Time (Seconds)`, `X`, `qX`) and a ROS message's
+/// flattened to CSV (`%time`, `field.pose.position.x`, `field.pose.orientation.w`,
+/// `field.transform.translation.x`, `field.transform.rotation.w`: a quaternion's `rotation`
+/// needs its `w`, so Euler angles under those names are refused as a missing `qw`).
+#[rustfmt::skip]
 pub(crate) const CSV_NAMES: [&[&str]; VALUES] = [
-    &["timestamp", "t", "time"],
-    &["tx", "x"],
-    &["ty", "y"],
-    &["tz", "z"],
-    &["qx"],
-    &["qy"],
-    &["qz"],
-    &["qw"],
+    &["timestamp", "t", "time", "stamp", "%time"],
+    &["tx", "x", "px", "pos_x", "position_x", "translation_x", "p_rs_r_x"],
+    &["ty", "y", "py", "pos_y", "position_y", "translation_y", "p_rs_r_y"],
+    &["tz", "z", "pz", "pos_z", "position_z", "translation_z", "p_rs_r_z"],
+    &["qx", "q_x", "quat_x", "orientation_x", "rotation_x", "q_rs_x"],
+    &["qy", "q_y", "quat_y", "orientation_y", "rotation_y", "q_rs_y"],
+    &["qz", "q_z", "quat_z", "orientation_z", "rotation_z", "q_rs_z"],
+    &["qw", "q_w", "quat_w", "orientation_w", "rotation_w", "q_rs_w"],
 ];
+
+/// A CSV header field as [`CSV_NAMES`] lists it: lower case, without a unit in brackets or
+/// parentheses at its end (`Time (Seconds)`, `p_RS_R_x [m]`), and a dotted path reduced to its
+/// last two parts joined by `_` (`field.pose.position.x` is `position_x`).
+pub(crate) fn column_name(field: &str) -> String {
+    let mut name = field.trim().to_ascii_lowercase();
+    for (open, close) in [('[', ']'), ('(', ')')] {
+        if name.ends_with(close) {
+            if let Some(at) = name.rfind(open) {
+                name.truncate(at);
+                name = name.trim_end().to_string();
+            }
+        }
+    }
+    let parts: Vec<&str> = name.split('.').collect();
+    if parts.len() > 1 {
+        name = parts[parts.len() - 2..].join("_");
+    }
+    name
+}
 
 /// A quaternion whose norm differs from 1 by more than this (relative) is rejected as corrupt;
 /// smaller deviations (rounding in the file) are normalised silently.

@@ -100,7 +100,11 @@ impl Problem {
             Problem::LineTooLong => format!("line is longer than {MAX_LINE} bytes"),
             Problem::MissingColumns { missing, found } => {
                 let missing: Vec<&str> = missing.iter().map(|&r| COLUMNS[r]).collect();
-                let accepted: Vec<String> = CSV_NAMES.iter().map(|n| n.join("/")).collect();
+                // Ours and TUM's (the first three at most); the other tools' are in the README.
+                let accepted: Vec<String> = CSV_NAMES
+                    .iter()
+                    .map(|n| n[..n.len().min(3)].join("/"))
+                    .collect();
                 // At most MAX_NAMES names, each shortened: a header line may be 1 MiB.
                 let mut names: Vec<String> = found
                     .iter()
@@ -112,7 +116,8 @@ impl Problem {
                 }
                 format!(
                     "CSV header has no column for {} (accepted names: {}, in any order, \
-                     case-insensitive); found {}",
+                     case-insensitive; also EuRoC's, ROS messages' and motion-capture exports' \
+                     names, with units in brackets or parentheses); found {}",
                     missing.join(", "),
                     accepted.join(", "),
                     names.join(", ")
@@ -239,8 +244,10 @@ mod tests {
                 missing: vec![6],
                 found: vec!["t".into(), "x".into()]
             }),
-            "CSV header has no column for qz (accepted names: timestamp/t/time, tx/x, ty/y, \
-             tz/z, qx, qy, qz, qw, in any order, case-insensitive); found \"t\", \"x\""
+            "CSV header has no column for qz (accepted names: timestamp/t/time, tx/x/px, \
+             ty/y/py, tz/z/pz, qx/q_x/quat_x, qy/q_y/quat_y, qz/q_z/quat_z, qw/q_w/quat_w, in \
+             any order, case-insensitive; also EuRoC's, ROS messages' and motion-capture \
+             exports' names, with units in brackets or parentheses); found \"t\", \"x\""
         );
         assert_eq!(
             say(Problem::TimeNotIncreasing {
