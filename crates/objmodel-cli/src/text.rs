@@ -187,6 +187,17 @@ pub fn tree(tree: &Tree) -> String {
             e.sigma_direction_rad.to_degrees(),
             e.n_support
         );
+        // Where the σ leaves the edge farther from its estimate than an edge of the object
+        // may be (5 mm, 3°) one time in twenty: said, so that no one takes it for located.
+        let (r, a) = e.bounds(0.95);
+        if r > objmodel::roll::EDGE_MATCH_M || a > objmodel::roll::EDGE_MATCH_RAD {
+            s += &format!(
+                "    (within {:.1} mm and {:.1} deg of this at 95%, by its σ: more \
+                 demonstrations of this edge would locate it better)\n",
+                r * 1e3,
+                a.to_degrees()
+            );
+        }
     }
     for e in &tree.edges {
         for p in &e.pendulums {
