@@ -154,7 +154,21 @@ fn csv_headers_of_other_tools() {
                field.transform.rotation.y,field.transform.rotation.z,field.transform.rotation.w\n\
                10.0,1,10.0,world,1,2,3,0,0,0,1\n\
                10.1,2,10.1,world,1.5,-2.5,3.5,0.5,0.5,0.5,0.5\n";
-    want(&read_str("tf.csv", ros));
+    let poses = read_str("tf.csv", ros);
+    want(&poses);
+    // The measurement's stamp, where the file has it, not the time it was logged.
+    let logged = ros
+        .replace("10.0,1,10.0,", "10.5,1,10.0,")
+        .replace("10.1,2,10.1,", "10.52,2,10.1,");
+    let poses = read_str("tf_logged_late.csv", &logged);
+    want(&poses);
+    assert_eq!((poses[0].t, poses[1].t), (10.0, 10.1));
+    let unstamped = "%time,field.pose.position.x,field.pose.position.y,field.pose.position.z,\
+                     field.pose.orientation.x,field.pose.orientation.y,field.pose.orientation.z,\
+                     field.pose.orientation.w\n7,1,2,3,0,0,0,1\n7.1,1.5,-2.5,3.5,0.5,0.5,0.5,0.5\n";
+    let poses = read_str("pose.csv", unstamped);
+    want(&poses);
+    assert_eq!(poses[1].t, 7.1);
     // Euler angles under a quaternion's names: no `w`, refused by name.
     let err = parse_error(
         "euler.csv",

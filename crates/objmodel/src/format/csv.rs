@@ -10,7 +10,7 @@
 //! space became a field with quotes, which is no number; `""` is unescaped), and it split the
 //! 200001 lines of a CSV pose file in 43-56 ms against 12-16 ms here.
 
-use super::layout::{column_name, CSV_NAMES, VALUES};
+use super::layout::{column_name, CSV_NAMES, HEADER_STAMP, LOG_TIME, VALUES};
 use super::number::parse_f64;
 use super::problem::Problem;
 
@@ -126,6 +126,11 @@ impl Header {
         let mut roles = Vec::new();
         let mut cols = [usize::MAX; VALUES];
         let mut seen = Vec::new();
+        // A ROS message flattened to CSV has the time it was logged (`%time`) and the time it
+        // was measured (`field.header.stamp`): the motion is in the second.
+        let mut fields = Fields::new(s);
+        let stamped = std::iter::from_fn(|| fields.next_field())
+            .any(|(a, b)| column_name(&String::from_utf8_lossy(&s[a..b])) == HEADER_STAMP);
         let mut fields = Fields::new(s);
         while let Some((a, b)) = fields.next_field() {
             let name = String::from_utf8_lossy(&s[a..b]).to_ascii_lowercase();
@@ -133,7 +138,8 @@ impl Header {
             let known = column_name(&name);
             let role = CSV_NAMES
                 .iter()
-                .position(|names| names.contains(&known.as_str()));
+                .position(|names| names.contains(&known.as_str()))
+                .filter(|_| !(stamped && known == LOG_TIME));
             match role {
                 Some(r) if cols[r] != usize::MAX => {
                     return Err(Problem::DoubledColumn {

@@ -35,7 +35,7 @@ pub(crate) const QUAT: usize = 4;
 /// needs its `w`, so Euler angles under those names are refused as a missing `qw`).
 #[rustfmt::skip]
 pub(crate) const CSV_NAMES: [&[&str]; VALUES] = [
-    &["timestamp", "t", "time", "stamp", "%time"],
+    &["timestamp", "t", "time", "stamp", "header_stamp", "%time"],
     &["tx", "x", "px", "pos_x", "position_x", "translation_x", "p_rs_r_x"],
     &["ty", "y", "py", "pos_y", "position_y", "translation_y", "p_rs_r_y"],
     &["tz", "z", "pz", "pos_z", "position_z", "translation_z", "p_rs_r_z"],
@@ -44,6 +44,12 @@ pub(crate) const CSV_NAMES: [&[&str]; VALUES] = [
     &["qz", "q_z", "quat_z", "orientation_z", "rotation_z", "q_rs_z"],
     &["qw", "q_w", "quat_w", "orientation_w", "rotation_w", "q_rs_w"],
 ];
+
+/// A ROS message's stamp, flattened to CSV (`field.header.stamp`): the time of the measurement.
+pub(crate) const HEADER_STAMP: &str = "header_stamp";
+/// The time a ROS message was logged, flattened to CSV (`%time`): a timestamp only where the
+/// file has no [`HEADER_STAMP`] (the transport's delay and jitter are in it).
+pub(crate) const LOG_TIME: &str = "%time";
 
 /// A CSV header field as [`CSV_NAMES`] lists it: lower case, without a unit in brackets or
 /// parentheses at its end (`Time (Seconds)`, `p_RS_R_x [m]`), and a dotted path reduced to its
