@@ -178,6 +178,27 @@ fn csv_headers_of_other_tools() {
     assert!(err.contains("no column for qw"), "{err}");
 }
 
+/// A whitespace-separated file whose first line names TUM's columns in TUM's order, uncommented
+/// (spaces or tabs, other tools' names): a header. In another order it is no TUM header, and
+/// the line is refused as before; a CSV header separated by semicolons is refused with a hint.
+#[test]
+fn a_first_line_naming_tums_columns_is_a_header() {
+    for header in [
+        "timestamp tx ty tz qx qy qz qw",
+        "t\tx\ty\tz\tqx\tqy\tqz\tqw",
+        "time[s]  px py pz  quat_x quat_y quat_z quat_w",
+    ] {
+        let text = format!("{header}\n1 1 2 3 0 0 0 1\n2 1.5 -2.5 3.5 0.5 0.5 0.5 0.5\n");
+        let poses = read_str("h.txt", &text);
+        assert_eq!(poses.len(), 2, "{header}");
+        assert_eq!(xyz(&poses[1]), [1.5, -2.5, 3.5]);
+    }
+    let err = parse_error("o.txt", "t x y z qw qx qy qz\n1 1 2 3 1 0 0 0\n", 1);
+    assert!(err.contains("is not a number"), "{err}");
+    let err = parse_error("s.csv", "t;x;y;z;qx;qy;qz;qw\n1;1;2;3;0;0;0;1\n", 1);
+    assert!(err.contains("separated by ';'"), "{err}");
+}
+
 #[test]
 fn detect_format_rules() {
     let p = Path::new("x.tum");

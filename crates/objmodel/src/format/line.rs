@@ -9,7 +9,7 @@ use super::csv::{looks_like_header, trim, Header};
 use super::detect::detect_format;
 use super::layout::{Format, VALUES};
 use super::problem::{Context, Problem};
-use super::tum::{scan_tum, tum_field, TumScan};
+use super::tum::{is_tum_header, scan_tum, tum_field, TumScan};
 use crate::trajectory::StampedPose;
 use crate::{Error, Result};
 use std::path::PathBuf;
@@ -154,6 +154,9 @@ impl State {
                 _ => Mode::CsvHeader,
             };
             if let Mode::Tum = self.mode {
+                if is_tum_header(body) {
+                    return Ok(None);
+                }
                 return scan_tum(line).values(line);
             }
         }

@@ -114,13 +114,27 @@ impl Problem {
                 if found.len() > MAX_NAMES {
                     names.push(format!("... ({} columns)", found.len()));
                 }
+                // One field holding the whole header: another separator than the comma.
+                let separator = match found.as_slice() {
+                    [one] => [';', '\t', '|']
+                        .into_iter()
+                        .find(|c| one.contains(*c))
+                        .map(|c| {
+                            format!(
+                                " (the header's columns are separated by {c:?}: a CSV file's \
+                                 by commas)"
+                            )
+                        }),
+                    _ => None,
+                };
                 format!(
                     "CSV header has no column for {} (accepted names: {}, in any order, \
                      case-insensitive; also EuRoC's, ROS messages' and motion-capture exports' \
-                     names, with units in brackets or parentheses); found {}",
+                     names, with units in brackets or parentheses); found {}{}",
                     missing.join(", "),
                     accepted.join(", "),
-                    names.join(", ")
+                    names.join(", "),
+                    separator.unwrap_or_default()
                 )
             }
             Problem::DoubledColumn {

@@ -1,10 +1,24 @@
 //! TUM lines: `timestamp tx ty tz qx qy qz qw`, separated by any spaces or tabs, `#` starting
 //! a comment. [`scan_tum`] reads any line, and [`TumScan::values`] gives its values or its
-//! [`Problem`]. (The common line also has a fast path, see `fast_run.rs`.)
+//! [`Problem`]. (The common line also has a fast path, see `fast_run.rs`.) A first line that
+//! names the columns in that order, uncommented (`timestamp tx ty tz qx qy qz qw`, or with
+//! other tools' names for them, [`is_tum_header`]), is a header, not a bad line.
 
-use super::layout::VALUES;
+use super::layout::{column_name, CSV_NAMES, VALUES};
 use super::number::parse_f64;
 use super::problem::Problem;
+
+/// Whether `line` names the eight columns in TUM order, separated by whitespace (each a name
+/// [`CSV_NAMES`] accepts for its column, as a CSV header's would be).
+pub(crate) fn is_tum_header(line: &[u8]) -> bool {
+    let text = String::from_utf8_lossy(line);
+    let names: Vec<String> = text.split_ascii_whitespace().map(column_name).collect();
+    names.len() == VALUES
+        && names
+            .iter()
+            .zip(CSV_NAMES)
+            .all(|(name, accepted)| accepted.contains(&name.as_str()))
+}
 
 /// A TUM line scanned up to its `\n` (or the end of the slice).
 pub(crate) struct TumScan {
