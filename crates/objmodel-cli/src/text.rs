@@ -64,6 +64,7 @@ pub fn classification(c: &Classification, frames: bool) -> String {
                 e.sigma_direction().to_degrees(),
                 e.frames
             );
+            s += &loose(e.bounds(0.95), "      ");
         }
         if let Some(f) = &seg.face {
             s += &format!(
@@ -169,6 +170,21 @@ pub fn print_warnings(demo: &Path, c: &Classification) {
     }
 }
 
+/// Where an edge's σ leaves it farther from its estimate than an edge of the object may be
+/// (5 mm, 3°) one time in twenty, its 95% `bounds` (\[m\], \[rad\]) on a line of their own,
+/// so that no one takes it for located; else nothing.
+fn loose((r, a): (f64, f64), indent: &str) -> String {
+    if r <= objmodel::roll::EDGE_MATCH_M && a <= objmodel::roll::EDGE_MATCH_RAD {
+        return String::new();
+    }
+    format!(
+        "{indent}(within {:.1} mm and {:.1} deg of this at 95%, by its σ: more demonstrations of \
+         this edge would locate it better)\n",
+        r * 1e3,
+        a.to_degrees()
+    )
+}
+
 /// A short human summary of a tree.
 pub fn tree(tree: &Tree) -> String {
     let mut s = format!(
@@ -187,17 +203,7 @@ pub fn tree(tree: &Tree) -> String {
             e.sigma_direction_rad.to_degrees(),
             e.n_support
         );
-        // Where the σ leaves the edge farther from its estimate than an edge of the object
-        // may be (5 mm, 3°) one time in twenty: said, so that no one takes it for located.
-        let (r, a) = e.bounds(0.95);
-        if r > objmodel::roll::EDGE_MATCH_M || a > objmodel::roll::EDGE_MATCH_RAD {
-            s += &format!(
-                "    (within {:.1} mm and {:.1} deg of this at 95%, by its σ: more \
-                 demonstrations of this edge would locate it better)\n",
-                r * 1e3,
-                a.to_degrees()
-            );
-        }
+        s += &loose(e.bounds(0.95), "    ");
     }
     for e in &tree.edges {
         for p in &e.pendulums {

@@ -17,6 +17,29 @@ use crate::geometry::Line;
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
+/// The distance \[m\] and angle \[rad\] from a line of unit direction `u` within which the
+/// true line lies with probability `p`, by the covariances of its point and direction: the 2-D
+/// normal error of the largest standard deviation normal to the line, `σ √(2 ln(1/(1-p)))`
+/// (at 95%: 2.45 σ), which bounds it whatever the covariances' shape.
+pub fn line_bounds(
+    u: &Vector3<f64>,
+    point_cov: &Matrix3<f64>,
+    direction_cov: &Matrix3<f64>,
+    p: f64,
+) -> (f64, f64) {
+    let k = (2.0 * (1.0 / (1.0 - p)).ln()).sqrt();
+    let across = Matrix3::identity() - u * u.transpose();
+    let worst = |c: &Matrix3<f64>| {
+        let c = across * c * across;
+        ((c + c.transpose()) * 0.5)
+            .symmetric_eigenvalues()
+            .max()
+            .max(0.0)
+            .sqrt()
+    };
+    (k * worst(point_cov), k * worst(direction_cov))
+}
+
 /// One demonstration's estimate of one edge, in the object frame.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct EdgeObservation {
@@ -110,6 +133,17 @@ impl EdgeObservation {
     /// RMS standard deviation \[rad\] of the direction, per axis normal to the line.
     pub fn sigma_direction(&self) -> f64 {
         (self.direction_cov.trace() / 2.0).max(0.0).sqrt()
+    }
+
+    /// The distance \[m\] and angle \[rad\] within which the edge lies with probability `p`
+    /// ([`line_bounds`]).
+    pub fn bounds(&self, p: f64) -> (f64, f64) {
+        line_bounds(
+            &self.line.direction,
+            &self.point_cov,
+            &self.direction_cov,
+            p,
+        )
     }
 
     /// Condition the point on a measurement of it, `c` (a linear Gaussian update): the point

@@ -69,22 +69,14 @@ pub struct EdgeEstimate {
 
 impl Edge {
     /// The distance \[m\] and angle \[rad\] from `point` and `direction` within which the
-    /// edge lies with probability `p`, by its covariances: the 2-D normal error of the
-    /// largest standard deviation normal to the line, `σ √(2 ln(1/(1-p)))` (at 95%: 2.45 σ),
-    /// which bounds it whatever the covariances' shape.
+    /// edge lies with probability `p` ([`crate::edge::line_bounds`]).
     pub fn bounds(&self, p: f64) -> (f64, f64) {
-        let k = (2.0 * (1.0 / (1.0 - p)).ln()).sqrt();
-        let u = self.direction;
-        let across = Matrix3::identity() - u * u.transpose();
-        let worst = |c: &[[f64; 3]; 3]| {
-            let c = across * matrix(c) * across;
-            ((c + c.transpose()) * 0.5)
-                .symmetric_eigenvalues()
-                .max()
-                .max(0.0)
-                .sqrt()
-        };
-        (k * worst(&self.point_cov), k * worst(&self.direction_cov))
+        crate::edge::line_bounds(
+            &self.direction,
+            &matrix(&self.point_cov),
+            &matrix(&self.direction_cov),
+            p,
+        )
     }
 
     pub(super) fn new(id: String, obs: EdgeObservation) -> Self {
