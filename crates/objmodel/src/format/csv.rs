@@ -10,7 +10,7 @@
 //! space became a field with quotes, which is no number; `""` is unescaped), and it split the
 //! 200001 lines of a CSV pose file in 43-56 ms against 12-16 ms here.
 
-use super::layout::{column_name, CSV_NAMES, HEADER_STAMP, LOG_TIME, VALUES};
+use super::layout::{column_name, column_role, HEADER_STAMP, LOG_TIME, VALUES};
 use super::number::parse_f64;
 use super::problem::Problem;
 
@@ -135,11 +135,7 @@ impl Header {
         while let Some((a, b)) = fields.next_field() {
             let name = String::from_utf8_lossy(&s[a..b]).to_ascii_lowercase();
             let col = roles.len();
-            let known = column_name(&name);
-            let role = CSV_NAMES
-                .iter()
-                .position(|names| names.contains(&known.as_str()))
-                .filter(|_| !(stamped && known == LOG_TIME));
+            let role = column_role(&name).filter(|_| !(stamped && column_name(&name) == LOG_TIME));
             match role {
                 Some(r) if cols[r] != usize::MAX => {
                     return Err(Problem::DoubledColumn {

@@ -45,6 +45,15 @@ pub(crate) const CSV_NAMES: [&[&str]; VALUES] = [
     &["qw", "q_w", "quat_w", "orientation_w", "rotation_w", "q_rs_w"],
 ];
 
+/// The column (index in TUM order) a CSV header field names ([`column_name`], [`CSV_NAMES`]),
+/// if any.
+pub(crate) fn column_role(field: &str) -> Option<usize> {
+    let name = column_name(field);
+    CSV_NAMES
+        .iter()
+        .position(|names| names.contains(&name.as_str()))
+}
+
 /// A ROS message's stamp, flattened to CSV (`field.header.stamp`): the time of the measurement.
 pub(crate) const HEADER_STAMP: &str = "header_stamp";
 /// The time a ROS message was logged, flattened to CSV (`%time`): a timestamp only where the

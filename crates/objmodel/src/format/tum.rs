@@ -4,20 +4,16 @@
 //! names the columns in that order, uncommented (`timestamp tx ty tz qx qy qz qw`, or with
 //! other tools' names for them, [`is_tum_header`]), is a header, not a bad line.
 
-use super::layout::{column_name, CSV_NAMES, VALUES};
+use super::layout::{column_role, VALUES};
 use super::number::parse_f64;
 use super::problem::Problem;
 
-/// Whether `line` names the eight columns in TUM order, separated by whitespace (each a name
-/// [`CSV_NAMES`] accepts for its column, as a CSV header's would be).
+/// Whether `line` names the eight columns in TUM order, separated by whitespace (each field
+/// naming its column as a CSV header's would, [`column_role`]).
 pub(crate) fn is_tum_header(line: &[u8]) -> bool {
     let text = String::from_utf8_lossy(line);
-    let names: Vec<String> = text.split_ascii_whitespace().map(column_name).collect();
-    names.len() == VALUES
-        && names
-            .iter()
-            .zip(CSV_NAMES)
-            .all(|(name, accepted)| accepted.contains(&name.as_str()))
+    let roles: Vec<Option<usize>> = text.split_ascii_whitespace().map(column_role).collect();
+    roles.len() == VALUES && roles.iter().enumerate().all(|(k, r)| *r == Some(k))
 }
 
 /// A TUM line scanned up to its `\n` (or the end of the slice).
