@@ -174,7 +174,7 @@ pub fn print_warnings(demo: &Path, c: &Classification) {
 /// (5 mm, 3°) one time in twenty, its 95% `bounds` (\[m\], \[rad\]) on a line of their own,
 /// so that no one takes it for located; else nothing.
 fn loose((r, a): (f64, f64), indent: &str) -> String {
-    if r <= objmodel::roll::EDGE_MATCH_M && a <= objmodel::roll::EDGE_MATCH_RAD {
+    if r <= objmodel::edge::EDGE_MATCH_M && a <= objmodel::edge::EDGE_MATCH_RAD {
         return String::new();
     }
     format!(

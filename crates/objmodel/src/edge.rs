@@ -17,6 +17,23 @@ use crate::geometry::Line;
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
+/// How far \[m\] a learnt edge may be from the object's edge to be that edge: the 5 mm
+/// within which `bench/precision.py` counts an edge the object's.
+pub const EDGE_MATCH_M: f64 = 5e-3;
+
+/// How far \[rad\] a learnt edge's direction may be from the object's edge's: 3°.
+pub const EDGE_MATCH_RAD: f64 = 3.0 * std::f64::consts::PI / 180.0;
+
+/// The largest standard deviations (point \[m\], direction \[rad\], per axis normal to the
+/// edge) of an edge located within [`EDGE_MATCH_M`] and [`EDGE_MATCH_RAD`] of its estimate
+/// but with probability `alpha`: a 2-D normal error of σ per axis exceeds `r` with probability
+/// `exp(−r² / 2σ²)`, so `σ ≤ r / √(2 ln(1/α))` (at α = 10⁻³: 1.3 mm and 0.8°). A roll teaches
+/// its edge only so located (`crate::roll`).
+pub fn max_sigmas(alpha: f64) -> (f64, f64) {
+    let k = (2.0 * (1.0 / alpha).ln()).sqrt();
+    (EDGE_MATCH_M / k, EDGE_MATCH_RAD / k)
+}
+
 /// The distance \[m\] and angle \[rad\] from a line of unit direction `u` within which the
 /// true line lies with probability `p`, by the covariances of its point and direction: the 2-D
 /// normal error of the largest standard deviation normal to the line, `σ √(2 ln(1/(1-p)))`

@@ -33,7 +33,7 @@
 //!
 //! Such a window is a `roll` part. It teaches its edge when the edge is located well enough to
 //! be a feature: within 5 mm and 3° of its estimate but with probability `alpha`
-//! ([`max_sigmas`]); when the turn does not go on about another line right after it
+//! ([`crate::edge::max_sigmas`]); when the turn does not go on about another line right after it
 //! (`withhold_drifting`: a contact that slides or rolls); and, in a segment between two rests
 //! that turned the object about the roll's line alone, when its edge lies on the support in
 //! both rests (`parts::off_support`); otherwise the part says why it taught nothing.
@@ -46,7 +46,7 @@ pub use fit::{fit, frame_chi2, RollFit, RollNoise};
 pub use parts::mark_rolls;
 pub use record::Roll;
 
-use crate::edge::EdgeObservation;
+use crate::edge::{max_sigmas, EdgeObservation, EDGE_MATCH_RAD};
 use crate::flight::{FlightFrame, FlightTest};
 use crate::support::SupportObservation;
 use nalgebra::{Rotation3, Vector3};
@@ -55,23 +55,6 @@ use nalgebra::{Rotation3, Vector3};
 /// grown (the same reasoning as [`crate::flight::FLIGHT_FIT_ALPHA`]: the grown window ends
 /// where the model only just passes; at 1% a slip at its end is cut sooner).
 pub const ROLL_FIT_ALPHA: f64 = 0.01;
-
-/// How far \[m\] a taught edge may be from the object's edge: the 5 mm within which an edge
-/// is the object's (`bench/precision.py`).
-pub const EDGE_MATCH_M: f64 = 5e-3;
-
-/// How far \[rad\] a taught edge's direction may be from the object's edge's: 3°.
-pub const EDGE_MATCH_RAD: f64 = 3.0 * std::f64::consts::PI / 180.0;
-
-/// The largest standard deviations (point \[m\], direction \[rad\], per axis normal to the
-/// edge) of a roll's edge for the roll to teach it: a 2-D normal error exceeds `r` with
-/// probability `exp(−r² / 2σ²)`, so the edge is within [`EDGE_MATCH_M`] and
-/// [`EDGE_MATCH_RAD`] of its estimate but with probability `alpha` when
-/// `σ ≤ r / √(2 ln(1/α))` (at α = 10⁻³: 1.3 mm and 0.8°).
-pub fn max_sigmas(alpha: f64) -> (f64, f64) {
-    let k = (2.0 * (1.0 / alpha).ln()).sqrt();
-    (EDGE_MATCH_M / k, EDGE_MATCH_RAD / k)
-}
 
 /// Fewest frames of a roll: the free-flight model, which a roll must reject (a spinning
 /// object in flight turns about a moving axis that over a few frames passes for a fixed

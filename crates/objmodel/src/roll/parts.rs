@@ -145,7 +145,7 @@ fn off_support(
 ) -> Option<String> {
     let (axis, angle) = rests.turn().axis_angle()?;
     let u = fit.world_line.direction;
-    let about_the_line = axis.dot(&u).abs() >= super::EDGE_MATCH_RAD.cos();
+    let about_the_line = axis.dot(&u).abs() >= crate::edge::EDGE_MATCH_RAD.cos();
     if !about_the_line || angle < fit.turn.abs() {
         return None;
     }
