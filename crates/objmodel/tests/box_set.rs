@@ -27,14 +27,7 @@ fn truth() -> Truth {
         &std::fs::read_to_string(common::data(&format!("{DIR}/box.truth.json"))).unwrap(),
     )
     .unwrap();
-    let v = |a: &serde_json::Value| {
-        let a = a.as_array().unwrap();
-        Vector3::new(
-            a[0].as_f64().unwrap(),
-            a[1].as_f64().unwrap(),
-            a[2].as_f64().unwrap(),
-        )
-    };
+    let v = common::vec3;
     Truth {
         edges: json["edges"]
             .as_array()
@@ -75,9 +68,7 @@ fn learnt(paths: &[PathBuf]) -> Tree {
 /// them, and the χ²₂ of that distance under the edge's point covariance.
 fn nearest_edge(e: &Edge, truth: &Truth) -> (f64, f64, f64) {
     let u = e.direction;
-    let (a, b) = (u.cross(&Vector3::x()), u.cross(&Vector3::y()));
-    let a = if a.norm() > b.norm() { a } else { b }.normalize();
-    let axes = Matrix3x2::from_columns(&[a, u.cross(&a)]);
+    let axes = Matrix3x2::from_columns(&objmodel::geometry::normal_axes(&u));
     let cov = axes.transpose() * Matrix3::from_fn(|i, j| e.point_cov[i][j]) * axes;
     truth
         .edges

@@ -17,15 +17,21 @@ pub fn data(file: &str) -> PathBuf {
 #[allow(dead_code)]
 pub fn truth_edge(name: &str) -> Line {
     let truth = truth(name);
-    let v = |k: &str| {
-        let a = truth["edge"][k].as_array().unwrap();
-        Vector3::new(
-            a[0].as_f64().unwrap(),
-            a[1].as_f64().unwrap(),
-            a[2].as_f64().unwrap(),
-        )
-    };
-    Line::through(v("point"), v("direction"))
+    Line::through(
+        vec3(&truth["edge"]["point"]),
+        vec3(&truth["edge"]["direction"]),
+    )
+}
+
+/// A JSON array of three numbers as a vector.
+#[allow(dead_code)]
+pub fn vec3(a: &serde_json::Value) -> Vector3<f64> {
+    let a = a.as_array().unwrap();
+    Vector3::new(
+        a[0].as_f64().unwrap(),
+        a[1].as_f64().unwrap(),
+        a[2].as_f64().unwrap(),
+    )
 }
 
 /// The true φ \[rad\] of the scene `name` (`{name}.truth.json`: the homogeneous box's, about
