@@ -349,6 +349,18 @@ pub(super) fn analyse_segment(
             systematic_direction_var(blocks, &topple_blocks, &e.line, sigma_ref_rot);
         e.add_systematic_direction_var(topple_systematic_direction_var);
     }
+    // The part's own frames, after trimming and up to where another motion takes over, must
+    // still be enough to test a fixed line (the segment's fit was tested with all of them).
+    let too_few_frames = edge
+        .as_ref()
+        .filter(|_| topple_stats.n < MIN_EDGE_FRAMES)
+        .map(|_| {
+            format!(
+                "its rotation about a fixed line holds {:.0} frames, fewer than the \
+                 {MIN_EDGE_FRAMES} that test a fixed line (two frames agree with themselves)",
+                topple_stats.n
+            )
+        });
     let turned_too_little = edge
         .as_ref()
         .and_then(|e| edge_turns_too_little(e, config.robust.edge_tolerance_m));
@@ -412,7 +424,8 @@ pub(super) fn analyse_segment(
     // An edge rotation that passed every test but turned too little to locate its edge is
     // still a contact mode measured from the rest: it shows the rest was on the support.
     let small_rotation = turned_too_little.is_some() && off_level.is_none();
-    if let Some(w) = turned_too_little
+    if let Some(w) = too_few_frames
+        .or(turned_too_little)
         .or(off_level)
         .or(off_support)
         .or(unknown_vertical)

@@ -1,4 +1,4 @@
-//! Cleaning a tracked stream (noise warm-up, then the tag-flip [`Cleaner`]), and the parts of
+//! Cleaning a tracked stream (noise warm-up, then the glitch [`Cleaner`]), and the parts of
 //! the robust analysis before the segments that can run on another thread than the
 //! [`super::Analyzer`]: the object's cleaner alone ([`ObjectCleaner`]), with the accumulated
 //! rotation ([`RotatingCleaner`]), or with rest detection ([`ObjectRestTest`]).
@@ -12,7 +12,7 @@ use crate::noise::{self, NoiseModel};
 use crate::trajectory::StampedPose;
 use nalgebra::Vector3;
 
-/// Cleans one stream: noise warm-up, then the tag-flip [`Cleaner`].
+/// Cleans one stream: noise warm-up, then the glitch [`Cleaner`].
 pub(super) struct StreamCleaner {
     warm: Vec<RawFrame>,
     warmup: usize,
@@ -53,7 +53,8 @@ impl StreamCleaner {
                 sigma_position: 1e-3,
                 sigma_rotation: 1e-2,
             });
-        let mut c = Cleaner::new(n.floored().sigma_rotation, self.alpha);
+        let n = n.floored();
+        let mut c = Cleaner::new(n.sigma_rotation, n.sigma_position, self.alpha);
         for f in std::mem::take(&mut self.warm) {
             c.push(f, out);
         }

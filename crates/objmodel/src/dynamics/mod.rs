@@ -18,6 +18,7 @@ mod support;
 mod tolerances;
 
 use crate::classify::{Classification, Label};
+use crate::noise::NoiseModel;
 use crate::pendulum::{FallFit, Onset};
 use crate::recording::Recording;
 use budget::Budget;
@@ -65,7 +66,11 @@ pub fn analyse(
     gravity: &Vector3<f64>,
 ) -> Vec<ToppleDynamics> {
     let up = -gravity.normalize();
-    let sigma = c.noise.map_or(0.01, |n| n.sigma_rotation);
+    let noise = c.noise.unwrap_or(NoiseModel {
+        sigma_position: 1e-3,
+        sigma_rotation: 0.01,
+    });
+    let sigma = noise.sigma_rotation;
     let frames = &recording.object;
     // Frames the classifier rejected as outliers, and the topple-labelled frames, per kept frame.
     let mut outlier = vec![false; frames.len()];
@@ -81,7 +86,7 @@ pub fn analyse(
             }
         }
     }
-    let palm = palm_stream::without_flips(&recording.palm, sigma);
+    let palm = palm_stream::without_glitches(&recording.palm, noise);
     let palm = (!palm.is_empty()).then_some(&palm[..]);
     let mut out = Vec::new();
     for (ti, top) in c.topples.iter().enumerate() {

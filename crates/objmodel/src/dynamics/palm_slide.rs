@@ -28,11 +28,12 @@
 //!   test at 10⁻³ (it moved on the palm beyond the noise), and it did not turn on the palm by
 //!   more than [`MAX_TURN_RAD`] (a topple, a roll, a carry are not slides).
 
-use super::palm_stream::without_flips;
+use super::palm_stream::without_glitches;
 use super::regression::smooth;
 use super::series::palm_at;
 use super::tolerances::{MAX_REST_FRAMES, REST_MARGIN_S};
 use crate::classify::Classification;
+use crate::noise::NoiseModel;
 use crate::recording::Recording;
 use crate::stats::golden_min;
 use nalgebra::Vector3;
@@ -95,13 +96,7 @@ pub fn measure(recording: &Recording, c: &Classification, g: &Vector3<f64>) -> O
     let noise = c.noise?;
     // The rest, the slide and the rest after it (up to the next motion).
     let until = c.segments.get(1).map_or(f64::INFINITY, |s| s.t_start);
-    let series = slide_series(
-        recording,
-        c,
-        g,
-        (first.t_start, until),
-        noise.sigma_rotation,
-    )?;
+    let series = slide_series(recording, c, g, (first.t_start, until), noise)?;
     let (t, theta, x) = (&series.t, &series.theta, &series.x);
     let distance = x.iter().cloned().fold(0.0, f64::max);
     let sigma_x = (noise.sigma_position.powi(2) + SLIDE_TOLERANCE_M.powi(2)).sqrt();
@@ -173,11 +168,12 @@ fn slide_series(
     c: &Classification,
     g: &Vector3<f64>,
     (t_moving, until): (f64, f64),
-    sigma_rotation: f64,
+    noise: NoiseModel,
 ) -> Option<SlideSeries> {
+    let sigma_rotation = noise.sigma_rotation;
     let frames = &recording.object;
     let outlier = c.is_outlier();
-    let palm = without_flips(&recording.palm, sigma_rotation);
+    let palm = without_glitches(&recording.palm, noise);
     let down = g.normalize();
     // The rest before the motion: the support normal (up) and the object's place, palm frame.
     let (mut up_sum, mut place_sum, mut turn_ref, mut rest) =

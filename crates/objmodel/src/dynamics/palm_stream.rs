@@ -1,21 +1,23 @@
-//! The palm's poses for the tilt angles, without its tag flips.
+//! The palm's poses for the tilt angles, without its tracker's glitches.
 //!
 //! The classifier judges the object's motion relative to the palm and drops the frames where
-//! either tag flipped; the recording keeps the palm's raw poses, so a flipped palm pose would
-//! put a spike of tens of degrees into the palm's tilt ψ_palm, and through the smoothing into
-//! the tilt at the onset. The palm stream is therefore cleaned with the same tag-flip test as
-//! the object's ([`crate::clean::Cleaner`], same significance level), under the palm's
-//! rotation noise.
+//! either tracker glitched; the recording keeps the palm's raw poses, so a flipped palm pose
+//! would put a spike of tens of degrees into the palm's tilt ψ_palm, and through the smoothing
+//! into the tilt at the onset. The palm stream is therefore cleaned with the same glitch test
+//! as the object's ([`crate::clean::Cleaner`], same significance level), under the noise of
+//! the demonstration.
 
 use crate::classify::RobustConfig;
 use crate::clean::{Cleaner, RawFrame};
+use crate::noise::NoiseModel;
 use crate::trajectory::StampedPose;
 use nalgebra::Isometry3;
 
-/// `palm` without the poses the tag-flip test rejects, for rotation noise `sigma_rotation`
-/// \[rad\].
-pub(super) fn without_flips(palm: &[StampedPose], sigma_rotation: f64) -> Vec<StampedPose> {
-    let mut cleaner = Cleaner::new(sigma_rotation, RobustConfig::default().outlier_alpha);
+/// `palm` without the poses the glitch test rejects, for tracking noise `noise`.
+pub(super) fn without_glitches(palm: &[StampedPose], noise: NoiseModel) -> Vec<StampedPose> {
+    let n = noise.floored();
+    let alpha = RobustConfig::default().outlier_alpha;
+    let mut cleaner = Cleaner::new(n.sigma_rotation, n.sigma_position, alpha);
     let mut kept = Vec::with_capacity(palm.len());
     let mut take = |f: RawFrame, flipped: bool| {
         if !flipped {
@@ -44,6 +46,13 @@ mod tests {
     use nalgebra::{UnitQuaternion, Vector3};
     use rand::{rngs::StdRng, Rng, SeedableRng};
 
+    fn noise(sigma_rotation: f64) -> NoiseModel {
+        NoiseModel {
+            sigma_position: 1e-3,
+            sigma_rotation,
+        }
+    }
+
     fn tilting_palm(n: usize, sigma: f64, rng: &mut StdRng) -> Vec<StampedPose> {
         (0..n)
             .map(|i| {
@@ -68,7 +77,7 @@ mod tests {
         for k in [40, 41, 120] {
             palm[k].pose.rotation = flip * palm[k].pose.rotation;
         }
-        let kept = without_flips(&palm, sigma);
+        let kept = without_glitches(&palm, noise(sigma));
         let times: Vec<f64> = kept.iter().map(|p| p.t).collect();
         for k in [40, 41, 120] {
             assert!(!times.contains(&palm[k].t), "flip at {k} kept");
@@ -87,6 +96,6 @@ mod tests {
         let mut rng = StdRng::seed_from_u64(8);
         let sigma = 0.1f64.to_radians();
         let palm = tilting_palm(300, sigma, &mut rng);
-        assert_eq!(without_flips(&palm, sigma).len(), palm.len());
+        assert_eq!(without_glitches(&palm, noise(sigma)).len(), palm.len());
     }
 }
