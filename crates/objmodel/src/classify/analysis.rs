@@ -4,7 +4,7 @@
 
 use super::block::{Block, Phase};
 use super::lack_of_fit::{
-    systematic_direction_var, systematic_normal_var, systematic_point_var, PointSums,
+    reference_var, systematic_direction_var, systematic_normal_var, systematic_point_var, PointSums,
 };
 use super::msac::{
     fit_line, fit_plane, line_inlier, plane_inlier, rotation_explains_translation, slide_normal,
@@ -342,11 +342,13 @@ pub(super) fn analyse_segment(
         // contact), which is one trajectory per demonstration and does not average down over
         // its frames; more where the split-half lack of fit shows the pivot moved more.
         topple_systematic_var = systematic_point_var(blocks, &topple_blocks, &e.line, sigma_ref)
-            .max(config.robust.edge_tolerance_m.powi(2));
+            .max(config.robust.edge_tolerance_m.powi(2))
+            + reference_var(blocks, &topple_blocks, sigma_ref);
         e.add_systematic_point_var(topple_systematic_var);
         let sigma_ref_rot = noise.sigma_rotation / seg.n_ref.sqrt();
         topple_systematic_direction_var =
-            systematic_direction_var(blocks, &topple_blocks, &e.line, sigma_ref_rot);
+            systematic_direction_var(blocks, &topple_blocks, &e.line, sigma_ref_rot)
+                + reference_var(blocks, &topple_blocks, sigma_ref_rot);
         e.add_systematic_direction_var(topple_systematic_direction_var);
     }
     // The part's own frames, after trimming and up to where another motion takes over, must

@@ -90,6 +90,12 @@ pub struct RobustConfig {
     /// Largest angle \[rad\] between a topple axis and the horizontal, and between a slide's
     /// plane normal and the vertical, when gravity is known.
     pub max_axis_tilt_rad: f64,
+    /// How many frames the first rest's pose is worth, where fewer than it holds (`None`: all
+    /// of them). A rest held at one frame's pose, from which a later part is measured again
+    /// ([`crate::onset`]), is one frame's pose with that frame's noise, however long it is
+    /// held; the segment after it must not count it as a mean of many.
+    #[serde(skip)]
+    pub held_rest_frames: Option<f64>,
 }
 
 impl Default for RobustConfig {
@@ -106,6 +112,7 @@ impl Default for RobustConfig {
             edge_tolerance_rad: 0.5f64.to_radians(),
             contact_depth_m: default_contact_depth_m(),
             max_axis_tilt_rad: 45f64.to_radians(),
+            held_rest_frames: None,
         }
     }
 }

@@ -267,16 +267,22 @@ impl Segmenter {
         {
             return;
         }
+        // What the first rest's pose is worth where it was held at one frame's pose.
+        let worth = |n: f64| match self.config.robust.held_rest_frames {
+            Some(k) if self.segments.is_empty() => n.min(k),
+            _ => n,
+        };
         let start = if slow_start {
             self.rest.start()
         } else {
             self.rest.mean().map(|(q, p)| (q, p, self.rest.n()))
-        };
+        }
+        .map(|(q, p, n)| (q, p, worth(n)));
         let rest_down = start
             .zip(self.down)
             .map(|((q, _, _), d)| (q.inverse() * d).normalize());
         let rest_frames = if rest_down.is_some() {
-            self.rest.n()
+            worth(self.rest.n())
         } else {
             0.0
         };

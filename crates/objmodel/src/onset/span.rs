@@ -84,7 +84,12 @@ pub(super) fn classify_span(
         object,
         palm: None,
     };
-    let mut sub = classify(&demo, config).ok()?;
+    // The held rest is one frame's pose, with that frame's noise.
+    let mut config = *config;
+    if let Start::Held(_) = start {
+        config.robust.held_rest_frames = Some(1.0);
+    }
+    let mut sub = classify(&demo, &config).ok()?;
     // Back to the first pass's frame indices, without the held rest and the reference (they
     // keep the first pass's labels).
     sub.labels.retain_mut(|r| {
