@@ -29,6 +29,13 @@ pub struct NoiseModel {
 }
 
 impl NoiseModel {
+    /// The noise assumed where none was given and none could be estimated (too few frames):
+    /// 1 mm and 0.01 rad per axis.
+    pub const FALLBACK: NoiseModel = NoiseModel {
+        sigma_position: 1e-3,
+        sigma_rotation: 1e-2,
+    };
+
     /// The noise model from options that give the position \[m\] and rotation \[rad\]
     /// standard deviations, each as (its name as the user wrote it, its value): both or
     /// neither, each zero or positive.

@@ -4,7 +4,8 @@
 
 use super::block::{Block, Phase};
 use super::lack_of_fit::{
-    reference_var, systematic_direction_var, systematic_normal_var, systematic_point_var, PointSums,
+    mean_inv_chord, systematic_direction_var, systematic_normal_var, systematic_point_var,
+    PointSums,
 };
 use super::msac::{
     fit_line, fit_plane, line_inlier, plane_inlier, rotation_explains_translation, slide_normal,
@@ -341,14 +342,16 @@ pub(super) fn analyse_segment(
         // At least the contact's own wander (the model tolerance: a rounded edge, a soft
         // contact), which is one trajectory per demonstration and does not average down over
         // its frames; more where the split-half lack of fit shows the pivot moved more.
+        // And the reference pose's own error, common to every frame.
+        let inv_chord = mean_inv_chord(blocks, &topple_blocks);
         topple_systematic_var = systematic_point_var(blocks, &topple_blocks, &e.line, sigma_ref)
             .max(config.robust.edge_tolerance_m.powi(2))
-            + reference_var(blocks, &topple_blocks, sigma_ref);
+            + (sigma_ref * inv_chord).powi(2);
         e.add_systematic_point_var(topple_systematic_var);
         let sigma_ref_rot = noise.sigma_rotation / seg.n_ref.sqrt();
         topple_systematic_direction_var =
             systematic_direction_var(blocks, &topple_blocks, &e.line, sigma_ref_rot)
-                + reference_var(blocks, &topple_blocks, sigma_ref_rot);
+                + (sigma_ref_rot * inv_chord).powi(2);
         e.add_systematic_direction_var(topple_systematic_direction_var);
     }
     // The part's own frames, after trimming and up to where another motion takes over, must

@@ -49,11 +49,8 @@ impl StreamCleaner {
         let n = self
             .noise
             .or_else(|| noise::estimate(&samples))
-            .unwrap_or(NoiseModel {
-                sigma_position: 1e-3,
-                sigma_rotation: 1e-2,
-            });
-        let n = n.floored();
+            .unwrap_or(NoiseModel::FALLBACK)
+            .floored();
         let mut c = Cleaner::new(n.sigma_rotation, n.sigma_position, self.alpha);
         for f in std::mem::take(&mut self.warm) {
             c.push(f, out);

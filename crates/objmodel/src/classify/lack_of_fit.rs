@@ -100,22 +100,21 @@ pub(super) fn systematic_direction_var(
     (0.5 * d.norm_squared() - s2).max(0.0)
 }
 
-/// Per-axis variance of an edge's point \[m²\] or direction \[rad²\] from the error of the
-/// reference pose its frames are measured from: `σ_ref` per axis (for the point \[m\], the
-/// position's and the orientation's at the point; for the direction \[rad\], the
-/// orientation's), common to every frame, which moves and turns the axis of a rotation by θ by
-/// about `1/c` of itself (`c = 2 sin(θ/2)`, as in [`systematic_point_var`] and
-/// [`systematic_direction_var`]), so the line by `σ_ref` times the frames' point-weighted mean
-/// `1/c`. The frames' scatter does not show it, nor does their number average it down. Small
-/// for a reference that is the mean of a rest (σ/√n); for a rest held at one frame's pose
-/// (`crate::onset`), one frame's noise.
-pub(super) fn reference_var(blocks: &[Block], order: &[usize], sigma_ref: f64) -> f64 {
+/// The frames' point-weighted mean of `1/c` (`c = 2 sin(θ/2)`): by this factor the error of
+/// the reference pose the frames are measured from, common to every frame, moves and turns the
+/// axis of their rotation (as in [`systematic_point_var`] and [`systematic_direction_var`]).
+/// An edge's point and direction are off by `σ_ref` times it, per axis (for the point, the
+/// reference's position and orientation error at the point \[m\]; for the direction, its
+/// orientation error \[rad\]), and neither the frames' scatter shows that nor their number
+/// averages it down. Small for a reference that is the mean of a rest (σ/√n); for a rest held
+/// at one frame's pose (`crate::onset`), one frame's noise. Zero without point weight.
+pub(super) fn mean_inv_chord(blocks: &[Block], order: &[usize]) -> f64 {
     let mut total = PointSums::default();
     order.iter().for_each(|&i| total.add(&blocks[i].line));
     if total.sw <= 0.0 {
         return 0.0;
     }
-    (sigma_ref * total.sw_inv_chord / total.sw).powi(2)
+    total.sw_inv_chord / total.sw
 }
 
 /// The parts of [`LineStats`] that the change-point trimming tests, summed as

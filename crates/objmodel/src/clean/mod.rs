@@ -195,8 +195,9 @@ impl Cleaner {
         self.verdict_exact(a, b, f)
     }
 
-    /// Whether the orientation of `f` is surely not significantly off the geodesic of `a` and
-    /// `b` (false: not known without the exact test).
+    /// Whether the orientation of `f` is surely kept: not significantly off the geodesic of `a`
+    /// and `b`, and its jump from `a` not significant, so that it starts no run either (false:
+    /// not known without the exact test).
     ///
     /// Exact: the residual r from the geodesic point at fraction s obeys
     /// `r <= |s| d(a,b) + d(a,f)` (triangle inequality), so a flip needs
@@ -205,7 +206,7 @@ impl Cleaner {
     /// `c² = 4|imag(x⁻¹y)|²` of the angle θ between x and y (`c = 2 sin(θ/2)`) bounds θ² from
     /// above by `u = c² (1 + c²/20)²` for `c <= 1` (`2 asin(c/2) = c + c³/24 + ...`), and
     /// `(|s| √u_ab + √u_af)² <= 2 (s² u_ab + u_af)`; `s = Δt_af / Δt_ab` is cleared of its
-    /// denominator.
+    /// denominator; and the jump's `u_af` bounds its squared angle.
     #[inline(always)]
     fn rotation_surely_kept(&self, a: &RawFrame, b: &RawFrame, f: &RawFrame) -> bool {
         let chord2 = |x: &UnitQuaternion<f64>, y: &UnitQuaternion<f64>| {
@@ -226,10 +227,10 @@ impl Cleaner {
             && u(c_af) <= self.jump_floor
     }
 
-    /// Whether the position of `f` is surely not significantly off the line of `a` and `b`:
-    /// its residual times `Δt_ab` (no division) against the least significant residual, with a
-    /// relative margin of 1e-9, far above the rounding by which this residual differs from
-    /// [`Cleaner::position_verdict`]'s.
+    /// Whether the position of `f` is surely kept: not significantly off the line of `a` and
+    /// `b` (its residual times `Δt_ab`, no division, against the least significant residual),
+    /// and its jump from `a` not significant; each with a relative margin of 1e-9, far above the
+    /// rounding by which these differ from [`Cleaner::position_verdict`]'s.
     #[inline(always)]
     fn position_surely_kept(&self, a: &RawFrame, b: &RawFrame, f: &RawFrame) -> bool {
         let (t_ab, t_af) = (b.t - a.t, f.t - a.t);

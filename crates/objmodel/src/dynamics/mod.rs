@@ -66,10 +66,7 @@ pub fn analyse(
     gravity: &Vector3<f64>,
 ) -> Vec<ToppleDynamics> {
     let up = -gravity.normalize();
-    let noise = c.noise.unwrap_or(NoiseModel {
-        sigma_position: 1e-3,
-        sigma_rotation: 0.01,
-    });
+    let noise = c.noise.unwrap_or(NoiseModel::FALLBACK);
     let sigma = noise.sigma_rotation;
     let frames = &recording.object;
     // Frames the classifier rejected as outliers, and the topple-labelled frames, per kept frame.
