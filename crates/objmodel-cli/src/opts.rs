@@ -93,6 +93,12 @@ pub struct ClassifyOpts {
     /// magnitude and spacing) and convert them.
     #[arg(long)]
     pub stamps_in_seconds: bool,
+    /// The unit of the positions in files that do not declare theirs (TUM files, CSV headers
+    /// without units; a header's `x [mm]` declares millimetres): m, cm or mm. Without it they
+    /// are read as metres, and a demonstration whose noise or features are implausible in
+    /// metres teaches nothing (its report says so)
+    #[arg(long, value_name = "UNIT")]
+    pub length_unit: Option<objmodel::format::LengthUnit>,
 }
 
 impl ClassifyOpts {
@@ -174,6 +180,7 @@ impl ClassifyOpts {
         c.clocks.palm_time_offset_s = self.palm_time_offset;
         c.clocks.max_dt_s = self.max_dt;
         c.clocks.detect_time_unit = !self.stamps_in_seconds;
+        c.length_unit = self.length_unit;
         Ok(c)
     }
 }

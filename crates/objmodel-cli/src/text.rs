@@ -2,6 +2,7 @@
 //! and standard output (JSON goes through serde).
 
 use objmodel::classify::{Classification, Label};
+use objmodel::format::LengthUnit;
 use objmodel::tree::Tree;
 use std::path::Path;
 
@@ -28,6 +29,9 @@ pub fn classification(c: &Classification, frames: bool) -> String {
     );
     for w in &c.warnings {
         s += &format!("  warning: {w}\n");
+    }
+    if let Some(u) = c.length_unit.filter(|&u| u != LengthUnit::Metres) {
+        s += &format!("  positions read in {u}, converted to metres\n");
     }
     if let Some(n) = c.noise {
         // Relative to a palm, given noise is propagated from both trackers' noise.

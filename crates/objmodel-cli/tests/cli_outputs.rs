@@ -654,3 +654,82 @@ fn classify_json_reports_correlated_noise() {
     }
     assert!(found >= 2, "found in {found} of 3 camera slides");
 }
+
+// ---------------------------------------------------------------------------------------------
+// Positions in millimetres: declared by a CSV header, given with --length-unit, or neither.
+
+/// A TUM file's poses with positions times `k`, as TUM lines and as CSV lines.
+fn scaled_lines(tum: &Path, k: f64) -> (String, String) {
+    let (mut t, mut c) = (String::new(), String::new());
+    for line in std::fs::read_to_string(tum).unwrap().lines() {
+        if line.starts_with('#') || line.trim().is_empty() {
+            continue;
+        }
+        let mut v: Vec<f64> = line
+            .split_whitespace()
+            .map(|x| x.parse().unwrap())
+            .collect();
+        v[1..4].iter_mut().for_each(|x| *x *= k);
+        let f: Vec<String> = v.iter().map(|x| x.to_string()).collect();
+        t += &(f.join(" ") + "\n");
+        c += &(f.join(",") + "\n");
+    }
+    (t, c)
+}
+
+#[test]
+fn length_units_declared_given_or_refused() {
+    let d = TempDir::new("units");
+    let file = &synth("topple", &d.join("m"), 1, 5, &[])[0];
+    let metres = classify_json(file, &[]);
+    assert_eq!(metres["kind"], "topple", "{metres}");
+    assert!(metres.get("length_unit").is_none(), "{metres}");
+    let (tum, csv) = scaled_lines(file, 1e3);
+    let mm_tum = d.join("mm.tum");
+    let mm_csv = d.join("mm.csv");
+    std::fs::write(&mm_tum, tum).unwrap();
+    std::fs::write(
+        &mm_csv,
+        format!("t (s),x [mm],y [mm],z [mm],qx,qy,qz,qw\n{csv}"),
+    )
+    .unwrap();
+    let point = |v: &Value| -> Vec<f64> {
+        let p = &v["topples"][0]["edge"]["line"]["point"];
+        (0..3)
+            .map(|k| p[k].as_f64().expect("an edge point"))
+            .collect()
+    };
+    for v in [
+        classify_json(&mm_tum, &["--length-unit", "mm"]),
+        classify_json(&mm_csv, &[]),
+    ] {
+        assert_eq!(v["kind"], "topple", "{v}");
+        assert_eq!(v["length_unit"], "mm", "{v}");
+        let (a, b) = (point(&metres), point(&v));
+        assert!((0..3).all(|k| (a[k] - b[k]).abs() < 1e-7), "{a:?} {b:?}");
+    }
+    // Read as metres: nothing taught, and the report says which unit to give.
+    let v = classify_json(&mm_tum, &[]);
+    let why = v["withheld"]
+        .as_str()
+        .unwrap_or_else(|| panic!("not withheld: {v}"));
+    assert!(
+        why.contains("do not look like metres") && why.contains("--length-unit mm"),
+        "{why}"
+    );
+    assert!(v["topples"].as_array().unwrap().is_empty(), "{v}");
+    // The summary says what it read.
+    let r = run(&["classify".to_string(), s(&mm_csv)]).ok();
+    r.check(
+        r.stdout
+            .contains("positions read in mm, converted to metres"),
+        "the summary names the unit",
+    );
+    // A unit that is not a length is an error naming the column.
+    std::fs::write(&mm_csv, "t,x [deg],y,z,qx,qy,qz,qw\n0,0,0,0,0,0,0,1\n").unwrap();
+    let r = run(&["classify".to_string(), s(&mm_csv)]).fails();
+    r.check(
+        r.stderr.contains("mm.csv:1: CSV header: column 2"),
+        "a unit that is no length is refused with its place",
+    );
+}

@@ -8,8 +8,9 @@ use objmodel::noise::NoiseModel;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-/// The keyword arguments accepted besides `gravity` and `method`: the command line's options
-/// of the same names (`objmodel classify --help`).
+/// The numeric keyword arguments accepted besides `gravity`, `method` and `length_unit` (the
+/// positions' unit, `"m"`, `"cm"` or `"mm"`): the command line's options of the same names
+/// (`objmodel classify --help`).
 pub const OPTIONS: [&str; 16] = [
     "alpha",
     "outlier_alpha",
@@ -98,9 +99,17 @@ pub fn config(
     if let Some(kw) = kwargs {
         for (k, v) in kw.iter() {
             let k: String = k.extract()?;
+            if k == "length_unit" {
+                let unit: String = v
+                    .extract()
+                    .map_err(|_| err("length_unit must be \"m\", \"cm\" or \"mm\""))?;
+                c.length_unit = Some(unit.parse().map_err(err)?);
+                continue;
+            }
             if !OPTIONS.contains(&k.as_str()) {
                 return Err(pyo3::exceptions::PyTypeError::new_err(format!(
-                    "unexpected keyword argument '{k}'; the threshold options are {}",
+                    "unexpected keyword argument '{k}'; the options are length_unit and the \
+                     thresholds {}",
                     OPTIONS.join(", ")
                 )));
             }

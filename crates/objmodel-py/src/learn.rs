@@ -119,7 +119,8 @@ fn warn_reports(py: Python<'_>, prepared: &[Prepared], reports: &[Observation]) 
 /// gravity given against the demonstrations (their rests' vertical, their flights' fall) and
 /// raise, naming the gravity they show, where they contradict it (False: learn anyway, as
 /// `--no-gravity-check`); `**options`: the command line's thresholds (`alpha`, `min_rest`,
-/// `noise_position`, ...).
+/// `noise_position`, ...) and `length_unit` ("m", "cm" or "mm": the unit of the positions
+/// given as arrays, and of files that do not declare theirs; default metres, checked).
 ///
 /// Returns the Tree. Warnings are ObjmodelWarning; errors ObjmodelError, with the command
 /// line's messages. All demonstrations are learnt or, on an error, none.

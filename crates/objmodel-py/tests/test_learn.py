@@ -197,3 +197,22 @@ def test_a_gravity_the_demonstrations_contradict_raises_and_names_theirs():
         right = objmodel.learn(rows, gravity=(0, -1, 0))
         unchecked = objmodel.learn(rows, gravity_check=False)
     assert right.edges.shape[0] > 0 and len(unchecked.demos) == len(demos)
+
+
+def test_millimetres_given_or_refused(box):
+    """Positions in millimetres: with length_unit="mm" they teach what metres do; read as
+    metres (a real tracker's noise, 1 mm) they teach nothing, and the warning names the unit."""
+    t, m, truth = topple.topple(box, "+x")
+    rows = topple.rows_of(t, m)
+    mm = rows.copy()
+    mm[:, 1:4] *= 1e3
+    tree = objmodel.learn([mm], length_unit="mm")
+    dist, ang = nearest_edge(tree, truth)
+    assert dist < 1e-6 and ang < 1e-6, (dist, ang)
+    noisy = mm.copy()
+    noisy[:, 1:4] += np.random.default_rng(3).normal(0.0, 1.0, (len(mm), 3))
+    with pytest.warns(objmodel.ObjmodelWarning, match=r"do not look like metres.*length-unit mm"):
+        refused = objmodel.learn([noisy])
+    assert refused.edges.shape[0] == 0 and refused.faces.shape[0] == 0
+    with pytest.raises(objmodel.ObjmodelError, match="unknown length unit \"in\""):
+        objmodel.learn([mm], length_unit="in")

@@ -28,6 +28,8 @@
 //!   landing of another demonstration agrees in down and place; [`support`]: the height of
 //!   the plane the object rests on, from the edges it turned about on it, which gives the
 //!   landings' faces their offsets.
+//! * [`length_check`]: whether positions read in metres (their unit undeclared) look like
+//!   metres; a millimetre file read as metres teaches nothing, and says which unit to give.
 //! * [`vertical`]: the vertical that the rests of many demonstrations turn about, which
 //!   checks the gravity given (a motion-capture frame with y up, learnt as z up).
 //! * [`dynamics`], [`pendulum`]: each topple's angles, onset, φ and pendulum fit.
@@ -45,7 +47,8 @@
 //! thread) is a crate-private implementation detail behind one module, `fast`; every kernel
 //! there gives the bits of the plainer code it mirrors in the modules above.
 //!
-//! Units are SI throughout (m, rad, s, kg). Transforms are named by frames: `world_from_object`
+//! Units are SI throughout (m, rad, s, kg); files in millimetres or milliseconds are converted
+//! as they are read ([`format::LengthUnit`], [`format::TimeUnit`]). Transforms are named by frames: `world_from_object`
 //! maps a point in object coordinates to world coordinates.
 
 #![warn(missing_docs)]
@@ -67,6 +70,7 @@ pub mod geometry;
 pub mod inertia;
 pub mod landing;
 pub mod learn;
+pub mod length_check;
 pub mod mass;
 pub mod noise;
 pub mod noise_correlation;

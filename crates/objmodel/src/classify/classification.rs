@@ -298,6 +298,11 @@ pub struct Classification {
     /// does not.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub withheld: Option<String>,
+    /// The unit the positions were read in where it is known (declared by the files, or
+    /// given: [`Config::length_unit`](super::Config)), and converted to metres from; `None`
+    /// where metres were assumed (and checked: [`crate::length_check`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub length_unit: Option<crate::format::LengthUnit>,
 }
 
 impl Classification {

@@ -68,6 +68,7 @@ pub(super) fn conclude(
         parts: Vec::new(),
         rolls: Vec::new(),
         withheld: None,
+        length_unit: None,
     };
     c.fill_parts();
     c

@@ -138,6 +138,11 @@ pub struct Config {
     /// The object's and the palm's clocks (offset, pairing tolerance, time units).
     #[serde(default)]
     pub clocks: Clocks,
+    /// The unit of positions in files and poses that do not declare their own (a CSV
+    /// header's `x [mm]` does: [`crate::format::LengthUnit`]); `None`: metres, which the
+    /// learner checks against the data ([`crate::length_check`]).
+    #[serde(default)]
+    pub length_unit: Option<crate::format::LengthUnit>,
 }
 
 impl Default for Config {
@@ -148,6 +153,7 @@ impl Default for Config {
             robust: RobustConfig::default(),
             gravity: Some(Vector3::new(0.0, 0.0, -1.0)),
             clocks: Clocks::default(),
+            length_unit: None,
         }
     }
 }

@@ -3,16 +3,22 @@
 use super::cleaning::RotatingCleaner;
 use super::{Analyzer, Classification, Config};
 use crate::fast::handover::{push_cleaned_frames, CleanedFrames, ThreadedPoses};
-use crate::format::{self, TimeUnit};
+use crate::format::{self, DeclaredUnits, LengthUnit, TimeUnit};
 use crate::recording::Recorder;
 use crate::Result;
 use std::path::Path;
 
-/// The unit of a pose file's stamps, if `config` asks to recognise it (from its first
-/// [`format::TIME_UNIT_STAMPS`] poses; seconds for standard input, which cannot be read
+/// The unit of a pose file's stamps, if `config` asks to recognise it and the file does
+/// not declare it (`declared`; the reader converts a declared unit): from its first
+/// [`format::TIME_UNIT_STAMPS`] poses (seconds for standard input, which cannot be read
 /// twice), and the warning when it is not seconds.
-fn stamp_unit(path: &Path, what: &str, config: &Config) -> Result<(f64, Option<String>)> {
-    if !config.clocks.detect_time_unit {
+fn stamp_unit(
+    path: &Path,
+    declared: DeclaredUnits,
+    what: &str,
+    config: &Config,
+) -> Result<(f64, Option<String>)> {
+    if !config.clocks.detect_time_unit || declared.time.is_some() {
         return Ok((1.0, None));
     }
     // A bad line is reported by the reading proper, with its place in the stream.
@@ -21,6 +27,17 @@ fn stamp_unit(path: &Path, what: &str, config: &Config) -> Result<(f64, Option<S
         TimeUnit::Seconds => (1.0, None),
         u => (u.seconds(), Some(format::conversion_warning(what, u))),
     })
+}
+
+/// The metres per unit of a pose file's positions as read (1 where the file declares its
+/// unit: the reader converts it; else the unit `config` gives, if any), and the unit, where
+/// it is known (declared or given).
+fn position_unit(declared: DeclaredUnits, config: &Config) -> (f64, Option<LengthUnit>) {
+    match (declared.length, config.length_unit) {
+        (Some(u), _) => (1.0, Some(u)),
+        (None, Some(u)) => (u.metres(), Some(u)),
+        (None, None) => (1.0, None),
+    }
 }
 
 /// Classify the demonstration in `object` (TUM or CSV), with `palm` as its palm trajectory
@@ -47,14 +64,19 @@ pub(crate) fn classify_files_recording(
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| object.display().to_string());
     let mut a = Analyzer::new(&name, config, palm.is_some());
-    let (object_scale, object_warning) = stamp_unit(object, "object", config)?;
+    let object_units = format::declared_units(object);
+    let (object_scale, object_warning) = stamp_unit(object, object_units, "object", config)?;
+    let (object_metres, object_length) = position_unit(object_units, config);
     let mut warnings: Vec<String> = object_warning.into_iter().collect();
+    let mut length_unit = object_length;
     match palm {
-        None if object_scale != 1.0 => {
-            // Stamps not in seconds: converted on this thread (not the fast path's).
+        None if object_scale != 1.0 || object_metres != 1.0 => {
+            // Stamps not in seconds or positions not in metres: converted on this thread (not
+            // the fast path's).
             for (i, p) in (0u64..).zip(ThreadedPoses::spawn(format::open(object)?)) {
                 let mut p = p?;
                 p.t *= object_scale;
+                p.pose.translation.vector *= object_metres;
                 if let Some(r) = recorder.as_deref_mut() {
                     r.object(i, p.t, &p.pose.rotation, &p.pose.translation.vector);
                 }
@@ -94,7 +116,11 @@ pub(crate) fn classify_files_recording(
             }
         }
         Some(palm) => {
-            let (palm_scale, palm_warning) = stamp_unit(palm, "palm", config)?;
+            let palm_units = format::declared_units(palm);
+            let (palm_scale, palm_warning) = stamp_unit(palm, palm_units, "palm", config)?;
+            let (palm_metres, palm_length) = position_unit(palm_units, config);
+            // Known only where both streams' units are.
+            length_unit = length_unit.filter(|_| palm_length.is_some());
             warnings.extend(palm_warning);
             let offset = config.clocks.palm_time_offset_s;
             let mut objects = ThreadedPoses::spawn(format::open(object)?);
@@ -104,6 +130,7 @@ pub(crate) fn classify_files_recording(
                 objects.next().transpose().map(|o| {
                     o.map(|mut o| {
                         o.t *= object_scale;
+                        o.pose.translation.vector *= object_metres;
                         o
                     })
                 })
@@ -112,6 +139,7 @@ pub(crate) fn classify_files_recording(
                 palms.next().transpose().map(|p| {
                     p.map(|mut p| {
                         p.t = p.t * palm_scale + offset;
+                        p.pose.translation.vector *= palm_metres;
                         p
                     })
                 })
@@ -152,5 +180,6 @@ pub(crate) fn classify_files_recording(
         e => e,
     })?;
     c.warnings.splice(0..0, warnings);
+    c.length_unit = length_unit;
     Ok(c)
 }

@@ -324,6 +324,7 @@ impl PaperMethod {
             parts: Vec::new(),
             rolls: Vec::new(),
             withheld: None,
+            length_unit: None,
         };
         c.fill_parts();
         Ok(c)

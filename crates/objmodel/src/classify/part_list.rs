@@ -203,6 +203,11 @@ impl Classification {
             s.departs_from_support = false;
             s.arrives_on_support = false;
         }
+        for r in self.rolls.iter_mut().filter(|r| r.taught) {
+            r.taught = false;
+            r.support = None;
+            r.withheld = Some(why.to_string());
+        }
         self.paper_edge = None;
         self.withheld = Some(why.to_string());
         self.warnings

@@ -10,7 +10,8 @@
 //! space became a field with quotes, which is no number; `""` is unescaped), and it split the
 //! 200001 lines of a CSV pose file in 43-56 ms against 12-16 ms here.
 
-use super::layout::{column_name, column_role, HEADER_STAMP, LOG_TIME, VALUES};
+use super::layout::{column_name, column_role, column_unit, HEADER_STAMP, LOG_TIME, VALUES};
+use super::length_unit::{time_unit_from_name, DeclaredUnits, LengthUnit};
 use super::number::parse_f64;
 use super::problem::Problem;
 
@@ -118,49 +119,94 @@ pub(crate) struct Header {
     cols: [usize; VALUES],
     /// Line the header is on.
     line: usize,
+    /// What every value is multiplied by: the declared units' seconds and metres (1 where
+    /// none is declared).
+    scale: [f64; VALUES],
+    /// The units the header declares.
+    declared: DeclaredUnits,
+    /// A line whose pose fields are all empty is a gap (skipped), not a problem.
+    gaps: bool,
 }
 
 impl Header {
     /// Read header line `line`; the problem names the missing (or doubled) columns.
     pub(crate) fn parse(s: &[u8], line: usize) -> Result<Header, Problem> {
-        let mut roles = Vec::new();
-        let mut cols = [usize::MAX; VALUES];
-        let mut seen = Vec::new();
+        let names: Vec<String> = fields(s).iter().map(|f| f.to_ascii_lowercase()).collect();
         // A ROS message flattened to CSV has the time it was logged (`%time`) and the time it
         // was measured (`field.header.stamp`): the motion is in the second.
-        let mut fields = Fields::new(s);
-        let stamped = std::iter::from_fn(|| fields.next_field())
-            .any(|(a, b)| column_name(&String::from_utf8_lossy(&s[a..b])) == HEADER_STAMP);
-        let mut fields = Fields::new(s);
-        while let Some((a, b)) = fields.next_field() {
-            let name = String::from_utf8_lossy(&s[a..b]).to_ascii_lowercase();
-            let col = roles.len();
-            let role = column_role(&name).filter(|_| !(stamped && column_name(&name) == LOG_TIME));
-            match role {
+        let stamped = names.iter().any(|n| column_name(n) == HEADER_STAMP);
+        let roles = names
+            .iter()
+            .map(|n| column_role(n).filter(|_| !(stamped && column_name(n) == LOG_TIME)))
+            .collect();
+        Header::from_roles(names, roles, line)
+    }
+
+    /// The header of columns `names` (as written, lower case) that give `roles` (an index into
+    /// `COLUMNS`, or none), on line `line`; the problem names the missing (or doubled) columns,
+    /// or a unit that is not its column's.
+    pub(crate) fn from_roles(
+        mut names: Vec<String>,
+        roles: Vec<Option<usize>>,
+        line: usize,
+    ) -> Result<Header, Problem> {
+        let mut cols = [usize::MAX; VALUES];
+        // (value, column, name) of every column that gives a value.
+        let mut named = Vec::new();
+        for (col, role) in roles.iter().enumerate() {
+            match *role {
                 Some(r) if cols[r] != usize::MAX => {
                     return Err(Problem::DoubledColumn {
                         role: r,
                         first: cols[r] + 1,
                         second: col + 1,
-                        names: [std::mem::take(&mut seen[cols[r]]), name],
+                        names: [
+                            std::mem::take(&mut names[cols[r]]),
+                            std::mem::take(&mut names[col]),
+                        ],
                     });
                 }
                 Some(r) => {
                     cols[r] = col;
-                    roles.push(r as u8);
+                    named.push((r, col, names[col].clone()));
                 }
-                None => roles.push(IGNORE),
+                None => {}
             }
-            seen.push(name);
         }
         let missing: Vec<usize> = (0..VALUES).filter(|&r| cols[r] == usize::MAX).collect();
         if !missing.is_empty() {
             return Err(Problem::MissingColumns {
                 missing,
-                found: seen,
+                found: names,
             });
         }
-        Ok(Header { roles, cols, line })
+        let (scale, declared) = declared_units(&named)?;
+        Ok(Header {
+            roles: roles
+                .iter()
+                .map(|r| r.map_or(IGNORE, |r| r as u8))
+                .collect(),
+            cols,
+            line,
+            scale,
+            declared,
+            gaps: false,
+        })
+    }
+
+    /// This header with its positions in `unit` (declared elsewhere than in its columns, as a
+    /// motion-capture export's metadata does), and its lines without a pose (every position
+    /// and rotation field empty: the body unseen) skipped rather than refused.
+    pub(crate) fn with_length_and_gaps(mut self, unit: LengthUnit) -> Header {
+        self.declared.length = Some(unit);
+        self.scale[1..4].fill(unit.metres());
+        self.gaps = true;
+        self
+    }
+
+    /// The units the header declares.
+    pub(crate) fn declared(&self) -> DeclaredUnits {
+        self.declared
     }
 
     /// Role of column `col`: an index into `COLUMNS`, or >= 8 for an ignored column.
@@ -184,7 +230,7 @@ impl Header {
             let role = self.role(count);
             if role < VALUES {
                 match parse_f64(&s[a..b]) {
-                    Some(v) => vals[role] = v,
+                    Some(v) => vals[role] = v * self.scale[role],
                     None if bad.is_none() => bad = Some((count, role, a, b)),
                     None => {}
                 }
@@ -199,6 +245,9 @@ impl Header {
             });
         }
         if let Some((col, role, a, b)) = bad {
+            if self.gaps && self.pose_fields_empty(s) {
+                return Ok(None);
+            }
             return Err(Problem::NotANumber {
                 column: col + 1,
                 role,
@@ -208,11 +257,73 @@ impl Header {
         Ok(Some(vals))
     }
 
+    /// Whether every field of data line `s` that holds a position or a rotation is empty.
+    #[cold]
+    fn pose_fields_empty(&self, s: &[u8]) -> bool {
+        (1..VALUES).all(|role| self.field(s, role).is_some_and(|(a, b)| a == b))
+    }
+
     /// Span of the field of data line `s` that holds value `role`.
     pub(crate) fn field(&self, s: &[u8], role: usize) -> Option<(usize, usize)> {
         let mut f = Fields::new(s);
         (0..=self.cols[role]).filter_map(|_| f.next_field()).last()
     }
+}
+
+/// The units that the header columns `named` (value, column, name) declare
+/// ([`column_unit`]), and the scale of every value they give: a timestamp's unit, and one
+/// length for the positions (a position column without a unit takes the others'). A unit
+/// that is not the value's, or two lengths, is a problem.
+fn declared_units(
+    named: &[(usize, usize, String)],
+) -> Result<([f64; VALUES], DeclaredUnits), Problem> {
+    let mut scale = [1.0; VALUES];
+    let mut declared = DeclaredUnits::default();
+    let mut length: Option<(LengthUnit, &String)> = None;
+    for (role, col, name) in named {
+        let Some(unit) = column_unit(name) else {
+            continue;
+        };
+        let unknown = || Problem::UnknownUnit {
+            column: col + 1,
+            role: *role,
+            name: name.clone(),
+        };
+        match role {
+            0 => {
+                let u = time_unit_from_name(&unit).ok_or_else(unknown)?;
+                declared.time = Some(u);
+                scale[0] = u.seconds();
+            }
+            1..=3 => {
+                let u = LengthUnit::from_name(&unit).ok_or_else(unknown)?;
+                match length {
+                    Some((first, first_name)) if first != u => {
+                        return Err(Problem::MixedUnits {
+                            names: [first_name.clone(), name.clone()],
+                        })
+                    }
+                    Some(_) => {}
+                    None => length = Some((u, name)),
+                }
+            }
+            // A quaternion's components have no unit, whatever a header says.
+            _ => {}
+        }
+    }
+    if let Some((u, _)) = length {
+        declared.length = Some(u);
+        scale[1..4].fill(u.metres());
+    }
+    Ok((scale, declared))
+}
+
+/// The fields of a CSV line: trimmed, without quotes.
+pub(crate) fn fields(line: &[u8]) -> Vec<String> {
+    let mut f = Fields::new(line);
+    std::iter::from_fn(|| f.next_field())
+        .map(|(a, b)| String::from_utf8_lossy(&line[a..b]).into_owned())
+        .collect()
 }
 
 /// True if `line` looks like a CSV header: it has a comma, and a field with a letter that is
@@ -229,4 +340,100 @@ pub(crate) fn looks_like_header(line: &[u8]) -> bool {
         }
     }
     false
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::layout::Format;
+    use super::super::reader::PoseReader;
+    use super::super::TimeUnit;
+    use super::*;
+    use proptest::prelude::*;
+
+    /// The poses of CSV text, and the units its header declares.
+    fn read(
+        text: &str,
+    ) -> (
+        crate::Result<Vec<crate::trajectory::StampedPose>>,
+        DeclaredUnits,
+    ) {
+        let mut r = PoseReader::new(text.as_bytes(), "f.csv".into(), Format::Csv);
+        let poses = r.by_ref().collect();
+        (poses, r.declared_units())
+    }
+
+    const LENGTHS: [(&str, f64); 5] = [
+        ("", 1.0),
+        (" [m]", 1.0),
+        (" (Meters)", 1.0),
+        (" [cm]", 1e-2),
+        (" (Millimeters)", 1e-3),
+    ];
+    const TIMES: [(&str, f64); 5] = [
+        ("", 1.0),
+        (" (Seconds)", 1.0),
+        (" [ms]", 1e-3),
+        (" [us]", 1e-6),
+        (" [ns]", 1e-9),
+    ];
+
+    proptest! {
+        /// A header's units scale what it gives, and only that: the positions by the length
+        /// (a column without a unit takes the others'), the stamp by the time, never the
+        /// quaternion.
+        #[test]
+        fn declared_units_scale_their_values(
+            l in 0..LENGTHS.len(),
+            tu in 0..TIMES.len(),
+            bare in 0..3usize,
+            t in 0.0..1e6f64,
+            p in prop::array::uniform3(-1e4..1e4f64),
+        ) {
+            let (lu, lk) = LENGTHS[l];
+            let (tname, tk) = TIMES[tu];
+            let unit = |axis: usize| if axis == bare { "" } else { lu };
+            let text = format!(
+                "time{tname},x{},y{},z{},qx [],qy,qz,qw\n{t},{},{},{},0.6,0,0,0.8\n",
+                unit(0), unit(1), unit(2), p[0], p[1], p[2]
+            );
+            let (poses, declared) = read(&text);
+            let pose = poses.unwrap()[0];
+            prop_assert_eq!(pose.t, t * tk);
+            for (got, given) in pose.pose.translation.vector.iter().zip(p) {
+                prop_assert_eq!(*got, given * lk);
+            }
+            prop_assert!((pose.pose.rotation.coords - nalgebra::Vector4::new(0.6, 0.0, 0.0, 0.8)).norm() < 1e-15);
+            prop_assert_eq!(declared.length.map(LengthUnit::metres), (!lu.is_empty()).then_some(lk));
+            prop_assert_eq!(declared.time.map(TimeUnit::seconds), (!tname.is_empty()).then_some(tk));
+        }
+    }
+
+    #[test]
+    fn units_that_are_not_the_columns_are_named() {
+        let cases = [
+            (
+                "t,x [deg],y,z,qx,qy,qz,qw",
+                "f.csv:1: CSV header: column 2 (\"x [deg]\", tx) declares a unit that is not a \
+                 length: m, cm or mm",
+            ),
+            (
+                "t (min),x,y,z,qx,qy,qz,qw",
+                "f.csv:1: CSV header: column 1 (\"t (min)\", timestamp) declares a unit that is \
+                 not a time: s, ms, us or ns",
+            ),
+            (
+                "t,x [mm],y [mm],z [cm],qx,qy,qz,qw",
+                "f.csv:1: CSV header: the position columns declare different units (\"x [mm]\" \
+                 and \"z [cm]\"); give them one",
+            ),
+        ];
+        for (header, want) in cases {
+            let (poses, _) = read(&format!("{header}\n0,0,0,0,0,0,0,1\n"));
+            assert_eq!(poses.unwrap_err().to_string(), want);
+        }
+        // A quaternion's "unit" is no problem, and declares nothing.
+        let (poses, declared) = read("t,x,y,z,qx (unitless),qy [1],qz,qw\n0,0,0,0,0,0,0,1\n");
+        assert_eq!(poses.unwrap().len(), 1);
+        assert_eq!(declared, DeclaredUnits::default());
+    }
 }

@@ -3,6 +3,7 @@
 
 use super::detect::has_csv_name;
 use super::layout::Format;
+use super::length_unit::DeclaredUnits;
 use super::mapped;
 use super::reader::PoseReader;
 use crate::trajectory::{Demonstration, StampedPose};
@@ -91,6 +92,27 @@ pub fn read_first(path: &Path, n: usize) -> Result<Vec<StampedPose>> {
         path.to_path_buf(),
     );
     reader.take(n).collect()
+}
+
+/// The units a pose file declares (a CSV header's: [`DeclaredUnits`]), read from its first
+/// lines; none for standard input (`-`, which cannot be read twice) and for a file whose
+/// first pose cannot be read (the reading proper reports the problem, with its place).
+pub fn declared_units(path: &Path) -> DeclaredUnits {
+    if path.as_os_str() == "-" {
+        return DeclaredUnits::default();
+    }
+    let Ok(f) = std::fs::File::open(path) else {
+        return DeclaredUnits::default();
+    };
+    let mut reader = reader_for(
+        BufReader::with_capacity(1 << 14, f),
+        path,
+        path.to_path_buf(),
+    );
+    match reader.next() {
+        Some(Ok(_)) => reader.declared_units(),
+        _ => DeclaredUnits::default(),
+    }
 }
 
 /// Read a whole trajectory (see [`open`]). A file without a single pose is an error.

@@ -80,6 +80,20 @@ pub(crate) fn column_name(field: &str) -> String {
     name
 }
 
+/// The unit a CSV header field declares in brackets or parentheses at its end, lower case
+/// (`X (Millimeters)`: `millimeters`), if any; empty brackets (EuRoC's `q_RS_w []`) declare
+/// none.
+pub(crate) fn column_unit(field: &str) -> Option<String> {
+    let name = field.trim().to_lowercase();
+    [('[', ']'), ('(', ')')]
+        .into_iter()
+        .find_map(|(open, close)| {
+            let inner = name.strip_suffix(close)?;
+            let unit = inner[inner.rfind(open)? + open.len_utf8()..].trim();
+            (!unit.is_empty()).then(|| unit.to_string())
+        })
+}
+
 /// A quaternion whose norm differs from 1 by more than this (relative) is rejected as corrupt;
 /// smaller deviations (rounding in the file) are normalised silently.
 pub const QUAT_NORM_TOLERANCE: f64 = 1e-2;

@@ -8,6 +8,7 @@ use super::check::Track;
 use super::csv::{looks_like_header, trim, Header};
 use super::detect::detect_format;
 use super::layout::{Format, VALUES};
+use super::motive::{is_motive_start, Preamble};
 use super::problem::{Context, Problem};
 use super::tum::{is_tum_header, scan_tum, tum_field, TumScan};
 use crate::trajectory::StampedPose;
@@ -25,6 +26,8 @@ pub(crate) enum Mode {
     CsvHeader,
     /// CSV with its header.
     Csv(Header),
+    /// An OptiTrack Motive export, before its column header.
+    Motive(Preamble),
 }
 
 /// The values of a line in TUM order, `None` for a line to skip, or its problem.
@@ -99,6 +102,7 @@ impl State {
             Mode::Tum => return self.finish_tum(&scan_tum(line), line),
             Mode::Csv(h) => h.values(line),
             Mode::Auto | Mode::CsvHeader => self.first_lines(line),
+            Mode::Motive(_) => self.motive_line(line),
         };
         self.finish(values, line)
     }
@@ -168,7 +172,23 @@ impl State {
                 return values;
             }
         }
+        if is_motive_start(body) {
+            self.mode = Mode::Motive(Preamble::parse(body)?);
+            return Ok(None);
+        }
         self.mode = Mode::Csv(Header::parse(body, self.track.line_no)?);
+        Ok(None)
+    }
+
+    /// A line of a Motive export's preamble.
+    #[cold]
+    fn motive_line(&mut self, line: &[u8]) -> Values {
+        let Mode::Motive(preamble) = &mut self.mode else {
+            unreachable!("called in Motive mode")
+        };
+        if let Some(h) = preamble.take(line, self.track.line_no)? {
+            self.mode = Mode::Csv(h);
+        }
         Ok(None)
     }
 }

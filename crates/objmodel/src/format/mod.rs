@@ -4,6 +4,12 @@
 //!   a comment (whole line or trailing), blank lines are skipped, `\r\n` is accepted.
 //! * **CSV**: a header line names the columns (case-insensitive, any order): `timestamp`
 //!   (or `t`, `time`), `tx ty tz` (or `x y z`), `qx qy qz qw`; other columns are ignored.
+//!   A unit in brackets or parentheses after a name (`x [mm]`, `Time (Seconds)`) is read:
+//!   positions in m, cm or mm and stamps in s, ms, us or ns are converted to metres and
+//!   seconds ([`LengthUnit`]).
+//! * **OptiTrack Motive's CSV export** (`Format Version,1.23,...` and its rows of asset types,
+//!   names and components): the one rigid body's pose, in the export's `Length Units`; frames
+//!   where the body was unseen are skipped (`motive.rs`).
 //!   Fields are comma separated with optional spaces and optional double quotes. A commented
 //!   header (`#timestamp,x,...`) is accepted too.
 //!
@@ -20,7 +26,10 @@
 //! * `number.rs`: [`parse_f64`];
 //! * `problem.rs`: what can be wrong with a line, and its message;
 //! * `check.rs`: the checks of a line's values, as pure functions;
-//! * `tum.rs`, `csv.rs`: the syntax of TUM and CSV lines, and CSV headers;
+//! * `time_unit.rs`: [`detect_time_unit`], stamps in ms, µs or ns recognised;
+//! * `length_unit.rs`: [`LengthUnit`], [`DeclaredUnits`]: the units a CSV header declares;
+//! * `tum.rs`, `csv.rs`: the syntax of TUM and CSV lines, and CSV headers (with their units);
+//! * `motive.rs`: OptiTrack Motive's CSV export (its preamble gives the CSV header);
 //! * `detect.rs`: [`detect_format`];
 //! * `line.rs`: one line, given the ones before (format, header, previous pose);
 //! * the fast path of TUM reading, speed code: `fast_field.rs` (plain decimals),
@@ -30,7 +39,6 @@
 //! * `reader.rs`: [`PoseReader`];
 //! * `files.rs`: [`open`], [`read_trajectory`], [`read_demonstration`], palm files;
 //! * `write.rs`: [`write_atomic`], [`write_tum`];
-//! * `time_unit.rs`: [`detect_time_unit`], stamps in ms, µs or ns recognised;
 //! * `bag/`: ROS 2 bags (MCAP), [`bag::read_bag_demonstrations`].
 
 pub mod bag;
@@ -42,8 +50,10 @@ mod fast_line;
 mod fast_run;
 mod files;
 mod layout;
+mod length_unit;
 mod line;
 mod mapped;
+mod motive;
 mod number;
 mod problem;
 #[cfg(test)]
@@ -63,9 +73,11 @@ pub use detect::detect_format;
 #[doc(hidden)]
 pub use files::open_mapped;
 pub use files::{
-    is_palm_file, open, palm_path_for, read_demonstration, read_first, read_trajectory,
+    declared_units, is_palm_file, open, palm_path_for, read_demonstration, read_first,
+    read_trajectory,
 };
 pub use layout::{Format, QUAT_NORM_TOLERANCE};
+pub use length_unit::{DeclaredUnits, LengthUnit};
 pub use number::parse_f64;
 pub use reader::PoseReader;
 pub use time_unit::{

@@ -42,6 +42,17 @@ pub(crate) enum Problem {
         second: usize,
         names: [String; 2],
     },
+    /// A CSV header's column `column` (1-based), named `name`, which gives value `role`,
+    /// declares a unit that is none of that value's.
+    UnknownUnit {
+        column: usize,
+        role: usize,
+        name: String,
+    },
+    /// A CSV header's position columns, named `names`, declare different units.
+    MixedUnits { names: [String; 2] },
+    /// A motion-capture (OptiTrack Motive) export that cannot be read, and why.
+    Motive(String),
     /// Value `role` is NaN (`nan`) or infinite.
     NotFinite { role: usize, nan: bool },
     /// The quaternion `q` (qx qy qz qw) is zero.
@@ -146,6 +157,23 @@ impl Problem {
                 "CSV header: columns {first} and {second} both give {} (\"{a}\" and \"{b}\")",
                 COLUMNS[*role]
             ),
+            Problem::UnknownUnit { column, role, name } => {
+                let expected = if *role == 0 {
+                    "a time: s, ms, us or ns"
+                } else {
+                    "a length: m, cm or mm"
+                };
+                format!(
+                    "CSV header: column {column} (\"{name}\", {}) declares a unit that is not \
+                     {expected}",
+                    COLUMNS[*role]
+                )
+            }
+            Problem::MixedUnits { names: [a, b] } => format!(
+                "CSV header: the position columns declare different units (\"{a}\" and \
+                 \"{b}\"); give them one"
+            ),
+            Problem::Motive(why) => format!("Motive export: {why}"),
             Problem::NotFinite { role, nan } => {
                 let what = if *nan { "NaN" } else { "infinite" };
                 let quoted = at

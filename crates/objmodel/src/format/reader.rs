@@ -81,13 +81,21 @@ impl<R: BufRead> PoseReader<R> {
         match self.st.mode {
             Mode::Auto => None,
             Mode::Tum => Some(Format::Tum),
-            Mode::CsvHeader | Mode::Csv(_) => Some(Format::Csv),
+            Mode::CsvHeader | Mode::Csv(_) | Mode::Motive(_) => Some(Format::Csv),
         }
     }
 
     /// True once a CSV header line has been read.
     pub(crate) fn has_csv_header(&self) -> bool {
         matches!(self.st.mode, Mode::Csv(_))
+    }
+
+    /// The units the file declares (a CSV header's, once read: after the first pose).
+    pub fn declared_units(&self) -> super::length_unit::DeclaredUnits {
+        match &self.st.mode {
+            Mode::Csv(h) => h.declared(),
+            _ => Default::default(),
+        }
     }
 
     /// The file name used in messages.

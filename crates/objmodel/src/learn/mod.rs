@@ -179,9 +179,10 @@ impl Learner {
                 crate::classify::classify_files_recording(object, palm, config, None)
             }
             Source::Memory(demo) => {
-                let (demo, warnings) = self.on_one_clock(demo);
+                let (demo, warnings) = self.prepared(demo);
                 let mut c = classify(&demo, config)?;
                 c.warnings.splice(0..0, warnings);
+                c.length_unit = config.length_unit;
                 Ok(c)
             }
             Source::Bag { .. } => unreachable!("bags are split first (observe_all)"),
@@ -204,9 +205,10 @@ impl Learner {
                 (c, recorder.finish())
             }
             Source::Memory(demo) => {
-                let (demo, warnings) = self.on_one_clock(demo);
+                let (demo, warnings) = self.prepared(demo);
                 let mut c = classify(&demo, &self.config)?;
                 c.warnings.splice(0..0, warnings);
+                c.length_unit = self.config.length_unit;
                 (c, Recording::of(&demo, self.capacity))
             }
             Source::Bag { .. } => unreachable!("bags are split first (observe_all)"),
@@ -298,6 +300,7 @@ impl Learner {
         if !unmeasurable {
             crate::roll::mark_rolls(classification, recording, &self.config);
         }
+        crate::length_check::withhold_if_not_metres(classification);
     }
 
     /// Analyse every demonstration of a source: one for files and memory, one per part of a
@@ -312,7 +315,7 @@ impl Learner {
             .into_iter()
             .map(|b| {
                 // The palm's offset is applied, and bag stamps are seconds (sec, nanosec).
-                let demo = &b.demo;
+                let demo = &*self.in_metres(&b.demo);
                 let in_file = |e| match e {
                     crate::Error::Data(msg) => crate::Error::File {
                         file: path.to_path_buf(),
@@ -323,6 +326,7 @@ impl Learner {
                 let classified = |config: &Config| {
                     let mut c = classify(demo, config).map_err(in_file)?;
                     c.warnings.splice(0..0, b.warnings.iter().cloned());
+                    c.length_unit = config.length_unit;
                     Ok(c)
                 };
                 let recording = Recording::of(demo, self.capacity);
@@ -351,10 +355,14 @@ impl Learner {
         Ok(all.remove(0))
     }
 
-    /// `demo` with its palm on the object's clock and its stamps in seconds, and the warnings
-    /// of what was converted.
-    fn on_one_clock<'d>(&self, demo: &'d Demonstration) -> (Cow<'d, Demonstration>, Vec<String>) {
-        let (mut demo, warnings) = self.in_seconds(demo);
+    /// `demo` with its palm on the object's clock, its stamps in seconds and its positions in
+    /// metres, and the warnings of what was converted.
+    fn prepared<'d>(&self, demo: &'d Demonstration) -> (Cow<'d, Demonstration>, Vec<String>) {
+        let (demo, warnings) = self.in_seconds(demo);
+        let mut demo = match self.in_metres(&demo) {
+            Cow::Owned(d) => Cow::Owned(d),
+            Cow::Borrowed(_) => demo,
+        };
         let offset = self.config.clocks.palm_time_offset_s;
         if offset != 0.0 {
             if let Some(palm) = demo.to_mut().palm.as_mut() {
@@ -362,6 +370,23 @@ impl Learner {
             }
         }
         (demo, warnings)
+    }
+
+    /// `demo` with its positions in metres: scaled by the unit the configuration gives
+    /// ([`Config::length_unit`]; poses in memory and bags declare none).
+    fn in_metres<'d>(&self, demo: &'d Demonstration) -> Cow<'d, Demonstration> {
+        let Some(k) = self
+            .config
+            .length_unit
+            .map(|u| u.metres())
+            .filter(|&k| k != 1.0)
+        else {
+            return Cow::Borrowed(demo);
+        };
+        let mut demo = demo.clone();
+        let poses = demo.object.iter_mut().chain(demo.palm.iter_mut().flatten());
+        poses.for_each(|p| p.pose.translation.vector *= k);
+        Cow::Owned(demo)
     }
 
     /// `demo` with its stamps in seconds (each stream's unit recognised, if the configuration
