@@ -17,10 +17,12 @@
 
 mod after_topple;
 pub mod fit;
+mod off_palm;
 mod parts;
 
 pub use after_topple::withhold_topples_that_fly;
 pub use fit::{FlightFit, FlightFrame, FLIGHT_TOLERANCE_M};
+pub use off_palm::withhold_after_leaving_the_palm;
 pub use parts::mark_flights;
 pub(crate) use parts::{split_parts, Span};
 

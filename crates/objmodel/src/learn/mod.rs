@@ -288,6 +288,7 @@ impl Learner {
             );
             crate::onset::remeasure_later_parts(classification, recording, &self.config);
             crate::flight::withhold_topples_that_fly(classification, recording, &self.config);
+            crate::flight::withhold_after_leaving_the_palm(classification, recording, &self.config);
         }
         // (A demonstration that teaches nothing shows no support either.)
         if !unmeasurable {
