@@ -135,6 +135,15 @@ def truth(half, bt_t, bt_r):
     return faces, edges
 
 
+def write_truth(path, half, mu, bt_t, bt_r, faces, edges):
+    """The box, its tag and its faces and edges in the tag frame, as JSON."""
+    with open(path, "w") as f:
+        json.dump({"half": list(half), "mu": mu, "box_from_tag_t": list(bt_t),
+                   "box_from_tag_q": list(bt_r.as_quat()),
+                   "faces": [{"normal": list(n), "offset": d} for n, d in faces],
+                   "edges": [{"point": list(p), "direction": list(u)} for p, u in edges]}, f)
+
+
 def face_true(f, faces):
     n = np.array(f["normal"])
     for nt, dt in faces:
@@ -170,11 +179,7 @@ def main():
         bt_t = np.array([rng.uniform(-0.01, 0.01), rng.uniform(-0.01, 0.01), half[2]])
         bt_r = R.from_euler("z", rng.uniform(-180, 180), degrees=True)
         faces, edges = truth(half, bt_t, bt_r)
-        with open(f"{DIR}/box{k}_{LEVEL}.truth.json", "w") as f:
-            json.dump({"half": list(half), "mu": mu, "box_from_tag_t": list(bt_t),
-                       "box_from_tag_q": list(bt_r.as_quat()),
-                       "faces": [{"normal": list(n), "offset": d} for n, d in faces],
-                       "edges": [{"point": list(p), "direction": list(u)} for p, u in edges]}, f)
+        write_truth(f"{DIR}/box{k}_{LEVEL}.truth.json", half, mu, bt_t, bt_r, faces, edges)
         paths, sps, srs = [], [], []
         for i in range(n):
             if LEVEL == "camera":

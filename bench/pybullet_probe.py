@@ -36,7 +36,7 @@ import pybullet as pb
 from scipy.spatial.transform import Rotation as R
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from mujoco_tosses import edge_true, face_true, truth  # noqa: E402
+from mujoco_tosses import edge_true, face_true, truth, write_truth  # noqa: E402
 from mujoco_box_set import orientations  # noqa: E402
 
 BIN = os.environ.get("OBJMODEL", "target/release/objmodel")
@@ -247,11 +247,7 @@ def main():
         bt_t = np.array([rng.uniform(-0.01, 0.01), rng.uniform(-0.01, 0.01), half[2]])
         bt_r = R.from_euler("z", rng.uniform(-180, 180), degrees=True)
         faces, edges = truth(half, bt_t, bt_r)
-        with open(f"{DIR}/box{k}_{LEVEL}.truth.json", "w") as f:
-            json.dump({"half": list(half), "mu": mu, "box_from_tag_t": list(bt_t),
-                       "box_from_tag_q": list(bt_r.as_quat()),
-                       "faces": [{"normal": list(n), "offset": d} for n, d in faces],
-                       "edges": [{"point": list(p), "direction": list(u)} for p, u in edges]}, f)
+        write_truth(f"{DIR}/box{k}_{LEVEL}.truth.json", half, mu, bt_t, bt_r, faces, edges)
         paths, made = [], {}
         for kind in ("topple", "slide", "palm", "toss"):
             made[kind] = 0
