@@ -5,28 +5,33 @@ use super::{Analyzer, Classification, Config};
 use crate::fast::handover::{push_cleaned_frames, CleanedFrames, ThreadedPoses};
 use crate::format::{self, DeclaredUnits, LengthUnit, TimeUnit};
 use crate::recording::Recorder;
+use crate::trajectory::StampedPose;
 use crate::Result;
 use std::path::Path;
 
 /// The unit of a pose file's stamps, if `config` asks to recognise it and the file does
-/// not declare it (`declared`; the reader converts a declared unit): from its first
-/// [`format::TIME_UNIT_STAMPS`] poses (seconds for standard input, which cannot be read
-/// twice), and the warning when it is not seconds.
+/// not declare it (`declared`; the reader converts a declared unit): from its `first`
+/// [`format::TIME_UNIT_STAMPS`] poses, and the warning when it is not seconds.
 fn stamp_unit(
-    path: &Path,
+    first: &[StampedPose],
     declared: DeclaredUnits,
     what: &str,
     config: &Config,
-) -> Result<(f64, Option<String>)> {
+) -> (f64, Option<String>) {
     if !config.clocks.detect_time_unit || declared.time.is_some() {
-        return Ok((1.0, None));
+        return (1.0, None);
     }
-    // A bad line is reported by the reading proper, with its place in the stream.
-    let first = format::read_first(path, format::TIME_UNIT_STAMPS).unwrap_or_default();
-    Ok(match format::detect_time_unit_of(&first) {
+    match format::detect_time_unit_of(first) {
         TimeUnit::Seconds => (1.0, None),
         u => (u.seconds(), Some(format::conversion_warning(what, u))),
-    })
+    }
+}
+
+/// The first poses of a pose file and the units it declares (none read from standard input,
+/// which cannot be read twice; a bad line is reported by the reading proper, with its place
+/// in the stream).
+fn head(path: &Path) -> (Vec<StampedPose>, DeclaredUnits) {
+    format::read_first_declared(path, format::TIME_UNIT_STAMPS).unwrap_or_default()
 }
 
 /// The metres per unit of a pose file's positions as read (1 where the file declares its
@@ -64,8 +69,8 @@ pub(crate) fn classify_files_recording(
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| object.display().to_string());
     let mut a = Analyzer::new(&name, config, palm.is_some());
-    let object_units = format::declared_units(object);
-    let (object_scale, object_warning) = stamp_unit(object, object_units, "object", config)?;
+    let (object_first, object_units) = head(object);
+    let (object_scale, object_warning) = stamp_unit(&object_first, object_units, "object", config);
     let (object_metres, object_length) = position_unit(object_units, config);
     let mut warnings: Vec<String> = object_warning.into_iter().collect();
     let mut length_unit = object_length;
@@ -116,8 +121,8 @@ pub(crate) fn classify_files_recording(
             }
         }
         Some(palm) => {
-            let palm_units = format::declared_units(palm);
-            let (palm_scale, palm_warning) = stamp_unit(palm, palm_units, "palm", config)?;
+            let (palm_first, palm_units) = head(palm);
+            let (palm_scale, palm_warning) = stamp_unit(&palm_first, palm_units, "palm", config);
             let (palm_metres, palm_length) = position_unit(palm_units, config);
             // Known only where both streams' units are.
             length_unit = length_unit.filter(|_| palm_length.is_some());

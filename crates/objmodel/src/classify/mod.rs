@@ -80,6 +80,7 @@ pub(crate) use conclusion::group_topples;
 pub use config::{Config, Method, PaperThresholds, RobustConfig};
 pub use files::classify_files;
 pub(crate) use files::classify_files_recording;
+pub(crate) use palm::SUPPORT_FRAMES;
 pub use palm::{Clocks, DEFAULT_MAX_DT_S};
 pub use parts::{height_difference_var, OFF_SUPPORT};
 

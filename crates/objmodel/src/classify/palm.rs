@@ -127,7 +127,7 @@ pub(super) struct PalmMerger {
 
 /// Palm frames averaged for the support's "down" in the palm frame (0.5 s at 30 Hz): one frame
 /// would carry its 0.5° orientation noise into every resting-face normal and tilt angle.
-const SUPPORT_FRAMES: usize = 15;
+pub(crate) const SUPPORT_FRAMES: usize = 15;
 
 impl PalmMerger {
     /// A merger; `down_world` is gravity in the world frame, if known; `given`, the object

@@ -22,7 +22,8 @@
 //! is withheld. The edge the object toppled about before it flew stays (its rotation was on
 //! the palm); so does what was measured before the flight.
 
-use super::{find_flights, FlightFrame, FlightTest, MAX_COM_M};
+use super::{find_flights, FlightFrame, FlightTest};
+use crate::classify::SUPPORT_FRAMES;
 use crate::classify::{Classification, Config};
 use crate::recording::Recording;
 use crate::trajectory::StampedPose;
@@ -37,9 +38,6 @@ pub const LEVEL_RAD: f64 = 3.0 * crate::face::SUPPORT_LEVEL_SIGMA_RAD;
 /// palm (the palm's own noise is a fraction of it).
 pub const TURNED_RAD: f64 = 3.0 * crate::face::SUPPORT_LEVEL_SIGMA_RAD;
 
-/// Palm poses that say which way is down relative to the palm (as the classifier does).
-const SUPPORT_FRAMES: usize = 15;
-
 /// Withhold what instrumented demonstration `c` measured relative to the palm after its object
 /// flew and where the palm does not show it was on it (see the module documentation). Needs
 /// gravity and a noise model; direct demonstrations are left as they are.
@@ -48,22 +46,15 @@ pub fn withhold_after_leaving_the_palm(
     recording: &Recording,
     config: &Config,
 ) {
-    let (Some(g), Some(noise)) = (config.gravity, c.noise.or(config.robust.noise)) else {
+    let (Some(g), Some(test)) = (config.gravity, FlightTest::of_world_poses(c, config)) else {
         return;
     };
-    if !c.instrumented || g.norm() == 0.0 || recording.palm.is_empty() {
+    if !c.instrumented || recording.palm.is_empty() {
         return;
     }
     let Some(t0) = c.segments.first().map(|s| s.t_start) else {
         return;
     };
-    // The noise of the motion relative to the palm holds the palm's: at least the object's.
-    let test = FlightTest::new(
-        g.normalize() * crate::pendulum::G,
-        noise,
-        config.robust.alpha,
-        MAX_COM_M,
-    );
     let outlier = c.is_outlier();
     let frames: Vec<FlightFrame> = recording
         .object
@@ -157,6 +148,7 @@ struct PalmLevel<'a> {
 impl<'a> PalmLevel<'a> {
     fn new(palm: &'a [StampedPose], g: &Vector3<f64>) -> Self {
         let g = g.normalize();
+        // Which way is down relative to the palm, as the classifier takes it.
         let sum: Vector3<f64> = palm
             .iter()
             .take(SUPPORT_FRAMES)

@@ -19,16 +19,25 @@ impl FlightTest {
         c: &crate::classify::Classification,
         config: &crate::classify::Config,
     ) -> Option<Self> {
+        Self::of_world_poses(c, config).filter(|_| !c.instrumented)
+    }
+
+    /// [`Self::of_demonstration`] for the object's poses in the world whatever they are
+    /// measured relative to (an instrumented demonstration's too: its noise, of the motion
+    /// relative to the palm, holds the palm's, so it is at least the object's).
+    pub(crate) fn of_world_poses(
+        c: &crate::classify::Classification,
+        config: &crate::classify::Config,
+    ) -> Option<Self> {
         let (g, noise) = (config.gravity?, c.noise.or(config.robust.noise)?);
-        if c.instrumented || g.norm() == 0.0 {
-            return None;
-        }
-        Some(Self::new(
-            g.normalize() * crate::pendulum::G,
-            noise,
-            config.robust.alpha,
-            MAX_COM_M,
-        ))
+        (g.norm() > 0.0).then(|| {
+            Self::new(
+                g.normalize() * crate::pendulum::G,
+                noise,
+                config.robust.alpha,
+                MAX_COM_M,
+            )
+        })
     }
 }
 

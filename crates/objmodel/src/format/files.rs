@@ -79,40 +79,32 @@ fn reader_for<R: BufRead>(reader: R, path: &Path, name: PathBuf) -> PoseReader<R
 /// The first `n` poses of a pose file (fewer if it has fewer), read through a small buffer
 /// (to look at a file before streaming it); `-` (standard input) gives none.
 pub fn read_first(path: &Path, n: usize) -> Result<Vec<StampedPose>> {
+    Ok(read_first_declared(path, n)?.0)
+}
+
+/// [`read_first`], and the units the file declares (a CSV header's: [`DeclaredUnits`]; none
+/// for standard input, which cannot be read twice).
+pub fn read_first_declared(path: &Path, n: usize) -> Result<(Vec<StampedPose>, DeclaredUnits)> {
     if path.as_os_str() == "-" {
-        return Ok(vec![]);
+        return Ok((vec![], DeclaredUnits::default()));
     }
     let f = std::fs::File::open(path).map_err(|source| Error::Io {
         file: path.to_path_buf(),
         source,
     })?;
-    let reader = reader_for(
-        BufReader::with_capacity(1 << 14, f),
-        path,
-        path.to_path_buf(),
-    );
-    reader.take(n).collect()
-}
-
-/// The units a pose file declares (a CSV header's: [`DeclaredUnits`]), read from its first
-/// lines; none for standard input (`-`, which cannot be read twice) and for a file whose
-/// first pose cannot be read (the reading proper reports the problem, with its place).
-pub fn declared_units(path: &Path) -> DeclaredUnits {
-    if path.as_os_str() == "-" {
-        return DeclaredUnits::default();
-    }
-    let Ok(f) = std::fs::File::open(path) else {
-        return DeclaredUnits::default();
-    };
     let mut reader = reader_for(
         BufReader::with_capacity(1 << 14, f),
         path,
         path.to_path_buf(),
     );
-    match reader.next() {
-        Some(Ok(_)) => reader.declared_units(),
-        _ => DeclaredUnits::default(),
-    }
+    let poses = reader.by_ref().take(n).collect::<Result<Vec<_>>>()?;
+    Ok((poses, reader.declared_units()))
+}
+
+/// The units a pose file declares ([`read_first_declared`]); none for a file whose first pose
+/// cannot be read (the reading proper reports the problem, with its place).
+pub fn declared_units(path: &Path) -> DeclaredUnits {
+    read_first_declared(path, 1).map_or_else(|_| DeclaredUnits::default(), |(_, u)| u)
 }
 
 /// Read a whole trajectory (see [`open`]). A file without a single pose is an error.

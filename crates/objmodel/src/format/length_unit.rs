@@ -16,6 +16,7 @@
 //!    implausible in metres teaches nothing, and its report says which unit to give.
 
 use super::time_unit::TimeUnit;
+use crate::trajectory::StampedPose;
 use serde::{Deserialize, Serialize};
 
 /// A unit of length.
@@ -95,6 +96,16 @@ pub(crate) fn time_unit_from_name(name: &str) -> Option<TimeUnit> {
         }
         "ns" | "nsec" | "nanosecond" | "nanoseconds" => Some(TimeUnit::Nanoseconds),
         _ => None,
+    }
+}
+
+/// Convert `poses`' positions from `unit` to metres.
+pub fn to_metres(poses: &mut [StampedPose], unit: LengthUnit) {
+    if unit != LengthUnit::Metres {
+        let k = unit.metres();
+        poses
+            .iter_mut()
+            .for_each(|p| p.pose.translation.vector *= k);
     }
 }
 

@@ -74,10 +74,10 @@ pub use detect::detect_format;
 pub use files::open_mapped;
 pub use files::{
     declared_units, is_palm_file, open, palm_path_for, read_demonstration, read_first,
-    read_trajectory,
+    read_first_declared, read_trajectory,
 };
 pub use layout::{Format, QUAT_NORM_TOLERANCE};
-pub use length_unit::{DeclaredUnits, LengthUnit};
+pub use length_unit::{to_metres, DeclaredUnits, LengthUnit};
 pub use number::parse_f64;
 pub use reader::PoseReader;
 pub use time_unit::{

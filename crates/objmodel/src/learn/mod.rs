@@ -51,7 +51,9 @@
 pub use crate::classify::Config;
 use crate::classify::{classify, Classification};
 use crate::format::bag::{read_bag_demonstrations, BagSelection};
-use crate::format::{conversion_warning, detect_time_unit_of, to_seconds, TimeUnit};
+use crate::format::{
+    conversion_warning, detect_time_unit_of, to_metres, to_seconds, LengthUnit, TimeUnit,
+};
 use crate::observation::Observation;
 use crate::recording::{Recorder, Recording, DEFAULT_CAPACITY};
 use crate::trajectory::Demonstration;
@@ -316,7 +318,8 @@ impl Learner {
             .into_iter()
             .map(|b| {
                 // The palm's offset is applied, and bag stamps are seconds (sec, nanosec).
-                let demo = &*self.in_metres(&b.demo);
+                let demo = self.in_metres(Cow::Borrowed(&b.demo));
+                let demo = &*demo;
                 let in_file = |e| match e {
                     crate::Error::Data(msg) => crate::Error::File {
                         file: path.to_path_buf(),
@@ -360,10 +363,7 @@ impl Learner {
     /// metres, and the warnings of what was converted.
     fn prepared<'d>(&self, demo: &'d Demonstration) -> (Cow<'d, Demonstration>, Vec<String>) {
         let (demo, warnings) = self.in_seconds(demo);
-        let mut demo = match self.in_metres(&demo) {
-            Cow::Owned(d) => Cow::Owned(d),
-            Cow::Borrowed(_) => demo,
-        };
+        let mut demo = self.in_metres(demo);
         let offset = self.config.clocks.palm_time_offset_s;
         if offset != 0.0 {
             if let Some(palm) = demo.to_mut().palm.as_mut() {
@@ -375,19 +375,15 @@ impl Learner {
 
     /// `demo` with its positions in metres: scaled by the unit the configuration gives
     /// ([`Config::length_unit`]; poses in memory and bags declare none).
-    fn in_metres<'d>(&self, demo: &'d Demonstration) -> Cow<'d, Demonstration> {
-        let Some(k) = self
-            .config
-            .length_unit
-            .map(|u| u.metres())
-            .filter(|&k| k != 1.0)
-        else {
-            return Cow::Borrowed(demo);
-        };
-        let mut demo = demo.clone();
-        let poses = demo.object.iter_mut().chain(demo.palm.iter_mut().flatten());
-        poses.for_each(|p| p.pose.translation.vector *= k);
-        Cow::Owned(demo)
+    fn in_metres<'d>(&self, mut demo: Cow<'d, Demonstration>) -> Cow<'d, Demonstration> {
+        if let Some(u) = self.config.length_unit.filter(|&u| u != LengthUnit::Metres) {
+            let d = demo.to_mut();
+            to_metres(&mut d.object, u);
+            if let Some(palm) = d.palm.as_mut() {
+                to_metres(palm, u);
+            }
+        }
+        demo
     }
 
     /// `demo` with its stamps in seconds (each stream's unit recognised, if the configuration
