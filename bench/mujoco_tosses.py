@@ -99,16 +99,18 @@ def toss(half, mu, rate, rng):
     return np.array(rows)
 
 
-def track(poses, box_from_tag_t, box_from_tag_r, sp, sr, rng):
+def track(poses, box_from_tag_t, box_from_tag_r, sp, sr, rng, drop=0.01, sign_flip=0.03):
+    """The tag's tracked poses: noise (sp [m], sr [rad] per axis), a share `drop` of frames
+    dropped and `sign_flip` of quaternions negated (0: no draw for them)."""
     out = []
     for row in poses:
-        if rng.random() < 0.01:
+        if drop and rng.random() < drop:
             continue  # dropped frame
         wb = R.from_quat(row[4:8])
         p = row[1:4] + wb.apply(box_from_tag_t) + rng.normal(scale=sp, size=3)
         r = wb * box_from_tag_r * R.from_rotvec(rng.normal(scale=sr, size=3))
         q = r.as_quat()
-        if rng.random() < 0.03:
+        if sign_flip and rng.random() < sign_flip:
             q = -q
         out.append([row[0], *p, *q])
     return np.array(out)
@@ -167,6 +169,24 @@ def edge_true(e, edges):
     return False
 
 
+def learn_and_score(args, out, faces, edges):
+    """Run `objmodel learn ... --json` (`args`), keep its tree in `out`, and score it against
+    the box: (tree, true edges, true faces, ids of the wrong features), or None (the error
+    printed) if it failed."""
+    r = subprocess.run(args, capture_output=True, text=True)
+    if r.returncode != 0:
+        print(r.stderr.strip()[:400])
+        return None
+    tree = json.loads(r.stdout)
+    with open(out, "w") as f:
+        f.write(r.stdout)
+    et = sum(edge_true(e, edges) for e in tree["edges"])
+    ft = sum(face_true(f, faces) for f in tree["faces"])
+    wrong = [e["id"] for e in tree["edges"] if not edge_true(e, edges)] + \
+            [f["id"] for f in tree["faces"] if not face_true(f, faces)]
+    return tree, et, ft, wrong
+
+
 def main():
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 40
     boxes = int(os.environ.get("BOXES", "3"))
@@ -208,21 +228,15 @@ def main():
         if os.environ.get("NOISE_GIVEN"):
             # One learner call takes one noise: the largest of the tosses' (a pessimistic σ).
             args += ["--noise-position", str(max(sps)), "--noise-rotation", str(max(srs))]
-        r = subprocess.run(args, capture_output=True, text=True)
-        if r.returncode != 0:
-            print(f"box {k}: learn failed: {r.stderr.strip()[:300]}")
+        scored = learn_and_score(args, f"{DIR}/box{k}_{LEVEL}.json", faces, edges)
+        if scored is None:
+            print(f"box {k}: learn failed")
             continue
-        tree = json.loads(r.stdout)
-        with open(f"{DIR}/box{k}_{LEVEL}.json", "w") as f:
-            f.write(r.stdout)
-        et = sum(edge_true(e, edges) for e in tree["edges"])
-        ft = sum(face_true(f, faces) for f in tree["faces"])
+        tree, et, ft, wrong = scored
         totals["edges"][0] += et
         totals["edges"][1] += len(tree["edges"])
         totals["faces"][0] += ft
         totals["faces"][1] += len(tree["faces"])
-        wrong = [e["id"] for e in tree["edges"] if not edge_true(e, edges)] + \
-                [f["id"] for f in tree["faces"] if not face_true(f, faces)]
         print(f"box {k} {2 * half * 1e3} mm, mu {mu:.2f}: edges {et}/{len(tree['edges'])}, "
               f"faces {ft}/{len(tree['faces'])} (of 6), with offsets "
               f"{sum(f.get('offset') is not None for f in tree['faces'])}"

@@ -28,7 +28,6 @@ Needs numpy, scipy and pybullet (pip install pybullet). Writes into $PROBE_DIR (
 import json
 import math
 import os
-import subprocess
 import sys
 
 import numpy as np
@@ -36,7 +35,7 @@ import pybullet as pb
 from scipy.spatial.transform import Rotation as R
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from mujoco_tosses import edge_true, face_true, truth, write_truth  # noqa: E402
+from mujoco_tosses import learn_and_score, track, truth, write_truth  # noqa: E402
 from mujoco_box_set import orientations  # noqa: E402
 
 BIN = os.environ.get("OBJMODEL", "target/release/objmodel")
@@ -213,20 +212,6 @@ def toss(half, mu, rate, rng):
     return np.array(rows), None
 
 
-def tracked(rows, bt_t, bt_r, sp, sr, rng, flips=True):
-    out = []
-    for row in rows:
-        if flips and rng.random() < 0.02:
-            continue
-        wb = R.from_quat(row[4:8])
-        p = row[1:4] + wb.apply(bt_t) + rng.normal(scale=sp, size=3)
-        q = (wb * bt_r * R.from_rotvec(rng.normal(scale=sr, size=3))).as_quat()
-        if flips and rng.random() < 0.03:
-            q = -q
-        out.append([row[0], *p, *q])
-    return out
-
-
 def write(path, rows, what):
     with open(path, "w") as f:
         f.write(f"# timestamp tx ty tz qx qy qz qw  (PyBullet {what})\n")
@@ -272,23 +257,19 @@ def main():
                     continue
                 rows, palm = got
                 name = f"{DIR}/box{k}_{LEVEL}_{kind}{made[kind]}"
-                write(name + ".tum", tracked(rows, bt_t, bt_r, sp, sr, rng), kind)
+                write(name + ".tum", track(rows, bt_t, bt_r, sp, sr, rng, drop=0.02), kind)
                 if palm is not None:
-                    write(name + ".palm.tum", tracked(palm, np.zeros(3), R.identity(), sp / 3, sr / 3, rng, False), "palm")
+                    write(name + ".palm.tum", track(palm, np.zeros(3), R.identity(), sp / 3, sr / 3, rng,
+                                                    drop=0, sign_flip=0), "palm")
                 paths.append(name + ".tum")
                 made[kind] += 1
-        r = subprocess.run([BIN, "learn", *paths, "--json"], capture_output=True, text=True)
-        if r.returncode != 0:
-            print(f"box {k}: learn failed: {r.stderr.strip()[:400]}")
+        scored = learn_and_score([BIN, "learn", *paths, "--json"], f"{DIR}/box{k}_{LEVEL}.json",
+                                 faces, edges)
+        if scored is None:
+            print(f"box {k}: learn failed")
             continue
-        tree = json.loads(r.stdout)
-        with open(f"{DIR}/box{k}_{LEVEL}.json", "w") as f:
-            f.write(r.stdout)
-        et = sum(edge_true(e, edges) for e in tree["edges"])
-        ft = sum(face_true(f, faces) for f in tree["faces"])
+        tree, et, ft, wrong = scored
         totals = [totals[0] + et, totals[1] + len(tree["edges"]), totals[2] + ft, totals[3] + len(tree["faces"])]
-        wrong = [e["id"] for e in tree["edges"] if not edge_true(e, edges)] + \
-                [f["id"] for f in tree["faces"] if not face_true(f, faces)]
         print(f"box {k} {np.round(2e3 * half, 1)} mm, mu {mu:.2f}, demos {made}: edges "
               f"{et}/{len(tree['edges'])}, faces {ft}/{len(tree['faces'])} (of 6), with offsets "
               f"{sum(f.get('offset') is not None for f in tree['faces'])}"
