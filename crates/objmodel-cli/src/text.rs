@@ -13,7 +13,7 @@ pub fn v3(v: &nalgebra::Vector3<f64>) -> String {
 /// A human summary of a classification; with `frames`, its per-frame label runs too.
 pub fn classification(c: &Classification, frames: bool) -> String {
     let mut s = format!(
-        "{}: {} ({} method{})\n  {} frames, {} rejected as tag flips; votes: topple {}, slide {}, general {}\n",
+        "{}: {} ({} method{})\n  {} frames, {} rejected as tag flips{}; votes: topple {}, slide {}, general {}\n",
         c.name,
         c.kind.as_str(),
         match c.method {
@@ -22,7 +22,12 @@ pub fn classification(c: &Classification, frames: bool) -> String {
         },
         if c.instrumented { ", relative to the palm" } else { "" },
         c.frames,
-        c.outliers,
+        c.outliers - c.held_frames,
+        if c.held_frames > 0 {
+            format!(" and {} as held poses", c.held_frames)
+        } else {
+            String::new()
+        },
         c.votes.topple,
         c.votes.slide,
         c.votes.general

@@ -113,3 +113,22 @@ def test_plan_from_a_demonstration_on_a_palm(full_tree, every_face):
             np.testing.assert_allclose(got[k], v, atol=1e-9, err_msg=k)
     with pytest.raises(objmodel.ObjmodelError, match="from_demo: no palm given"):
         objmodel.plan(full_tree, from_demo=obj)
+
+
+def test_held_poses_are_counted(box):
+    """A tracker that held its last pose for 0.3 s while the box turned: with 1 mm of noise at
+    rest, its 30 repeats are left out and counted; exact poses repeat at rest and keep them."""
+    t, m, truth = topple.topple(box, "+x")
+    rows = topple.rows_of(t, m)
+    assert objmodel.classify(rows)["held_frames"] == 0
+    rng = np.random.default_rng(7)
+    noisy = rows.copy()
+    noisy[:, 1:4] += rng.normal(0.0, 1e-3, (len(rows), 3))
+    q = noisy[:, 4:8] + rng.normal(0.0, 2e-3, (len(rows), 4))
+    noisy[:, 4:8] = q / np.linalg.norm(q, axis=1)[:, None]
+    moving = np.flatnonzero(np.any(np.diff(rows[:, 1:], axis=0) != 0.0, axis=1))
+    k = moving[len(moving) // 2]
+    noisy[k + 1:k + 31, 1:] = noisy[k, 1:]
+    c = objmodel.classify(noisy)
+    assert c["held_frames"] == 30, c["warnings"]
+    assert any("holding its last pose" in w for w in c["warnings"])

@@ -100,18 +100,20 @@ pub type PoseSample = (f64, UnitQuaternion<f64>, Vector3<f64>);
 /// Estimate the noise from consecutive samples (at least 3; sign continuity not required).
 /// Returns `None` with fewer than 3 samples.
 pub fn estimate(samples: &[PoseSample]) -> Option<NoiseModel> {
+    measure(samples).map(NoiseModel::floored)
+}
+
+/// [`estimate`] without the floors: what the samples show, zero for exact poses.
+pub fn measure(samples: &[PoseSample]) -> Option<NoiseModel> {
     let (sp, sr) = midpoint_sigmas(samples, 1)?;
     // Trackers often filter their output, and filtered noise is correlated from frame to
     // frame: second differences then understate it. The scatter about a straight line over
     // short windows does not; take the larger of the two (they agree for white noise).
     let (wp, wr) = window_scatter(samples).unwrap_or((0.0, 0.0));
-    Some(
-        NoiseModel {
-            sigma_position: sp.max(wp),
-            sigma_rotation: sr.max(wr),
-        }
-        .floored(),
-    )
+    Some(NoiseModel {
+        sigma_position: sp.max(wp),
+        sigma_rotation: sr.max(wr),
+    })
 }
 
 /// Whether [`estimate`] measured the motion rather than the noise: a thrown box filmed at

@@ -66,51 +66,6 @@ fn glitch(poses: &mut [StampedPose], every_s: f64, rng: &mut StdRng) -> Vec<Glit
     glitches
 }
 
-/// How far `(point, direction)` (tag frame) is from the nearest edge of `b`: distance \[m\] and
-/// angle \[rad\], of the edge with the least distance among those within 3° of it.
-fn off_edge(b: &SynthBox, point: &Vector3<f64>, direction: &Vector3<f64>) -> (f64, f64) {
-    let p = (b.box_from_tag * nalgebra::Point3::from(*point)).coords;
-    let u = (b.box_from_tag.rotation * direction).normalize();
-    let mut best = (f64::INFINITY, f64::INFINITY);
-    for axis in 0..3 {
-        let angle = u[axis].abs().min(1.0).acos();
-        let (j, k) = ((axis + 1) % 3, (axis + 2) % 3);
-        for (sj, sk) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
-            let mut mid = Vector3::zeros();
-            mid[j] = sj * b.half[j];
-            mid[k] = sk * b.half[k];
-            let d = mid - p;
-            let dist = (d - u * d.dot(&u)).norm();
-            if angle < 3f64.to_radians() && dist < best.0 {
-                best = (dist, angle);
-            }
-        }
-    }
-    best
-}
-
-/// How far the face `(normal, offset)` (tag frame, `normal · x = offset`) is from the nearest
-/// face of `b`: angle \[rad\] and offset difference \[m\] (0 without an offset).
-fn off_face(b: &SynthBox, normal: &Vector3<f64>, offset: Option<f64>, signed: bool) -> (f64, f64) {
-    let n = b.box_from_tag.rotation * normal;
-    let mut best = (f64::INFINITY, f64::INFINITY);
-    for axis in 0..3 {
-        for s in [1.0, -1.0] {
-            let mut e = Vector3::zeros();
-            e[axis] = s;
-            let c = if signed { n.dot(&e) } else { n.dot(&e).abs() };
-            let angle = c.clamp(-1.0, 1.0).acos();
-            let off = offset.map_or(0.0, |o| {
-                (o + n.dot(&b.box_from_tag.translation.vector) - b.half[axis]).abs()
-            });
-            if angle < best.0 {
-                best = (angle, off);
-            }
-        }
-    }
-    best
-}
-
 /// The demonstrations of one box: topples over its four sides, two instrumented topples and a
 /// slide, at real tracking noise (1 mm, 0.5°), 30 Hz, each with glitches in every stream; and
 /// the object's glitches.
@@ -188,7 +143,7 @@ fn glitches_are_rejected_and_teach_nothing_off_the_box() {
         let mut tree = Tree::default();
         learner.learn(&mut tree, &sources).unwrap();
         for e in &tree.edges {
-            let (dist, angle) = off_edge(&b, &e.point, &e.direction);
+            let (dist, angle) = b.off_edge(&e.point, &e.direction);
             assert!(
                 dist < 5e-3 && angle < 3f64.to_radians(),
                 "box {seed}: edge {} is {:.1} mm and {:.1}° from the box's ({:?})",
@@ -200,7 +155,7 @@ fn glitches_are_rejected_and_teach_nothing_off_the_box() {
             edges += 1;
         }
         for f in &tree.faces {
-            let (angle, off) = off_face(&b, &f.normal, f.offset, f.sign_known);
+            let (angle, off) = b.off_face(&f.normal, f.offset, f.sign_known);
             assert!(
                 angle < 5f64.to_radians() && off < 5e-3,
                 "box {seed}: face {} is {:.1}° and {:.1} mm from the box's ({:?})",

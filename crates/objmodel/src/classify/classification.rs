@@ -258,6 +258,10 @@ pub struct Classification {
     pub frames: u64,
     /// Frames rejected as tracking outliers.
     pub outliers: u64,
+    /// Of those, frames left out as the tracker's held poses: repeats of the pose before them
+    /// that the tracker's noise rules out (see `crate::clean::held`).
+    #[serde(default)]
+    pub held_frames: u64,
     /// Votes over all segments.
     pub votes: Votes,
     /// Tracking noise used by the tests.

@@ -7,13 +7,21 @@ use super::rest_test::{OwnedVerdicts, RestTest, Verdict};
 use super::rotation_sum::RotationSum;
 use super::sample::Sample;
 use super::Config;
-use crate::clean::{Cleaner, RawFrame};
+use crate::clean::{Cleaner, HeldPoses, RawFrame};
 use crate::noise::{self, NoiseModel};
 use crate::trajectory::StampedPose;
 use nalgebra::Vector3;
 
-/// Cleans one stream: noise warm-up, then the glitch [`Cleaner`].
+/// Cleans one stream: noise warm-up, then the glitch [`Cleaner`]; and, where the config says
+/// that exact repeats are a tracker holding its last pose, those left out first
+/// ([`HeldPoses`]).
 pub(super) struct StreamCleaner {
+    glitches: GlitchTest,
+    held: Option<HeldPoses>,
+}
+
+/// The noise warm-up, then the glitch [`Cleaner`].
+struct GlitchTest {
     warm: Vec<RawFrame>,
     warmup: usize,
     alpha: f64,
@@ -25,22 +33,57 @@ impl StreamCleaner {
     /// The object stream's cleaner.
     pub(super) fn new(config: &Config) -> Self {
         Self {
-            warm: Vec::new(),
-            warmup: config.robust.warmup_frames.max(3),
-            alpha: config.robust.outlier_alpha,
-            noise: config.robust.noise,
-            cleaner: None,
+            glitches: GlitchTest::new(config, config.robust.noise),
+            held: config.robust.repeats_are_held.then(HeldPoses::default),
         }
     }
 
-    /// The palm stream's cleaner: with the palm's noise, where given.
+    /// The palm stream's cleaner: with the palm's noise, where given. (Its repeats are kept:
+    /// the held-pose check measures the object's tracker.)
     pub(super) fn for_palm(config: &Config) -> Self {
+        let noise = config
+            .robust
+            .noise
+            .map(|n| config.robust.palm_noise.unwrap_or(n));
         Self {
-            noise: config
-                .robust
-                .noise
-                .map(|n| config.robust.palm_noise.unwrap_or(n)),
-            ..Self::new(config)
+            glitches: GlitchTest::new(config, noise),
+            held: None,
+        }
+    }
+
+    #[inline(always)]
+    pub(super) fn push(&mut self, f: RawFrame, out: &mut impl FnMut(RawFrame, bool)) {
+        let Self { glitches, held } = self;
+        match held {
+            None => glitches.push(f, out),
+            Some(held) => {
+                if !held.is_repeat(&f) {
+                    glitches.push(f, &mut |g, outlier| held.emit(g, outlier, out));
+                }
+            }
+        }
+    }
+
+    pub(super) fn finish(self, out: &mut impl FnMut(RawFrame, bool)) {
+        let Self { glitches, held } = self;
+        match held {
+            None => glitches.finish(out),
+            Some(mut held) => {
+                glitches.finish(&mut |g, outlier| held.emit(g, outlier, out));
+                held.drain(out);
+            }
+        }
+    }
+}
+
+impl GlitchTest {
+    fn new(config: &Config, noise: Option<NoiseModel>) -> Self {
+        Self {
+            warm: Vec::new(),
+            warmup: config.robust.warmup_frames.max(3),
+            alpha: config.robust.outlier_alpha,
+            noise,
+            cleaner: None,
         }
     }
 
@@ -61,7 +104,7 @@ impl StreamCleaner {
     // Inlined with `Cleaner::push`, so that the new frame is handed over in registers: through
     // memory it costs store-forwarding stalls (clean only: 16 -> 12 ns/pose).
     #[inline(always)]
-    pub(super) fn push(&mut self, f: RawFrame, out: &mut impl FnMut(RawFrame, bool)) {
+    fn push(&mut self, f: RawFrame, out: &mut impl FnMut(RawFrame, bool)) {
         match &mut self.cleaner {
             Some(c) => c.push(f, out),
             None => {
@@ -73,7 +116,7 @@ impl StreamCleaner {
         }
     }
 
-    pub(super) fn finish(mut self, out: &mut impl FnMut(RawFrame, bool)) {
+    fn finish(mut self, out: &mut impl FnMut(RawFrame, bool)) {
         if self.cleaner.is_none() {
             self.start(out);
         }

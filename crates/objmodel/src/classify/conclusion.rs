@@ -69,6 +69,7 @@ pub(super) fn conclude(
         rolls: Vec::new(),
         withheld: None,
         length_unit: None,
+        held_frames: 0,
     };
     c.fill_parts();
     c

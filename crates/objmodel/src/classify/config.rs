@@ -96,6 +96,13 @@ pub struct RobustConfig {
     /// held; the segment after it must not count it as a mean of many.
     #[serde(skip)]
     pub held_rest_frames: Option<f64>,
+    /// Whether an object frame whose pose repeats the one before it exactly is a tracker
+    /// holding its last pose (left out, as a glitch is) rather than a measurement. Set by the
+    /// learner where the noise at rest makes an exact repeat all but impossible
+    /// ([`crate::learn`], `held_poses.rs`); an exact tracker (a simulator's) repeats its poses
+    /// at rest, and its repeats are kept.
+    #[serde(skip)]
+    pub repeats_are_held: bool,
 }
 
 impl Default for RobustConfig {
@@ -113,6 +120,7 @@ impl Default for RobustConfig {
             contact_depth_m: default_contact_depth_m(),
             max_axis_tilt_rad: 45f64.to_radians(),
             held_rest_frames: None,
+            repeats_are_held: false,
         }
     }
 }

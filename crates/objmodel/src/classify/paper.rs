@@ -325,6 +325,7 @@ impl PaperMethod {
             rolls: Vec::new(),
             withheld: None,
             length_unit: None,
+            held_frames: 0,
         };
         c.fill_parts();
         Ok(c)

@@ -101,6 +101,19 @@ impl RestStats {
         })
     }
 
+    /// χ²₆ statistic of frame `f`'s pose against the rest's mean pose, under the per-frame
+    /// noise and model tolerance of `m`, the mean's own noise included: small for a frame of
+    /// the same rest, large for one the object reached while the tracker did not see it.
+    pub(super) fn departure_chi2(&self, f: &RawFrame, m: &FrameModel) -> f64 {
+        let Some((q, p)) = self.mean() else {
+            return 0.0;
+        };
+        let k = 1.0 + 1.0 / self.n();
+        let r = crate::se3::so3_log(&(q.inverse() * f.q));
+        r.norm_squared() / (m.var_r * k + m.tol_r2)
+            + (f.p - p).norm_squared() / (m.var_p * k + m.tol_p2)
+    }
+
     /// The pose a slow motion through this "rest" started from: the mean over the rest's head
     /// (or over all of it while it is short), and the number of frames averaged.
     pub(super) fn start(&self) -> Option<(UnitQuaternion<f64>, Vector3<f64>, f64)> {

@@ -152,6 +152,10 @@ impl Segmenter {
                     self.in_motion = false;
                     self.rest = RestStats::default();
                     self.recent = RestStats::default();
+                } else if f.t - self.rest.t1 > self.config.robust.rest_window_s
+                    && self.left_rest_unseen(f)
+                {
+                    return;
                 }
                 let min_rest = self.config.robust.min_rest_s;
                 self.rest.add(f, rot, min_rest);
@@ -174,6 +178,24 @@ impl Segmenter {
                 }
             }
         }
+    }
+
+    /// After a gap in the stream longer than the rest test's window, a frame that the test
+    /// calls at rest may not be in the rest before the gap: the windows on either side of the
+    /// gap hold only their own side (a tracker that lost the object while it fell, and saw it
+    /// again where it landed). Where its pose departs from that rest's mean beyond the noise
+    /// and the model tolerance (χ²₆ at the tests' level), the object moved unseen: the frame
+    /// is taken as moving (and the frames after it start a new rest), rather than the two
+    /// rests being merged into one that teaches a face between them.
+    #[cold]
+    #[inline(never)]
+    fn left_rest_unseen(&mut self, f: &RawFrame) -> bool {
+        let m = self.model.unwrap();
+        if self.rest.n() == 0.0 || self.rest.departure_chi2(f, &m) <= m.displaced {
+            return false;
+        }
+        self.moving(f, false);
+        true
     }
 
     /// Whether the current rest is a motion too slow for the windowed test: over at least

@@ -32,9 +32,15 @@
 //!   pass. A real change (an impact: the pose jumps and stays) fails it at the frame after.
 //!   A longer run is not a glitch this test can tell from motion; it is left to the motion
 //!   models' own tests.
+//!
+//! * **Held poses** ([`held`]): frames that repeat the pose before them exactly, from a tracker
+//!   whose noise rules that out, are left out before this test where the config says so.
 
 use crate::se3::{rotation_angle_between, so3_exp, so3_log};
 use nalgebra::{UnitQuaternion, Vector3};
+
+pub mod held;
+pub use held::HeldPoses;
 
 /// Longest run of consecutive frames rejected together: one fewer than the fewest frames of a
 /// free flight ([`crate::flight::MIN_FLIGHT_FRAMES`]), so that no motion the learner can

@@ -63,6 +63,7 @@ use std::borrow::Cow;
 use std::path::Path;
 
 mod gravity_check;
+mod held_poses;
 mod tracker_noise;
 
 pub use gravity_check::NOT_LEARNT;
@@ -223,11 +224,35 @@ impl Learner {
     /// is correlated from frame to frame ([`tracker_noise::correlated_noise`]), the classification
     /// `again` makes with the rest's noise or the long-run noise (which then replaces the
     /// rest's), checked.
+    ///
+    /// Before all that, where the object's tracker held its last pose
+    /// ([`held_poses::check`]), the classification `again` makes with those frames left out
+    /// replaces `first`.
     fn checked(
         &self,
         first: Classification,
         recording: &Recording,
-        again: impl FnOnce(&Config) -> Result<Classification>,
+        again: impl Fn(&Config) -> Result<Classification>,
+    ) -> Result<Classification> {
+        if let Some(held) = held_poses::check(&self.config, &first, recording) {
+            let learner = Learner {
+                config: held.config(&self.config),
+                ..self.clone()
+            };
+            let first = again(&learner.config)?;
+            let mut c = learner.checked_noise(first, recording, again)?;
+            held.say(&mut c);
+            return Ok(c);
+        }
+        self.checked_noise(first, recording, again)
+    }
+
+    /// [`Learner::checked`] past the held poses: the noise's checks.
+    fn checked_noise(
+        &self,
+        first: Classification,
+        recording: &Recording,
+        again: impl Fn(&Config) -> Result<Classification>,
     ) -> Result<Classification> {
         let rest = match tracker_noise::noise_check(&self.config, &first, recording) {
             NoiseCheck::OnRest(rest) => Some(rest),

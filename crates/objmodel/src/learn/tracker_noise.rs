@@ -36,9 +36,7 @@ pub(super) fn noise_check(
         return NoiseCheck::Unmeasurable;
     };
     let measured = (t0 + 0.5 * window.min(t1 - t0), t1);
-    let samples: Vec<crate::noise::PoseSample> = recording
-        .object
-        .iter()
+    let samples: Vec<crate::noise::PoseSample> = measuring(config, recording)
         .filter(|f| f.t > measured.0 && f.t < measured.1)
         .map(RecordedFrame::sample)
         .collect();
@@ -84,8 +82,9 @@ pub(super) fn correlated_noise(
     if !estimates_noise(config, recording) {
         return None;
     }
-    let object: Vec<crate::noise::PoseSample> =
-        recording.object.iter().map(RecordedFrame::sample).collect();
+    let object: Vec<crate::noise::PoseSample> = measuring(config, recording)
+        .map(RecordedFrame::sample)
+        .collect();
     let object = crate::noise_correlation::measure(&object)?;
     let tolerance = (robust.edge_tolerance_m, robust.edge_tolerance_rad);
     if !object.significant(robust.alpha) || !object.matters(tolerance) {
@@ -103,6 +102,20 @@ pub(super) fn correlated_noise(
         .flatten()
         .filter(|c| c.significant(robust.alpha));
     Some(TrackerCorrelations { object, palm })
+}
+
+/// The recorded object frames that measure the tracker: every one, or, where the config takes
+/// repeats for the tracker's held poses (`held_poses.rs`), those that are not repeats.
+fn measuring<'a>(
+    config: &Config,
+    recording: &'a Recording,
+) -> impl Iterator<Item = &'a RecordedFrame> + 'a {
+    let held = config.robust.repeats_are_held;
+    let frames = &recording.object;
+    frames
+        .iter()
+        .enumerate()
+        .filter_map(move |(k, f)| (!(held && super::held_poses::is_repeat(frames, k))).then_some(f))
 }
 
 /// Whether the robust method estimates the noise (none given), and the record kept every
@@ -123,9 +136,7 @@ fn noise_unmeasurable(config: &Config, recording: &Recording) -> bool {
     if !estimates_noise(config, recording) {
         return false;
     }
-    let samples: Vec<crate::noise::PoseSample> = recording
-        .object
-        .iter()
+    let samples: Vec<crate::noise::PoseSample> = measuring(config, recording)
         .take(robust.warmup_frames.max(3))
         .map(RecordedFrame::sample)
         .collect();

@@ -24,9 +24,13 @@
 //! Tracking noise ([`SynthNoise`]): Gaussian position and orientation noise, dropped frames,
 //! quaternion sign flips, and single-frame tag flips (the orientation jumps by 30-60° about an
 //! axis in the tag plane for one frame, like a planar tag's mirror solution).
+//!
+//! How far a learnt edge or face is from the box's own: [`SynthBox::off_edge`],
+//! [`SynthBox::off_face`].
 
 mod compound;
 mod creep;
+mod off_box;
 mod toss;
 
 pub use compound::{drop_then_slide, slide_then_topple, topple_then_slide};

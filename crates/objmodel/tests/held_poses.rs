@@ -1,0 +1,201 @@
+//! A tracker that loses the object often goes on publishing its last pose (a tf re-broadcast,
+//! a motion-capture stream's "hold last value", a logger sampling the latest message at a
+//! fixed rate), or a null pose. Those frames repeat a pose exactly; while the object turned,
+//! they show it still and tilted where it never rested, and they look like a tracker without
+//! noise. Where the noise measured at rest rules an exact repeat out they must be left out,
+//! and teach nothing (`clean::held`, `learn/held_poses.rs`); an exact tracker's repeats (a
+//! simulator's, at rest) and a coarsely written file's (repeats by chance) must be kept.
+//!
+//! (Before: a topple whose tracker held a pose mid-rotation for 1.5 s lost its edge and both
+//! rests, its noise "measured" on the held frames at 0.05 mm; given the noise, the held
+//! frames taught a resting face 15° off the box.)
+
+use nalgebra::{Isometry3, Vector3};
+use objmodel::learn::{Config, Learner, Source};
+use objmodel::synth::{self, SynthBox, SynthDemo, SynthNoise, ToppleParams};
+use objmodel::trajectory::StampedPose;
+use objmodel::tree::Tree;
+use rand::{rngs::StdRng, Rng, SeedableRng};
+
+/// Overwrite the poses from `from_s` after the first stamp for `hold_s` with the pose before
+/// them (the tracker held it) or, `null`, with the identity (the tracker wrote zeros):
+/// returns how many of them repeat the pose before them.
+fn hold(poses: &mut [StampedPose], from_s: f64, hold_s: f64, null: bool) -> usize {
+    let t0 = poses[0].t;
+    let k = poses.iter().position(|p| p.t - t0 >= from_s).unwrap();
+    let held = if null {
+        Isometry3::identity()
+    } else {
+        poses[k - 1].pose
+    };
+    let mut n = 0;
+    for p in poses[k..]
+        .iter_mut()
+        .take_while(|p| p.t - t0 < from_s + hold_s)
+    {
+        p.pose = held;
+        n += 1;
+    }
+    // A null pose's first frame is a jump, not a repeat.
+    if null {
+        n - 1
+    } else {
+        n
+    }
+}
+
+/// Topples of `b` over its four sides at `noise`, 30 Hz.
+fn topples(b: &SynthBox, noise: &SynthNoise, seed: u64) -> Vec<SynthDemo> {
+    (0..4)
+        .map(|side| {
+            let p = ToppleParams {
+                side,
+                ..Default::default()
+            };
+            synth::topple(b, &p, noise, 30.0, seed * 10 + side as u64)
+        })
+        .collect()
+}
+
+/// Every edge and face of `tree` is one of `b`'s; the counts.
+fn assert_on_box(tree: &Tree, b: &SynthBox, what: &str) -> (usize, usize) {
+    for e in &tree.edges {
+        let (dist, angle) = b.off_edge(&e.point, &e.direction);
+        assert!(
+            dist < 5e-3 && angle < 3f64.to_radians(),
+            "{what}: edge {} is {:.1} mm and {:.1}° from the box's",
+            e.id,
+            dist * 1e3,
+            angle.to_degrees()
+        );
+    }
+    for f in &tree.faces {
+        let (angle, off) = b.off_face(&f.normal, f.offset, f.sign_known);
+        assert!(
+            angle < 5f64.to_radians() && off < 5e-3,
+            "{what}: face {} is {:.1}° and {:.1} mm from the box's",
+            f.id,
+            angle.to_degrees(),
+            off * 1e3
+        );
+    }
+    (tree.edges.len(), tree.faces.len())
+}
+
+/// Held poses in the middle of the topples (while the box turns, 0.3-1.2 s, a quarter of
+/// them null poses), at a real tracker's noise: every repeat left out, nothing off the box
+/// learnt, and the edges found as without the hold.
+#[test]
+fn held_poses_are_left_out_and_teach_nothing() {
+    let learner = Learner::new(Config::default());
+    let mut rng = StdRng::seed_from_u64(49);
+    let (mut edges, mut edges_unheld, mut faces) = (0, 0, 0);
+    for seed in 0..3u64 {
+        let b = SynthBox::random(&mut rng);
+        let clean = topples(&b, &SynthNoise::REAL, seed);
+        let mut held = clean.clone();
+        for (k, d) in held.iter_mut().enumerate() {
+            let null = k == 3;
+            let from = rng.random_range(1.2..2.3);
+            let repeats = hold(&mut d.demo.object, from, rng.random_range(0.3..1.2), null);
+            let c = learner.classify(&Source::Memory(&d.demo)).unwrap();
+            assert_eq!(c.held_frames as usize, repeats, "box {seed}, topple {k}");
+            assert!(c.outliers >= c.held_frames);
+        }
+        let learnt = |demos: &[SynthDemo]| {
+            let sources: Vec<Source> = demos.iter().map(|d| Source::Memory(&d.demo)).collect();
+            let mut tree = Tree::default();
+            learner.learn(&mut tree, &sources).unwrap();
+            tree
+        };
+        let (e, f) = assert_on_box(&learnt(&held), &b, &format!("box {seed}, held"));
+        let (e0, _) = assert_on_box(&learnt(&clean), &b, &format!("box {seed}"));
+        edges += e;
+        faces += f;
+        edges_unheld += e0;
+    }
+    assert!(
+        edges + 2 >= edges_unheld && edges >= 8 && faces >= 8,
+        "{edges} edges ({edges_unheld} without the holds), {faces} faces"
+    );
+}
+
+/// The tracker lost the box while it fell and saw it again where it landed: no frames for
+/// 0.7-1.2 s over the fall. The windowed rest test sees each side of the gap at rest, and the
+/// frames before the gap (the box about to tip) must not join the rest after it: that rest
+/// taught a face 5° off at ±1°, with its offset 6 mm off.
+#[test]
+fn a_gap_over_the_fall_parts_the_rests() {
+    let learner = Learner::new(Config::default());
+    let mut rng = StdRng::seed_from_u64(50);
+    let (mut edges, mut faces) = (0, 0);
+    for seed in 0..3u64 {
+        let b = SynthBox::random(&mut rng);
+        let mut demos = topples(&b, &SynthNoise::REAL, seed);
+        for d in &mut demos {
+            let t0 = d.demo.object[0].t;
+            // The fall is at 2.5-2.85 s; the gap starts before it and ends after it.
+            let (from, to) = (rng.random_range(2.0..2.45), rng.random_range(2.9..3.3));
+            d.demo.object.retain(|p| p.t - t0 < from || p.t - t0 >= to);
+        }
+        let sources: Vec<Source> = demos.iter().map(|d| Source::Memory(&d.demo)).collect();
+        let mut tree = Tree::default();
+        learner.learn(&mut tree, &sources).unwrap();
+        let (e, f) = assert_on_box(&tree, &b, &format!("box {seed}, gaps"));
+        edges += e;
+        faces += f;
+    }
+    assert!(edges >= 8 && faces >= 8, "{edges} edges, {faces} faces");
+}
+
+/// A file is read as poses in memory are: the same frames left out.
+#[test]
+fn held_poses_in_a_file() {
+    let b = SynthBox::new(Vector3::new(0.05, 0.04, 0.07), (0.004, -0.003), 0.6);
+    let mut d = topples(&b, &SynthNoise::REAL, 7).swap_remove(1);
+    let repeats = hold(&mut d.demo.object, 1.6, 1.0, false);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("held.tum");
+    objmodel::format::write_tum(&path, &d.demo.object, "held poses").unwrap();
+    let learner = Learner::new(Config::default());
+    let from_file = learner.classify(&Source::file(&path)).unwrap();
+    let in_memory = learner.classify(&Source::Memory(&d.demo)).unwrap();
+    assert_eq!(from_file.held_frames as usize, repeats);
+    assert_eq!(in_memory.held_frames as usize, repeats);
+    assert_eq!(from_file.topples.len(), 1, "{:?}", from_file.warnings);
+    assert!(from_file.warnings[0].contains("holding its last pose"));
+}
+
+/// An exact tracker repeats its poses wherever the object rests (the simulator's rests do,
+/// bit for bit), and a file written to whole millimetres by a 0.1 mm tracker repeats its
+/// positions by chance: kept.
+#[test]
+fn exact_and_coarse_repeats_are_kept() {
+    let learner = Learner::new(Config::default());
+    let b = SynthBox::new(Vector3::new(0.05, 0.04, 0.07), (0.004, -0.003), 0.6);
+    let repeats = |poses: &[StampedPose]| {
+        poses
+            .windows(2)
+            .filter(|w| w[0].pose.translation == w[1].pose.translation)
+            .count()
+    };
+    for d in topples(&b, &SynthNoise::CLEAN, 3) {
+        assert!(repeats(&d.demo.object) > 40);
+        let c = learner.classify(&Source::Memory(&d.demo)).unwrap();
+        assert_eq!(c.held_frames, 0);
+        assert_eq!(c.topples.len(), 1);
+    }
+    let fine = SynthNoise {
+        sigma_position: 1e-4,
+        ..SynthNoise::CLEAN
+    };
+    for mut d in topples(&b, &fine, 4) {
+        for p in &mut d.demo.object {
+            let v = &mut p.pose.translation.vector;
+            *v = v.map(|x| (x * 1e3).round() * 1e-3);
+        }
+        assert!(repeats(&d.demo.object) > 20);
+        let c = learner.classify(&Source::Memory(&d.demo)).unwrap();
+        assert_eq!(c.held_frames, 0, "{:?}", c.warnings);
+    }
+}
