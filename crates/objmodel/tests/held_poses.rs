@@ -59,26 +59,8 @@ fn topples(b: &SynthBox, noise: &SynthNoise, seed: u64) -> Vec<SynthDemo> {
 
 /// Every edge and face of `tree` is one of `b`'s; the counts.
 fn assert_on_box(tree: &Tree, b: &SynthBox, what: &str) -> (usize, usize) {
-    for e in &tree.edges {
-        let (dist, angle) = b.off_edge(&e.point, &e.direction);
-        assert!(
-            dist < 5e-3 && angle < 3f64.to_radians(),
-            "{what}: edge {} is {:.1} mm and {:.1}° from the box's",
-            e.id,
-            dist * 1e3,
-            angle.to_degrees()
-        );
-    }
-    for f in &tree.faces {
-        let (angle, off) = b.off_face(&f.normal, f.offset, f.sign_known);
-        assert!(
-            angle < 5f64.to_radians() && off < 5e-3,
-            "{what}: face {} is {:.1}° and {:.1} mm from the box's",
-            f.id,
-            angle.to_degrees(),
-            off * 1e3
-        );
-    }
+    let off = b.features_off(tree);
+    assert!(off.is_empty(), "{what}: {off:?}");
     (tree.edges.len(), tree.faces.len())
 }
 

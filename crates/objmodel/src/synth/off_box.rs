@@ -51,4 +51,35 @@ impl SynthBox {
         }
         best
     }
+
+    /// The features of `tree` that are not on the box, each described: an edge 5 mm or 3°
+    /// from every edge of the box, a face 5° or 5 mm from every face (the tolerances of the
+    /// precision tables, `bench/precision.py`).
+    pub fn features_off(&self, tree: &crate::tree::Tree) -> Vec<String> {
+        let edges = tree.edges.iter().filter_map(|e| {
+            let (dist, angle) = self.off_edge(&e.point, &e.direction);
+            (dist >= 5e-3 || angle >= 3f64.to_radians()).then(|| {
+                format!(
+                    "edge {} is {:.1} mm and {:.1}° from the box's (from {:?})",
+                    e.id,
+                    dist * 1e3,
+                    angle.to_degrees(),
+                    e.support
+                )
+            })
+        });
+        let faces = tree.faces.iter().filter_map(|f| {
+            let (angle, off) = self.off_face(&f.normal, f.offset, f.sign_known);
+            (angle >= 5f64.to_radians() || off >= 5e-3).then(|| {
+                format!(
+                    "face {} is {:.1}° and {:.1} mm from the box's (from {:?})",
+                    f.id,
+                    angle.to_degrees(),
+                    off * 1e3,
+                    f.support
+                )
+            })
+        });
+        edges.chain(faces).collect()
+    }
 }
