@@ -23,7 +23,7 @@ const SLOW: [(&str, &str); 6] = [
     ("objmodel evaluate", "objmodel-sim's tests/dataset.rs"),
     (
         "objmodel calibrate",
-        "objmodel-cli's tests/cli_outputs.rs and objmodel-sim's tests/calibration.rs",
+        "objmodel-cli's tests/cli_dataset.rs and objmodel-sim's tests/calibration.rs",
     ),
     ("objmodel task", "objmodel-sim's tests/task.rs"),
     ("objmodel export", "objmodel's tests/export.rs"),

@@ -1,0 +1,221 @@
+//! End-to-end tests of `objmodel learn`: the tree it prints and writes (its schema, against the
+//! simulator's truth), and incremental and atomic updates of a model file.
+
+#[allow(unused_imports)]
+mod common;
+#[allow(unused_imports)]
+use common::*;
+#[allow(unused_imports)]
+use serde_json::Value;
+#[allow(unused_imports)]
+use std::path::{Path, PathBuf};
+
+// ---------------------------------------------------------------------------------------------
+// `learn --json`: the tree and its schema
+
+#[test]
+fn learn_json_tree_matches_truth() {
+    let d = TempDir::new("learn");
+    let files = synth("topple", d.path(), 2, 3, &[]);
+    let r = run(&[
+        "learn".to_string(),
+        s(&files[0]),
+        s(&files[1]),
+        "--json".into(),
+    ])
+    .ok();
+    let t = r.json();
+    assert_eq!(t["schema"], "objmodel.tree");
+    assert_eq!(t["version"], 1);
+    let edges = t["edges"].as_array().expect("edges array");
+    let faces = t["faces"].as_array().expect("faces array");
+    assert!(!edges.is_empty(), "no edges learnt: {t}");
+    for e in edges {
+        let p = vec3(&e["point"], "edge point");
+        let dir = vec3(&e["direction"], "edge direction");
+        assert!(
+            (norm(dir) - 1.0).abs() < 1e-9,
+            "direction not unit: {dir:?}"
+        );
+        // the point is the one closest to the origin: perpendicular to the line
+        assert!(
+            (p[0] * dir[0] + p[1] * dir[1] + p[2] * dir[2]).abs() < 1e-6,
+            "point {p:?} not closest to the origin on {dir:?}"
+        );
+        assert!(
+            e["pendulums"].is_array(),
+            "pendulums should be an array: {e}"
+        );
+    }
+    for f in faces {
+        let n = vec3(&f["normal"], "face normal");
+        assert!((norm(n) - 1.0).abs() < 1e-6, "normal not unit: {n:?}");
+        assert!(
+            f["offset"].is_null() || f["offset"].as_f64().is_some_and(f64::is_finite),
+            "offset should be a number or null: {f}"
+        );
+    }
+    // both demonstrations show the same edge of the same box: one edge, and it is the true one
+    let truth = truth_of(&files[0]);
+    assert_eq!(
+        truth["edge"],
+        truth_of(&files[1])["edge"],
+        "count 2 should give two demos of one edge"
+    );
+    let tp = vec3(&truth["edge"]["point"], "truth point");
+    let td = vec3(&truth["edge"]["direction"], "truth direction");
+    assert_eq!(
+        edges.len(),
+        1,
+        "two topples over one edge should fuse into one edge: {}",
+        t["edges"]
+    );
+    let e = &edges[0];
+    let angle = line_angle_deg(vec3(&e["direction"], "dir"), td);
+    let off = dist(vec3(&e["point"], "point"), tp);
+    assert!(angle < 2.0, "edge direction off by {angle:.3} deg");
+    assert!(off < 5e-3, "edge point off by {:.3} mm", off * 1e3);
+    assert_eq!(e["n_support"], 2);
+    // the faces the box rested on are there: the true resting face (normal and offset)
+    let tn = vec3(&truth["face"]["normal"], "truth normal");
+    let to = truth["face"]["offset"].as_f64().unwrap();
+    let rest = faces
+        .iter()
+        .find(|f| line_angle_deg(vec3(&f["normal"], "n"), tn) < 3.0);
+    let rest = rest.unwrap_or_else(|| {
+        panic!(
+            "no face with the true resting normal {tn:?}: {}",
+            t["faces"]
+        )
+    });
+    let n = vec3(&rest["normal"], "n");
+    let sign = if n[0] * tn[0] + n[1] * tn[1] + n[2] * tn[2] > 0.0 {
+        1.0
+    } else {
+        -1.0
+    };
+    if let Some(o) = rest["offset"].as_f64() {
+        assert!(
+            (sign * o - to).abs() < 5e-3,
+            "resting face offset {o} vs truth {to}"
+        );
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// incremental and atomic updates
+
+fn temp_leftovers(dir: &Path, prefix: &str) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(prefix))
+        .collect()
+}
+
+#[test]
+fn learn_incremental_and_atomic() {
+    let d = TempDir::new("incr");
+    let files = synth("topple", &d.join("demos"), 2, 3, &["--side", "1"]);
+    let tree = d.join("box.json");
+    // first demonstration
+    let r = run(&["learn".to_string(), s(&files[0]), "-o".into(), s(&tree)]).ok();
+    r.check(
+        r.stdout.contains(&format!("wrote {}", tree.display())),
+        "learn -o should say where it wrote",
+    );
+    let t1 = read_json(&tree);
+    assert_eq!(t1["schema"], "objmodel.tree");
+    assert_eq!(t1["demos"].as_array().map(Vec::len), Some(1));
+    let e1 = t1["edges"].as_array().expect("edges");
+    assert_eq!(e1.len(), 1, "one topple, one edge: {}", t1["edges"]);
+    assert_eq!(e1[0]["n_support"], 1);
+    // second demonstration of the same edge, fused in
+    run(&["learn".to_string(), s(&files[1]), "--into".into(), s(&tree)]).ok();
+    let t2 = read_json(&tree);
+    assert_eq!(t2["demos"].as_array().map(Vec::len), Some(2));
+    let e2 = t2["edges"].as_array().expect("edges");
+    assert_eq!(
+        e2.len(),
+        1,
+        "the same edge should be fused, not added: {}",
+        t2["edges"]
+    );
+    assert_eq!(e2[0]["n_support"], 2, "{}", t2["edges"]);
+    let support: Vec<&str> = e2[0]["support"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(Value::as_str)
+        .collect();
+    assert_eq!(support.len(), 2, "support: {support:?}");
+    // the fused edge is still the true one
+    let truth = truth_of(&files[0]);
+    let angle = line_angle_deg(
+        vec3(&e2[0]["direction"], "dir"),
+        vec3(&truth["edge"]["direction"], "td"),
+    );
+    let off = dist(
+        vec3(&e2[0]["point"], "p"),
+        vec3(&truth["edge"]["point"], "tp"),
+    );
+    assert!(
+        angle < 2.0 && off < 5e-3,
+        "fused edge off by {angle:.3} deg, {:.3} mm",
+        off * 1e3
+    );
+
+    // a malformed demonstration: the command fails and the tree file is untouched
+    let before = std::fs::read(&tree).unwrap();
+    let bad = d.write("bad.tum", &format!("{GOOD}0.5 0 0 0 0 0 0\n"));
+    let r = run(&["learn".to_string(), s(&bad), "--into".into(), s(&tree)]).fails();
+    r.check(
+        r.stderr.contains(&format!("{}:6: ", bad.display())),
+        "the message should name bad.tum line 6",
+    );
+    // a good one followed by a bad one: nothing is written either
+    let r = run(&[
+        "learn".to_string(),
+        s(&files[0]),
+        s(&bad),
+        "--into".into(),
+        s(&tree),
+    ])
+    .fails();
+    r.check(
+        r.stderr.contains(&format!("{}:6: ", bad.display())),
+        "the message should name bad.tum line 6",
+    );
+    assert!(
+        std::fs::read(&tree).unwrap() == before,
+        "a failed learn must leave box.json byte-identical"
+    );
+    let left = temp_leftovers(d.path(), ".box.json");
+    assert!(left.is_empty(), "temporary files left behind: {left:?}");
+
+    // a corrupt tree file is reported, not overwritten
+    let corrupt = d.write("corrupt.json", "{ not json");
+    let r = run(&[
+        "learn".to_string(),
+        s(&files[0]),
+        "--into".into(),
+        s(&corrupt),
+    ])
+    .fails();
+    r.check(
+        r.stderr.contains("corrupt.json"),
+        "the message should name the corrupt tree file",
+    );
+    assert_eq!(std::fs::read_to_string(&corrupt).unwrap(), "{ not json");
+    assert!(temp_leftovers(d.path(), ".corrupt.json").is_empty());
+
+    // a tree that cannot be written (its folder does not exist): error, nothing left behind
+    let nowhere = d.join("no-such-dir").join("box.json");
+    let r = run(&["learn".to_string(), s(&files[0]), "-o".into(), s(&nowhere)]).fails();
+    r.check(
+        r.stderr.contains("box.json"),
+        "the message should name the output file",
+    );
+    assert!(!d.join("no-such-dir").exists());
+}

@@ -1,0 +1,155 @@
+//! Lines: TUM and CSV syntax, headers, normalisation, and the errors that name file, line
+//! and problem.
+
+use super::*;
+
+#[test]
+fn tum_whitespace_comments_crlf() {
+    let text = "# header comment\r\n\r\n  1.0\t2.0   3.0 4.0\t\t0 0 0 1   # trailing\r\n\
+                #another\r\n\t \r\n2.5 -1 -2 -3 0.0 1.0 0.0 0.0\r\n3e0 1e-3 .5 5. +0 -0 0 -1";
+    let poses = read_str("a.tum", text);
+    assert_eq!(poses.len(), 3);
+    assert_eq!(poses[0].t, 1.0);
+    assert_eq!(xyz(&poses[0]), [2.0, 3.0, 4.0]);
+    assert_eq!(xyzw(&poses[0]), [0.0, 0.0, 0.0, 1.0]);
+    assert_eq!(xyz(&poses[1]), [-1.0, -2.0, -3.0]);
+    assert_eq!(xyzw(&poses[1]), [0.0, 1.0, 0.0, 0.0]);
+    assert_eq!(poses[2].t, 3.0);
+    assert_eq!(xyz(&poses[2]), [1e-3, 0.5, 5.0]);
+    // the sign of the quaternion is kept: w = -1 stays -1
+    assert_eq!(xyzw(&poses[2])[3], -1.0);
+
+    // line numbers of the poses, and a byte-order mark
+    let bytes = format!("\u{feff}# c\n{LINE}\n\n1.5 0 0 0 0 0 0 1\n");
+    let mut r = PoseReader::new(bytes.as_bytes(), "x.tum".into(), Format::Tum);
+    assert_eq!(r.line(), 0);
+    r.next().unwrap().unwrap();
+    assert_eq!(r.line(), 2);
+    r.next().unwrap().unwrap();
+    assert_eq!(r.line(), 4);
+    assert!(r.next().is_none());
+}
+
+#[test]
+fn csv_reordered_and_extra_columns() {
+    let text = "# made by a tracker\nqw, QX ,qy,qz,Time,frame,x,y,z,note\n\
+                1,0,0,0,10.0,7,1.5,2.5,3.5,\"a, b\"\n\
+                \"0\", 1 ,0,0,10.1,8,-1,-2,-3,x # comment\n";
+    let poses = read_str("b.csv", text);
+    assert_eq!(poses.len(), 2);
+    assert_eq!(poses[0].t, 10.0);
+    assert_eq!(xyz(&poses[0]), [1.5, 2.5, 3.5]);
+    assert_eq!(xyzw(&poses[0]), [0.0, 0.0, 0.0, 1.0]);
+    assert_eq!(poses[1].t, 10.1);
+    assert_eq!(xyzw(&poses[1]), [1.0, 0.0, 0.0, 0.0]);
+
+    // detected from the content without a .csv name; timestamp/tx names
+    let text = "timestamp,tx,ty,tz,qx,qy,qz,qw\n1,2,3,4,0,0,0,1\n";
+    let poses = read_str("c.txt", text);
+    assert_eq!(xyz(&poses[0]), [2.0, 3.0, 4.0]);
+    // a commented-out header
+    let poses = read_str(
+        "d.csv",
+        "#t,x,y,z,qx,qy,qz,qw\n1,2,3,4,0,0,0,1\n2,2,3,4,0,0,0,1\n",
+    );
+    assert_eq!(poses.len(), 2);
+    let poses = read_str("d.log", "#t,x,y,z,qx,qy,qz,qw\n1,2,3,4,0,0,0,1\n");
+    assert_eq!(poses[0].t, 1.0);
+}
+
+#[test]
+fn detect_format_rules() {
+    let p = Path::new("x.tum");
+    assert_eq!(
+        format::detect_format(Path::new("x.CSV"), "1 2 3 4 5 6 7 8"),
+        Format::Csv
+    );
+    assert_eq!(format::detect_format(p, "t,x,y,z,qx,qy,qz,qw"), Format::Csv);
+    assert_eq!(format::detect_format(p, "1 2 3 4 0 0 0 1"), Format::Tum);
+    assert_eq!(format::detect_format(p, "1,2,3,4,0,0,0,1e-3"), Format::Tum);
+    assert_eq!(format::detect_format(p, "timestamp tx ty tz"), Format::Tum);
+}
+
+#[test]
+fn slightly_non_unit_quaternion_is_normalised() {
+    let poses = read_str("n.tum", "1 0 0 0 0 0 0.6 0.803\n2 0 0 0 0 0 0 -0.995\n");
+    let q = xyzw(&poses[0]);
+    let n = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+    assert!((n - 1.0).abs() < 1e-15);
+    assert!((q[2] / q[3] - 0.6 / 0.803).abs() < 1e-15);
+    // normalised, sign kept
+    assert_eq!(xyzw(&poses[1]), [0.0, 0.0, 0.0, -1.0]);
+}
+
+#[test]
+fn errors_name_file_line_and_problem() {
+    let h = "# comment\n1 0 0 0 0 0 0 1\n\n";
+    let c = "t,x,y,z,qx,qy,qz,qw,extra\n1,0,0,0,0,0,0,1,a\n";
+    let long = format!("{LINE}\n1 {}\n", "0 ".repeat(700_000));
+    #[rustfmt::skip]
+    let cases: Vec<(&str, String, usize, Vec<&str>)> = vec![
+        ("demo.tum", format!("{h}2 0 0 0 0 0 1\n"), 4,
+         vec!["expected 8 columns (timestamp tx ty tz qx qy qz qw), found 7"]),
+        ("demo.tum", format!("{h}2 0 0 0 0 0 0 1 9\n"), 4, vec!["found 9"]),
+        ("demo.tum", format!("{h}2,0,0,0,0,0,0,1\n"), 4, vec!["found 1", "header"]),
+        ("demo.tum", format!("{h}2 0 0 0 0.5x 0 0 1\n"), 4,
+         vec!["column 5 (qx): \"0.5x\" is not a number"]),
+        ("demo.tum", format!("{h}2 0 nan 0 0 0 0 1\n"), 4, vec!["ty is NaN (\"nan\")"]),
+        ("demo.tum", format!("{h}2 0 0 -inf 0 0 0 1\n"), 4, vec!["tz is infinite (\"-inf\")"]),
+        ("demo.tum", format!("{h}2 0 0 0 0 1e999 0 1\n"), 4, vec!["qy is infinite"]),
+        ("demo.tum", format!("{h}2 0 0 0 0 0 0 0\n"), 4, vec!["is zero"]),
+        ("demo.tum", format!("{h}2 0 0 0 0 0 0 1.02\n"), 4, vec!["norm 1.02", "tolerance 0.01"]),
+        ("demo.tum", format!("{h}2 0 0 0 .5 .5 .5 .5\n3 0 0 0 0 0 0 .98\n"), 5, vec!["norm 0.98"]),
+        ("demo.tum", format!("{h}1 0 0 0 0 0 0 1\n"), 4,
+         vec!["timestamp 1 on line 4 repeats timestamp 1 on line 2"]),
+        ("demo.tum", format!("{h}5 0 0 0 0 0 0 1\n4.5 0 0 0 0 0 0 1\n"), 5,
+         vec!["timestamp 4.5 on line 5 goes back from timestamp 5 on line 4"]),
+        ("long.tum", long, 2, vec!["longer than"]),
+        ("bin.tum", "\u{0}\u{1}\u{7f}\u{ff} \u{2603} 1 2\n".into(), 1, vec!["found 4"]),
+        ("e.csv", "t,x,y,z,qx,qy,qz\n1,0,0,0,0,0,0\n".into(), 1, vec!["no column for qw"]),
+        ("e.csv", "# c\ntime,tx,ty,tz,qw\n".into(), 2, vec!["no column for qx, qy, qz"]),
+        ("e.csv", "t,x,tx,y,z,qx,qy,qz,qw\n".into(), 1, vec!["both give tx"]),
+        ("e.csv", "1,0,0,0,0,0,0,1\n".into(), 1, vec!["no column for"]),
+        ("e.csv", format!("{c}2,0,0,0,0,0,0,1\n"), 3,
+         vec!["expected 9 columns (as in the CSV header on line 1), found 8"]),
+        ("e.csv", format!("{c}2,0,0,0,0,0,zero,1,b\n"), 3,
+         vec!["column 7 (qz): \"zero\" is not a number"]),
+        ("e.csv", format!("{c}2,0,,0,0,0,0,1,b\n"), 3, vec!["column 3 (ty) is empty"]),
+        ("e.csv", format!("{c}2,0,0,0,0,0,0,NaN,b\n"), 3, vec!["qw is NaN"]),
+        ("e.csv", format!("{c}1,0,0,0,0,0,0,1,b\n"), 3, vec!["repeats timestamp 1 on line 2"]),
+    ];
+    for (name, content, line, needles) in &cases {
+        let e = parse_error(name, content, *line);
+        for needle in needles {
+            assert!(e.contains(needle), "{needle:?} not in {e:?}");
+        }
+    }
+    assert_eq!(QUAT_NORM_TOLERANCE, 0.01);
+    // within the tolerance, gaps in time and absurd positions are all fine
+    read_str("ok.tum", "1 0 0 0 0 0 0 1.0099\n2 0 0 0 0 0 0 0.9901\n");
+    read_str("gap.tum", "1 -1e6 0 0 0 0 0 1\n1000 1e9 -5 0 0 0 0 1\n");
+}
+
+#[test]
+fn files_without_poses() {
+    assert!(file_error("e.tum", "").contains("empty"));
+    assert!(file_error("e.tum", "# only\n\n  \n# comments\n").contains("no poses"));
+    assert!(file_error("e.csv", "t,x,y,z,qx,qy,qz,qw\n").contains("header"));
+    let e = format::read_trajectory(Path::new("/nonexistent/dir/x.tum")).unwrap_err();
+    assert!(
+        matches!(e, Error::Io { .. }) && e.to_string().contains("x.tum"),
+        "{e}"
+    );
+    assert!(format::read_trajectory(&std::env::temp_dir()).is_err());
+}
+
+#[test]
+fn iterator_stops_after_an_error() {
+    let text = format!("{LINE}\n1 0 0 0 0 0 0 1\nbad\n3 0 0 0 0 0 0 1\n");
+    let mut r = PoseReader::new(text.as_bytes(), "s.tum".into(), Format::Tum);
+    assert!(r.next().unwrap().is_ok());
+    assert!(r.next().unwrap().is_ok());
+    let e = r.next().unwrap().unwrap_err().to_string();
+    assert!(e.starts_with("s.tum:3: "), "{e}");
+    assert!(r.next().is_none());
+}
