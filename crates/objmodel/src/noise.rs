@@ -145,24 +145,35 @@ pub fn motion_dominated(samples: &[PoseSample], alpha: f64, tolerance: (f64, f64
         sigma_rotation: 0.0,
     }
     .floored();
-    let richardson = |s1: f64, s2: f64, floor: f64| {
-        ((16.0 * s1 * s1 - s2 * s2) / 15.0)
-            .max(0.0)
-            .sqrt()
-            .max(floor)
-    };
     let inflated = |est: f64, noise: f64, tol: f64| {
         est > limit * noise && est * est - noise * noise > tol * tol
     };
     inflated(
         est.sigma_position,
-        richardson(p1, p2, floor.sigma_position),
+        richardson(p1, p2).max(floor.sigma_position),
         tolerance.0,
     ) || inflated(
         est.sigma_rotation,
-        richardson(r1, r2, floor.sigma_rotation),
+        richardson(r1, r2).max(floor.sigma_rotation),
         tolerance.1,
     )
+}
+
+/// The noise with the acceleration removed, `σ² = (16 s₁² - s₂²) / 15` from the robust sigmas
+/// `s₁`, `s₂` of the midpoint residuals at lags 1 and 2 (see [`motion_dominated`]).
+fn richardson(s1: f64, s2: f64) -> f64 {
+    ((16.0 * s1 * s1 - s2 * s2) / 15.0).max(0.0).sqrt()
+}
+
+/// The per-axis noise of consecutive samples with a smooth motion's acceleration removed
+/// (Richardson, see [`motion_dominated`]), unfloored: zero for the exact poses of a smooth
+/// motion, the noise for a tracker's. `None` with fewer than 5 samples.
+pub fn motion_free(samples: &[PoseSample]) -> Option<NoiseModel> {
+    let ((p1, r1), (p2, r2)) = (midpoint_sigmas(samples, 1)?, midpoint_sigmas(samples, 2)?);
+    Some(NoiseModel {
+        sigma_position: richardson(p1, p2),
+        sigma_rotation: richardson(r1, r2),
+    })
 }
 
 /// Whether the estimate `a` (from `n_a` consecutive samples) exceeds `b` (from `n_b`), in

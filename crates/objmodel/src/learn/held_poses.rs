@@ -1,20 +1,20 @@
 //! Whether the object's tracker held its last pose: frames that repeat the pose before them
 //! exactly, from a tracker whose noise makes an exact repeat all but impossible
-//! ([`crate::clean::held`]). `Learner::checked` (the parent module) then classifies again with
-//! those frames left out.
+//! ([`crate::clean::held`]), or a logger that samples the tracker faster than it measures.
+//! `Learner::checked` (the parent module) then classifies again with those frames left out.
 //!
 //! The test. At rest, two frames of a tracker with position noise σ per axis differ by
 //! N(0, 2σ²) per axis; written to a resolution of `r` (the file's last decimal), they read the
 //! same with probability about `r / (2 √π σ)` per axis (the density of the difference at 0
 //! times the width of one step), at most 1. A position that repeats on all three axes has the
 //! product of the three. Where that is below the tests' `alpha`, with σ measured on the
-//! demonstration's rests (their frames that are not repeats) and above the noise floor that
+//! quiet windows of frames that are not repeats (see `noise_of_tracker`) and above the floor that
 //! the learner treats as exact poses ([`crate::noise::MIN_SIGMA_POSITION_M`]), every repeat is
 //! the tracker's, not the object's. A simulator's exact poses repeat wherever the object is
 //! still, and measure no noise at rest: kept. A coarse resolution (millimetres for a
 //! 0.1 mm tracker) repeats by chance: kept.
 
-use crate::classify::{Classification, Config, Label, Method};
+use crate::classify::{Classification, Config, Method};
 use crate::noise::{PoseSample, MIN_SIGMA_POSITION_M, SCATTER_WINDOW};
 use crate::recording::{RecordedFrame, Recording};
 use nalgebra::Vector3;
@@ -28,8 +28,8 @@ pub(super) struct HeldPoses {
     pub runs: usize,
     /// The longest run \[s\], from the frame it repeats to its last.
     pub longest_s: f64,
-    /// The position noise measured at rest \[m\] per axis.
-    pub sigma_at_rest: f64,
+    /// The position noise measured on the frames that are not repeats \[m\] per axis.
+    pub sigma: f64,
     /// The resolution the positions are written to \[m\], per axis.
     pub resolution: Vector3<f64>,
     /// The probability of a repeat by chance at rest.
@@ -51,15 +51,15 @@ impl HeldPoses {
             0,
             format!(
                 "{} object frames ({} {}, the longest {:.2} s) repeat the pose before them \
-                 exactly, which this tracker does not do by chance (its noise at rest is \
+                 exactly, which this tracker does not do by chance (its noise is \
                  {:.3} mm per axis; at the file's resolution a repeat has probability {:.0e}): \
-                 taken as the tracker holding its last pose while it lost the object, and left \
-                 out as glitches are",
+                 not measurements (a tracker holding its last pose while it lost the object, or \
+                 a logger sampling it faster than it measures), left out as glitches are",
                 self.frames,
                 self.runs,
                 if self.runs == 1 { "run" } else { "runs" },
                 self.longest_s,
-                self.sigma_at_rest * 1e3,
+                self.sigma * 1e3,
                 self.chance
             ),
         );
@@ -94,7 +94,7 @@ pub(super) fn check(
     if !repeat.contains(&true) {
         return None;
     }
-    let sigma = noise_at_rest(c, frames, &repeat)?;
+    let sigma = noise_of_tracker(c, frames, &repeat)?;
     if sigma <= MIN_SIGMA_POSITION_M {
         return None;
     }
@@ -130,35 +130,40 @@ pub(super) fn check(
         frames: repeat.iter().filter(|r| **r).count(),
         runs,
         longest_s,
-        sigma_at_rest: sigma,
+        sigma,
         resolution,
         chance,
     })
 }
 
-/// The position noise \[m\] per axis measured on the rest of `c` with the most frames that
-/// are neither repeats nor outliers (at least [`SCATTER_WINDOW`] of them), unfloored.
-fn noise_at_rest(c: &Classification, frames: &[RecordedFrame], repeat: &[bool]) -> Option<f64> {
+/// The position noise \[m\] per axis of the tracker: over windows of [`SCATTER_WINDOW`]
+/// consecutive frames that are neither repeats nor outliers, each window's noise with a
+/// smooth motion's acceleration removed ([`crate::noise::motion_free`], unfloored), the lower
+/// quartile (the quiet windows: a tumble or an impact only adds to a window's). `None` with
+/// fewer than [`MIN_WINDOWS`] windows. (Not on the first classification's rests: the repeats
+/// make the noise it used look small, and it may have cut the rests into pieces too short to
+/// measure.)
+fn noise_of_tracker(c: &Classification, frames: &[RecordedFrame], repeat: &[bool]) -> Option<f64> {
     let outlier = c.is_outlier();
-    let samples_of = |first: usize, last: usize| -> Vec<PoseSample> {
-        let from = frames.partition_point(|f| (f.index as usize) < first);
-        frames[from..]
-            .iter()
-            .zip(&repeat[from..])
-            .take_while(|(f, _)| f.index as usize <= last)
-            .filter(|(f, r)| !**r && !outlier(f.index))
-            .map(|(f, _)| f.sample())
-            .collect()
-    };
-    c.parts
+    let samples: Vec<PoseSample> = frames
         .iter()
-        .filter(|p| p.kind == Label::Rest)
-        .map(|p| samples_of(p.first, p.last))
-        .filter(|s| s.len() >= SCATTER_WINDOW)
-        .max_by_key(Vec::len)
-        .and_then(|s| crate::noise::measure(&s))
-        .map(|n| n.sigma_position)
+        .zip(repeat)
+        .filter(|(f, r)| !**r && !outlier(f.index))
+        .map(|(f, _)| f.sample())
+        .collect();
+    let mut sigmas: Vec<f64> = samples
+        .chunks_exact(SCATTER_WINDOW)
+        .filter_map(|w| crate::noise::motion_free(w).map(|n| n.sigma_position))
+        .collect();
+    if sigmas.len() < MIN_WINDOWS {
+        return None;
+    }
+    sigmas.sort_by(f64::total_cmp);
+    Some(sigmas[(sigmas.len() - 1) / 4])
 }
+
+/// Fewest windows [`noise_of_tracker`] measures on.
+const MIN_WINDOWS: usize = 4;
 
 /// The resolution \[m\] `values` are written to: the largest power of ten, down to 10⁻¹²,
 /// of which every one is a whole multiple (to the rounding of reading the decimal and of a
