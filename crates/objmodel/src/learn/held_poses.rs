@@ -76,8 +76,8 @@ pub(super) fn is_repeat(frames: &[RecordedFrame], k: usize) -> bool {
 
 /// The held poses of the object's stream in `recording`, as classified in `c` with `config`
 /// (`None`: no repeats, or repeats an exact or coarsely written tracker makes). Robust method,
-/// noise estimated (a given noise says nothing of how the poses were written), every frame
-/// recorded (the test needs consecutive frames), repeats not left out already.
+/// every frame recorded (the test needs consecutive frames), repeats not left out already. A
+/// noise given is not used: the test measures the tracker's own.
 pub(super) fn check(
     config: &Config,
     c: &Classification,
@@ -167,9 +167,8 @@ const MIN_WINDOWS: usize = 4;
 
 /// The resolution \[m\] `values` are written to: the largest power of ten, down to 10⁻¹²,
 /// of which every one is a whole multiple (to the rounding of reading the decimal and of a
-/// unit's conversion); finer, a millionth of the largest magnitude's 10⁻¹² (values written in
-/// full, or computed).
-pub(super) fn resolution(values: impl Iterator<Item = f64> + Clone) -> f64 {
+/// unit's conversion); 10⁻¹² where none is (values written in full, or computed).
+fn resolution(values: impl Iterator<Item = f64> + Clone) -> f64 {
     for k in 0..=12 {
         let scale = 10f64.powi(k);
         let whole = values.clone().all(|v| {
