@@ -100,20 +100,18 @@ pub type PoseSample = (f64, UnitQuaternion<f64>, Vector3<f64>);
 /// Estimate the noise from consecutive samples (at least 3; sign continuity not required).
 /// Returns `None` with fewer than 3 samples.
 pub fn estimate(samples: &[PoseSample]) -> Option<NoiseModel> {
-    measure(samples).map(NoiseModel::floored)
-}
-
-/// [`estimate`] without the floors: what the samples show, zero for exact poses.
-pub fn measure(samples: &[PoseSample]) -> Option<NoiseModel> {
     let (sp, sr) = midpoint_sigmas(samples, 1)?;
     // Trackers often filter their output, and filtered noise is correlated from frame to
     // frame: second differences then understate it. The scatter about a straight line over
     // short windows does not; take the larger of the two (they agree for white noise).
     let (wp, wr) = window_scatter(samples).unwrap_or((0.0, 0.0));
-    Some(NoiseModel {
-        sigma_position: sp.max(wp),
-        sigma_rotation: sr.max(wr),
-    })
+    Some(
+        NoiseModel {
+            sigma_position: sp.max(wp),
+            sigma_rotation: sr.max(wr),
+        }
+        .floored(),
+    )
 }
 
 /// Whether [`estimate`] measured the motion rather than the noise: a thrown box filmed at
@@ -131,11 +129,7 @@ pub fn measure(samples: &[PoseSample]) -> Option<NoiseModel> {
 /// that the tests add to the noise anyway (exact poses of a smooth motion "estimate" its
 /// curvature, harmlessly small). Per position and rotation; never below the noise floors.
 pub fn motion_dominated(samples: &[PoseSample], alpha: f64, tolerance: (f64, f64)) -> bool {
-    let (Some(est), Some((p1, r1)), Some((p2, r2))) = (
-        estimate(samples),
-        midpoint_sigmas(samples, 1),
-        midpoint_sigmas(samples, 2),
-    ) else {
+    let (Some(est), Some(noise)) = (estimate(samples), motion_free(samples)) else {
         return false;
     };
     let m = 3.0 * (samples.len() as f64 - 4.0).max(1.0);
@@ -150,19 +144,13 @@ pub fn motion_dominated(samples: &[PoseSample], alpha: f64, tolerance: (f64, f64
     };
     inflated(
         est.sigma_position,
-        richardson(p1, p2).max(floor.sigma_position),
+        noise.sigma_position.max(floor.sigma_position),
         tolerance.0,
     ) || inflated(
         est.sigma_rotation,
-        richardson(r1, r2).max(floor.sigma_rotation),
+        noise.sigma_rotation.max(floor.sigma_rotation),
         tolerance.1,
     )
-}
-
-/// The noise with the acceleration removed, `σ² = (16 s₁² - s₂²) / 15` from the robust sigmas
-/// `s₁`, `s₂` of the midpoint residuals at lags 1 and 2 (see [`motion_dominated`]).
-fn richardson(s1: f64, s2: f64) -> f64 {
-    ((16.0 * s1 * s1 - s2 * s2) / 15.0).max(0.0).sqrt()
 }
 
 /// The per-axis noise of consecutive samples with a smooth motion's acceleration removed
@@ -170,6 +158,8 @@ fn richardson(s1: f64, s2: f64) -> f64 {
 /// motion, the noise for a tracker's. `None` with fewer than 5 samples.
 pub fn motion_free(samples: &[PoseSample]) -> Option<NoiseModel> {
     let ((p1, r1), (p2, r2)) = (midpoint_sigmas(samples, 1)?, midpoint_sigmas(samples, 2)?);
+    // σ² = (16 s₁² - s₂²) / 15 from the robust sigmas s₁, s₂ at lags 1 and 2.
+    let richardson = |s1: f64, s2: f64| ((16.0 * s1 * s1 - s2 * s2) / 15.0).max(0.0).sqrt();
     Some(NoiseModel {
         sigma_position: richardson(p1, p2),
         sigma_rotation: richardson(r1, r2),

@@ -21,7 +21,7 @@ use nalgebra::Vector3;
 
 /// Repeats found, and why they are the tracker's.
 #[derive(Clone, Debug, PartialEq)]
-pub(super) struct HeldPoses {
+pub(super) struct HeldPosesFound {
     /// Frames that repeat the pose before them.
     pub frames: usize,
     /// Runs of them.
@@ -36,7 +36,7 @@ pub(super) struct HeldPoses {
     pub chance: f64,
 }
 
-impl HeldPoses {
+impl HeldPosesFound {
     /// `config` with the repeats left out.
     pub(super) fn config(&self, config: &Config) -> Config {
         let mut config = *config;
@@ -82,7 +82,7 @@ pub(super) fn check(
     config: &Config,
     c: &Classification,
     recording: &Recording,
-) -> Option<HeldPoses> {
+) -> Option<HeldPosesFound> {
     if config.method != Method::Robust
         || config.robust.repeats_are_held
         || recording.object_stride != 1
@@ -126,7 +126,7 @@ pub(super) fn check(
         }
         longest_s = longest_s.max(frames[k].t - frames[repeated].t);
     }
-    Some(HeldPoses {
+    Some(HeldPosesFound {
         frames: repeat.iter().filter(|r| **r).count(),
         runs,
         longest_s,
