@@ -146,6 +146,19 @@ def write_truth(path, half, mu, bt_t, bt_r, faces, edges):
                    "edges": [{"point": list(p), "direction": list(u)} for p, u in edges]}, f)
 
 
+def random_box(rng, half_ranges, mu_range, path):
+    """A box drawn from `rng`: half extents [m] from `half_ranges` (three (low, high)), friction
+    from `mu_range`, a tag on its top face up to 1 cm off centre and turned at random; its truth
+    written to `path`. Returns (half, mu, bt_t, bt_r, faces, edges)."""
+    half = np.array([rng.uniform(lo, hi) for lo, hi in half_ranges])
+    mu = rng.uniform(*mu_range)
+    bt_t = np.array([rng.uniform(-0.01, 0.01), rng.uniform(-0.01, 0.01), half[2]])
+    bt_r = R.from_euler("z", rng.uniform(-180, 180), degrees=True)
+    faces, edges = truth(half, bt_t, bt_r)
+    write_truth(path, half, mu, bt_t, bt_r, faces, edges)
+    return half, mu, bt_t, bt_r, faces, edges
+
+
 def face_true(f, faces):
     n = np.array(f["normal"])
     for nt, dt in faces:
@@ -194,12 +207,9 @@ def main():
     os.makedirs(DIR, exist_ok=True)
     totals = {"edges": [0, 0], "faces": [0, 0]}
     for k in range(boxes):
-        half = np.array([rng.uniform(0.02, 0.04), rng.uniform(0.02, 0.04), rng.uniform(0.03, 0.06)])
-        mu = rng.uniform(0.3, 0.8)
-        bt_t = np.array([rng.uniform(-0.01, 0.01), rng.uniform(-0.01, 0.01), half[2]])
-        bt_r = R.from_euler("z", rng.uniform(-180, 180), degrees=True)
-        faces, edges = truth(half, bt_t, bt_r)
-        write_truth(f"{DIR}/box{k}_{LEVEL}.truth.json", half, mu, bt_t, bt_r, faces, edges)
+        half, mu, bt_t, bt_r, faces, edges = random_box(
+            rng, [(0.02, 0.04), (0.02, 0.04), (0.03, 0.06)], (0.3, 0.8),
+            f"{DIR}/box{k}_{LEVEL}.truth.json")
         paths, sps, srs = [], [], []
         for i in range(n):
             if LEVEL == "camera":

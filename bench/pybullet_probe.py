@@ -35,7 +35,7 @@ import pybullet as pb
 from scipy.spatial.transform import Rotation as R
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from mujoco_tosses import learn_and_score, track, truth, write_truth  # noqa: E402
+from mujoco_tosses import learn_and_score, random_box, track  # noqa: E402
 from mujoco_box_set import orientations  # noqa: E402
 
 BIN = os.environ.get("OBJMODEL", "target/release/objmodel")
@@ -227,12 +227,9 @@ def main():
     poses = orientations()
     totals = [0, 0, 0, 0]
     for k in range(boxes):
-        half = np.array([rng.uniform(0.025, 0.045), rng.uniform(0.02, 0.04), rng.uniform(0.035, 0.07)])
-        mu = rng.uniform(0.5, 0.9)
-        bt_t = np.array([rng.uniform(-0.01, 0.01), rng.uniform(-0.01, 0.01), half[2]])
-        bt_r = R.from_euler("z", rng.uniform(-180, 180), degrees=True)
-        faces, edges = truth(half, bt_t, bt_r)
-        write_truth(f"{DIR}/box{k}_{LEVEL}.truth.json", half, mu, bt_t, bt_r, faces, edges)
+        half, mu, bt_t, bt_r, faces, edges = random_box(
+            rng, [(0.025, 0.045), (0.02, 0.04), (0.035, 0.07)], (0.5, 0.9),
+            f"{DIR}/box{k}_{LEVEL}.truth.json")
         paths, made = [], {}
         for kind in ("topple", "slide", "palm", "toss"):
             made[kind] = 0
