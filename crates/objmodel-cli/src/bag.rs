@@ -1,5 +1,6 @@
-//! The options that choose what to read from a ROS 2 bag, shared by `classify`, `learn` and
-//! `plot`, and the sources (files or bags) of the demonstrations given on the command line.
+//! The options that choose what to read from a ROS 2 bag (or from an OptiTrack Motive take
+//! holding several rigid bodies), shared by `classify`, `learn` and `plot`, and the sources
+//! (files, takes or bags) of the demonstrations given on the command line.
 
 use anyhow::{bail, Result};
 use objmodel::format::bag::{is_bag, BagSelection};
@@ -10,7 +11,9 @@ use std::path::{Path, PathBuf};
 #[derive(clap::Args, Clone, Debug, Default)]
 pub struct BagArgs {
     /// For a bag: the object, a pose topic (e.g. /object_pose) or a tf frame (e.g.
-    /// tag36h11:0; taken whole, ':' included). With a bag, --palm names the palm the same way.
+    /// tag36h11:0; taken whole, ':' included). For an OptiTrack Motive take (CSV export)
+    /// holding several rigid bodies: the object's rigid body. With it, --palm names the palm
+    /// the same way (a topic, frame or rigid body, not a file).
     #[arg(long)]
     pub object: Option<String>,
     /// For a bag: the frame the object and palm are expressed in (give --gravity in it);
@@ -54,12 +57,34 @@ impl BagArgs {
         })
     }
 
-    /// Refuse the bag options for pose files.
+    /// Refuse the options that are for bags alone, for pose files.
     pub fn check_files(&self) -> Result<()> {
-        if self.object.is_some() || self.reference.is_some() || self.split.is_some() {
-            bail!("--object, --reference and --split are for bags (.mcap); the demonstrations given are pose files");
+        if self.reference.is_some() || self.split.is_some() {
+            bail!("--reference and --split are for bags (.mcap); the demonstrations given are pose files");
         }
         Ok(())
+    }
+
+    /// The source of pose file `demo`: a Motive take's rigid bodies where --object names the
+    /// object's (`palm`, the `--palm` given, then names the palm's), else the file and its
+    /// palm file, `palm_file`.
+    pub fn file_source(
+        &self,
+        demo: &Path,
+        palm: Option<&Path>,
+        palm_file: impl FnOnce() -> Option<PathBuf>,
+    ) -> DemoSource {
+        match &self.object {
+            Some(object) => DemoSource::Take {
+                path: demo.to_path_buf(),
+                object: object.clone(),
+                palm: palm.map(|p| p.to_string_lossy().into_owned()),
+            },
+            None => DemoSource::Files {
+                object: demo.to_path_buf(),
+                palm: palm_file(),
+            },
+        }
     }
 }
 
@@ -72,6 +97,15 @@ pub enum DemoSource {
         object: PathBuf,
         /// The palm's file.
         palm: Option<PathBuf>,
+    },
+    /// Rigid bodies of an OptiTrack Motive take.
+    Take {
+        /// The take's CSV export.
+        path: PathBuf,
+        /// The object's rigid body.
+        object: String,
+        /// The palm's rigid body.
+        palm: Option<String>,
     },
     /// A bag.
     Bag {
@@ -90,6 +124,11 @@ impl DemoSource {
                 object,
                 palm: palm.as_deref(),
             },
+            DemoSource::Take { path, object, palm } => Source::Take {
+                path,
+                object,
+                palm: palm.as_deref(),
+            },
             DemoSource::Bag { path, selection } => Source::Bag { path, selection },
         }
     }
@@ -98,14 +137,15 @@ impl DemoSource {
     pub fn path(&self) -> &Path {
         match self {
             DemoSource::Files { object, .. } => object,
-            DemoSource::Bag { path, .. } => path,
+            DemoSource::Take { path, .. } | DemoSource::Bag { path, .. } => path,
         }
     }
 }
 
 /// The source of one demonstration given on the command line (`classify`, `plot`): a bag with
-/// the selection of `bag` and `--palm` (a topic or frame), or a pose file with its palm file
-/// (`--palm`, else NAME.palm.* beside it unless `no_palm`).
+/// the selection of `bag` and `--palm` (a topic or frame), a Motive take's rigid bodies
+/// (--object and `--palm`), or a pose file with its palm file (`--palm`, else NAME.palm.*
+/// beside it unless `no_palm`).
 pub fn single_source(
     demo: &Path,
     palm: Option<&Path>,
@@ -119,10 +159,7 @@ pub fn single_source(
         });
     }
     bag.check_files()?;
-    Ok(DemoSource::Files {
-        object: demo.to_path_buf(),
-        palm: crate::opts::palm_for(demo, palm, no_palm),
-    })
+    Ok(bag.file_source(demo, palm, || crate::opts::palm_for(demo, palm, no_palm)))
 }
 
 /// Whether `path` is a bag.

@@ -14,7 +14,7 @@ pub struct ClassifyArgs {
     /// A file NAME.palm.tum (or .palm.csv) beside NAME.tum is read as its palm.
     pub demo: PathBuf,
     /// The palm's (tool plate's) trajectory, for an instrumented demonstration; for a bag,
-    /// the palm's topic or tf frame.
+    /// the palm's topic or tf frame; for a Motive take (with --object), its rigid body.
     #[arg(long)]
     pub palm: Option<PathBuf>,
     /// Ignore a NAME.palm.tum file beside the demonstration.
@@ -39,6 +39,7 @@ pub fn run(a: &ClassifyArgs) -> Result<()> {
     let source = single_source(&a.demo, a.palm.as_deref(), a.no_palm, &a.bag)?;
     let palm = match &source {
         DemoSource::Files { palm, .. } => palm.clone(),
+        DemoSource::Take { path, palm, .. } => palm.as_ref().map(|_| path.clone()),
         DemoSource::Bag { .. } => None,
     };
     let learner = Learner::new(config);
@@ -66,6 +67,9 @@ pub fn run(a: &ClassifyArgs) -> Result<()> {
             let mut v = serde_json::to_value(c)?;
             v["file"] = serde_json::json!(a.demo.display().to_string());
             v["palm_file"] = serde_json::json!(palm.as_ref().map(|p| p.display().to_string()));
+            if let DemoSource::Take { object, palm, .. } = &source {
+                v["rigid_bodies"] = serde_json::json!({ "object": object, "palm": palm });
+            }
             if let DemoSource::Bag { selection, .. } = &source {
                 v["bag"] = serde_json::json!({
                     "object": selection.object,

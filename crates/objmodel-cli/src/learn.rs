@@ -14,7 +14,8 @@ use std::path::{Path, PathBuf};
 /// Arguments of `objmodel learn`.
 #[derive(clap::Args)]
 pub struct LearnArgs {
-    /// Demonstration files (TUM or CSV), or ROS 2 bags (.mcap, or bag folders; with --object).
+    /// Demonstration files (TUM or CSV; OptiTrack Motive takes, with --object if they hold
+    /// several rigid bodies), or ROS 2 bags (.mcap, or bag folders; with --object).
     /// NAME.palm.* files are taken as the palms of NAME.*.
     #[arg(required = true)]
     pub demos: Vec<PathBuf>,
@@ -26,7 +27,8 @@ pub struct LearnArgs {
     #[arg(long)]
     pub into: Option<PathBuf>,
     /// The palm trajectory, for a single instrumented demonstration; for bags, the palm's
-    /// topic or tf frame (e.g. palm_link).
+    /// topic or tf frame (e.g. palm_link); for Motive takes (with --object), the palm's rigid
+    /// body in each.
     #[arg(long)]
     pub palm: Option<PathBuf>,
     /// Print the tree as JSON on standard output instead of a summary.
@@ -62,8 +64,9 @@ pub fn sources(demos: &[PathBuf], palm: Option<&Path>) -> Result<Vec<(PathBuf, O
 }
 
 /// The sources of the demonstrations given on the command line: bags with the selection of
-/// `bag` and `--palm` (a topic or frame, the same for every bag), pose files as [`sources`]
-/// says (bags and files may not be mixed).
+/// `bag` and `--palm` (a topic or frame, the same for every bag), Motive takes' rigid bodies
+/// where --object names the object's (and `--palm` the palm's, in each), pose files as
+/// [`sources`] says (bags and files may not be mixed).
 pub fn demo_sources(
     demos: &[PathBuf],
     palm: Option<&Path>,
@@ -72,6 +75,13 @@ pub fn demo_sources(
     let bags = demos.iter().filter(|d| is_bag_path(d)).count();
     if bags == 0 {
         bag.check_files()?;
+        if bag.object.is_some() {
+            // Motive takes: --palm names the palm's rigid body in each.
+            return Ok(demos
+                .iter()
+                .map(|d| bag.file_source(d, palm, || None))
+                .collect());
+        }
         return Ok(sources(demos, palm)?
             .into_iter()
             .map(|(object, palm)| DemoSource::Files { object, palm })

@@ -15,7 +15,7 @@ pub struct PlotArgs {
     /// (with --object).
     pub demo: PathBuf,
     /// The palm's trajectory, for an instrumented demonstration; for a bag, its topic or tf
-    /// frame.
+    /// frame; for a Motive take (with --object), its rigid body.
     #[arg(long)]
     pub palm: Option<PathBuf>,
     /// Output folder for NAME.angles.svg and NAME.angles.png.

@@ -219,3 +219,101 @@ fn learn_incremental_and_atomic() {
     );
     assert!(!d.join("no-such-dir").exists());
 }
+
+// ---------------------------------------------------------------------------------------------
+// Motive takes holding the object and the palm
+
+/// An OptiTrack Motive take (CSV export, metres) of the TUM files `bodies` (name, file): one
+/// row per stamp of any of them, a body's fields empty where it has no pose at that stamp.
+fn motive_take(bodies: &[(&str, &Path)]) -> String {
+    let poses: Vec<Vec<Vec<String>>> = bodies
+        .iter()
+        .map(|(_, f)| {
+            std::fs::read_to_string(f)
+                .unwrap()
+                .lines()
+                .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+                .map(|l| l.split_whitespace().map(str::to_string).collect())
+                .collect()
+        })
+        .collect();
+    let mut stamps: Vec<String> = poses.iter().flatten().map(|p| p[0].clone()).collect();
+    stamps.sort_by(|a, b| a.parse::<f64>().unwrap().total_cmp(&b.parse().unwrap()));
+    stamps.dedup();
+    let row = |cells: &[&str]| format!(",{}", cells.join(","));
+    let mut text = String::from(
+        "Format Version,1.23,Take Name,t,Rotation Type,Quaternion,Length Units,Meters\n\n",
+    );
+    let mut rows = [",Type", ",Name", ",ID", ",", "Frame,Time (Seconds)"].map(String::from);
+    for (k, (name, _)) in bodies.iter().enumerate() {
+        rows[0] += &row(&["Rigid Body"; 7]);
+        rows[1] += &row(&[*name; 7]);
+        rows[2] += &row(&[k.to_string().as_str(); 7]);
+        rows[3] += ",Rotation,Rotation,Rotation,Rotation,Position,Position,Position";
+        rows[4] += ",X,Y,Z,W,X,Y,Z";
+    }
+    text += &(rows.join("\n") + "\n");
+    for (frame, t) in stamps.iter().enumerate() {
+        text += &format!("{frame},{t}");
+        for body in &poses {
+            match body.iter().find(|p| &p[0] == t) {
+                // TUM: t tx ty tz qx qy qz qw; Motive: rotation X Y Z W, then position.
+                Some(p) => text += &row(&[&p[4], &p[5], &p[6], &p[7], &p[1], &p[2], &p[3]]),
+                None => text += &",".repeat(7),
+            }
+        }
+        text += "\n";
+    }
+    text
+}
+
+/// `classify` and `learn` read the object and the palm of a Motive take by their rigid bodies'
+/// names, and learn what the same poses in two files teach; without the names, the take is
+/// refused with them.
+#[test]
+fn motive_takes_name_the_object_and_the_palm() {
+    let d = TempDir::new("takes");
+    let files = synth("instrumented", d.path(), 2, 3, &[]);
+    let takes: Vec<PathBuf> = files
+        .iter()
+        .enumerate()
+        .map(|(k, f)| {
+            let palm = f.with_file_name(format!(
+                "{}.palm.tum",
+                f.file_stem().unwrap().to_string_lossy()
+            ));
+            d.write(
+                &format!("take{k}.csv"),
+                &motive_take(&[("hand", &palm), ("box", f)]),
+            )
+        })
+        .collect();
+    let from_files = run(&["classify", &s(&files[0]), "--json"]).ok().json();
+    let take = s(&takes[0]);
+    let args = [
+        "classify", &take, "--object", "box", "--palm", "hand", "--json",
+    ];
+    let from_take = run(&args).ok().json();
+    assert_eq!(from_take["kind"], from_files["kind"]);
+    assert_eq!(from_take["instrumented"], true);
+    assert_eq!(from_take["rigid_bodies"]["object"], "box");
+    assert_eq!(from_take["rigid_bodies"]["palm"], "hand");
+    let edge = |v: &Value| vec3(&v["topples"][0]["edge"]["line"]["point"], "edge point");
+    assert!(dist(edge(&from_take), edge(&from_files)) < 1e-9);
+    // Several takes learnt at once, each read by the same names.
+    let mut args: Vec<String> = vec!["learn".into()];
+    args.extend(takes.iter().map(|t| s(t)));
+    args.extend(["--object", "box", "--palm", "hand", "--json"].map(String::from));
+    let tree = run(&args).ok().json();
+    assert!(!tree["edges"].as_array().unwrap().is_empty(), "{tree}");
+    // Unnamed: refused, with the names it holds.
+    let r = run(&["classify", &take]).fails();
+    assert!(
+        r.stderr.contains("2 rigid bodies (hand, box)"),
+        "{}",
+        r.stderr
+    );
+    // --split is a bag's.
+    let r = run(&["classify", &take, "--object", "box", "--split"]).fails();
+    assert!(r.stderr.contains("are for bags"), "{}", r.stderr);
+}

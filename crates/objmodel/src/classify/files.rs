@@ -3,7 +3,7 @@
 use super::cleaning::RotatingCleaner;
 use super::{Analyzer, Classification, Config};
 use crate::fast::handover::{push_cleaned_frames, CleanedFrames, ThreadedPoses};
-use crate::format::{self, DeclaredUnits, LengthUnit, TimeUnit};
+use crate::format::{self, DeclaredUnits, LengthUnit, PoseFile, TimeUnit};
 use crate::recording::Recorder;
 use crate::trajectory::StampedPose;
 use crate::Result;
@@ -30,8 +30,9 @@ fn stamp_unit(
 /// The first poses of a pose file and the units it declares (none read from standard input,
 /// which cannot be read twice; a bad line is reported by the reading proper, with its place
 /// in the stream).
-fn head(path: &Path) -> (Vec<StampedPose>, DeclaredUnits) {
-    format::read_first_declared(path, format::TIME_UNIT_STAMPS).unwrap_or_default()
+fn head(file: PoseFile) -> (Vec<StampedPose>, DeclaredUnits) {
+    file.read_first_declared(format::TIME_UNIT_STAMPS)
+        .unwrap_or_default()
 }
 
 /// The metres per unit of a pose file's positions as read (1 where the file declares its
@@ -53,23 +54,30 @@ pub fn classify_files(
     palm: Option<&Path>,
     config: &Config,
 ) -> Result<Classification> {
-    classify_files_recording(object, palm, config, None)
+    classify_files_recording(
+        PoseFile::whole(object),
+        palm.map(PoseFile::whole),
+        config,
+        None,
+    )
 }
 
-/// [`classify_files`], handing every frame to `recorder` as well (for the dynamics, in the
-/// same pass over the files).
+/// [`classify_files`] of the object's and the palm's poses in files (or rigid bodies of a
+/// Motive take: [`PoseFile`]), handing every frame to `recorder` as well (for the dynamics, in
+/// the same pass over the files).
 pub(crate) fn classify_files_recording(
-    object: &Path,
-    palm: Option<&Path>,
+    object_file: PoseFile,
+    palm: Option<PoseFile>,
     config: &Config,
     mut recorder: Option<&mut Recorder>,
 ) -> Result<Classification> {
+    let object = object_file.path;
     let name = object
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| object.display().to_string());
     let mut a = Analyzer::new(&name, config, palm.is_some());
-    let (object_first, object_units) = head(object);
+    let (object_first, object_units) = head(object_file);
     let (object_scale, object_warning) = stamp_unit(&object_first, object_units, "object", config);
     let (object_metres, object_length) = position_unit(object_units, config);
     let mut warnings: Vec<String> = object_warning.into_iter().collect();
@@ -78,7 +86,7 @@ pub(crate) fn classify_files_recording(
         None if object_scale != 1.0 || object_metres != 1.0 => {
             // Stamps not in seconds or positions not in metres: converted on this thread (not
             // the fast path's).
-            for (i, p) in (0u64..).zip(ThreadedPoses::spawn(format::open(object)?)) {
+            for (i, p) in (0u64..).zip(ThreadedPoses::spawn(object_file.open()?)) {
                 let mut p = p?;
                 p.t *= object_scale;
                 p.pose.translation.vector *= object_metres;
@@ -98,7 +106,7 @@ pub(crate) fn classify_files_recording(
             if let Some(cleaner) = a.take_object_cleaner() {
                 let front = RotatingCleaner::new(cleaner);
                 let mut index = 0;
-                CleanedFrames::spawn(format::open(object)?, front).for_each_chunk(|chunk| {
+                CleanedFrames::spawn(object_file.open()?, front).for_each_chunk(|chunk| {
                     if let Some(r) = recorder.as_deref_mut() {
                         let (first, end) = (index as u64, (index + chunk.len()) as u64);
                         let mut i = r.next_object_index(first);
@@ -111,7 +119,7 @@ pub(crate) fn classify_files_recording(
                     push_cleaned_frames(&mut a, chunk, &mut index)
                 })?;
             } else {
-                for (i, p) in (0u64..).zip(ThreadedPoses::spawn(format::open(object)?)) {
+                for (i, p) in (0u64..).zip(ThreadedPoses::spawn(object_file.open()?)) {
                     let p = p?;
                     if let Some(r) = recorder.as_deref_mut() {
                         r.object(i, p.t, &p.pose.rotation, &p.pose.translation.vector);
@@ -128,8 +136,8 @@ pub(crate) fn classify_files_recording(
             length_unit = length_unit.filter(|_| palm_length.is_some());
             warnings.extend(palm_warning);
             let offset = config.clocks.palm_time_offset_s;
-            let mut objects = ThreadedPoses::spawn(format::open(object)?);
-            let mut palms = ThreadedPoses::spawn(format::open(palm)?);
+            let mut objects = ThreadedPoses::spawn(object_file.open()?);
+            let mut palms = ThreadedPoses::spawn(palm.open()?);
             // Both on the object's clock, in seconds.
             let mut next_object = || {
                 objects.next().transpose().map(|o| {

@@ -85,6 +85,15 @@ pub fn read_first(path: &Path, n: usize) -> Result<Vec<StampedPose>> {
 /// [`read_first`], and the units the file declares (a CSV header's: [`DeclaredUnits`]; none
 /// for standard input, which cannot be read twice).
 pub fn read_first_declared(path: &Path, n: usize) -> Result<(Vec<StampedPose>, DeclaredUnits)> {
+    read_first_declared_of(path, None, n)
+}
+
+/// [`read_first_declared`] of the rigid body `body` of a Motive take, where named.
+fn read_first_declared_of(
+    path: &Path,
+    body: Option<&str>,
+    n: usize,
+) -> Result<(Vec<StampedPose>, DeclaredUnits)> {
     if path.as_os_str() == "-" {
         return Ok((vec![], DeclaredUnits::default()));
     }
@@ -96,7 +105,8 @@ pub fn read_first_declared(path: &Path, n: usize) -> Result<(Vec<StampedPose>, D
         BufReader::with_capacity(1 << 14, f),
         path,
         path.to_path_buf(),
-    );
+    )
+    .with_rigid_body(body);
     let poses = reader.by_ref().take(n).collect::<Result<Vec<_>>>()?;
     Ok((poses, reader.declared_units()))
 }
@@ -105,6 +115,37 @@ pub fn read_first_declared(path: &Path, n: usize) -> Result<(Vec<StampedPose>, D
 /// cannot be read (the reading proper reports the problem, with its place).
 pub fn declared_units(path: &Path) -> DeclaredUnits {
     read_first_declared(path, 1).map_or_else(|_| DeclaredUnits::default(), |(_, u)| u)
+}
+
+/// One body's poses in a pose file: the file's, or one rigid body's of an OptiTrack Motive take
+/// that holds several (the object and the palm that pushes it, each read on its own).
+#[derive(Clone, Copy, Debug)]
+pub struct PoseFile<'a> {
+    /// The file (`-`: standard input).
+    pub path: &'a Path,
+    /// The rigid body to read from a Motive take, where named; a file that is no Motive
+    /// export with one named is an error.
+    pub rigid_body: Option<&'a str>,
+}
+
+impl<'a> PoseFile<'a> {
+    /// The poses of a whole file.
+    pub fn whole(path: &'a Path) -> Self {
+        PoseFile {
+            path,
+            rigid_body: None,
+        }
+    }
+
+    /// Open it for streaming ([`open`]).
+    pub fn open(&self) -> Result<PoseReader<Box<dyn BufRead + Send>>> {
+        Ok(open(self.path)?.with_rigid_body(self.rigid_body))
+    }
+
+    /// Its first `n` poses and the units the file declares ([`read_first_declared`]).
+    pub fn read_first_declared(&self, n: usize) -> Result<(Vec<StampedPose>, DeclaredUnits)> {
+        read_first_declared_of(self.path, self.rigid_body, n)
+    }
 }
 
 /// Read a whole trajectory (see [`open`]). A file without a single pose is an error.

@@ -46,6 +46,8 @@ pub(crate) struct State {
     pending: Option<Header>,
     /// An error ended the reading.
     pub(crate) done: bool,
+    /// The rigid body to read from a Motive export that holds several, where one is named.
+    pub(crate) rigid_body: Option<String>,
 }
 
 impl State {
@@ -58,6 +60,7 @@ impl State {
             pose_line: 0,
             pending: None,
             done: false,
+            rigid_body: None,
         }
     }
 
@@ -158,6 +161,7 @@ impl State {
                 _ => Mode::CsvHeader,
             };
             if let Mode::Tum = self.mode {
+                self.no_rigid_body()?;
                 if is_tum_header(body) {
                     return Ok(None);
                 }
@@ -173,11 +177,20 @@ impl State {
             }
         }
         if is_motive_start(body) {
-            self.mode = Mode::Motive(Preamble::parse(body)?);
+            self.mode = Mode::Motive(Preamble::parse(body, self.rigid_body.as_deref())?);
             return Ok(None);
         }
+        self.no_rigid_body()?;
         self.mode = Mode::Csv(Header::parse(body, self.track.line_no)?);
         Ok(None)
+    }
+
+    /// The problem of a rigid body named for a file that is no Motive export, if one was.
+    fn no_rigid_body(&self) -> std::result::Result<(), Problem> {
+        match &self.rigid_body {
+            Some(b) => Err(Problem::NotMotive(b.clone())),
+            None => Ok(()),
+        }
     }
 
     /// A line of a Motive export's preamble.

@@ -8,8 +8,8 @@
 //!   positions in m, cm or mm and stamps in s, ms, us or ns are converted to metres and
 //!   seconds ([`LengthUnit`]).
 //! * **OptiTrack Motive's CSV export** (`Format Version,1.23,...` and its rows of asset types,
-//!   names and components): the one rigid body's pose, in the export's `Length Units`; frames
-//!   where the body was unseen are skipped (`motive.rs`).
+//!   names and components): a rigid body's pose (the one, or the one named: [`PoseFile`]), in
+//!   the export's `Length Units`; frames where the body was unseen are skipped (`motive.rs`).
 //!   Fields are comma separated with optional spaces and optional double quotes. A commented
 //!   header (`#timestamp,x,...`) is accepted too.
 //!
@@ -37,7 +37,7 @@
 //!   of lines; the interface to the rest), `mapped.rs` (memory-mapped reading);
 //! * `stream.rs`: lines out of a `BufRead`;
 //! * `reader.rs`: [`PoseReader`];
-//! * `files.rs`: [`open`], [`read_trajectory`], [`read_demonstration`], palm files;
+//! * `files.rs`: [`open`], [`PoseFile`], [`read_trajectory`], [`read_demonstration`], palm files;
 //! * `write.rs`: [`write_atomic`], [`write_tum`];
 //! * `bag/`: ROS 2 bags (MCAP), [`bag::read_bag_demonstrations`].
 
@@ -74,7 +74,7 @@ pub use detect::detect_format;
 pub use files::open_mapped;
 pub use files::{
     declared_units, is_palm_file, open, palm_path_for, read_demonstration, read_first,
-    read_first_declared, read_trajectory,
+    read_first_declared, read_trajectory, PoseFile,
 };
 pub use layout::{Format, QUAT_NORM_TOLERANCE};
 pub use length_unit::{to_metres, DeclaredUnits, LengthUnit};

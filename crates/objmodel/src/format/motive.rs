@@ -14,10 +14,11 @@
 //! The metadata line says the unit of the positions (`Length Units`) and how rotations are
 //! written (`Rotation Type`: only quaternions are read). The rows above `Frame,...` say which
 //! asset and which component each column holds. The pose is the one rigid body's: its
-//! `Rotation` X Y Z W and `Position` X Y Z (a body's markers, and other markers, are ignored);
-//! a file with several rigid bodies is refused with their names (export the object's, and the
-//! palm's in a second file, alone). A frame in which the body was not seen (every field of its
-//! pose empty) is a gap, skipped; a partly empty one is an error. Motive's world is y-up unless
+//! `Rotation` X Y Z W and `Position` X Y Z (a body's markers, and other markers, are ignored).
+//! A take with several rigid bodies (an object and the palm that pushes it) is read one body at
+//! a time, the one named ([`super::PoseFile::rigid_body`]); unnamed, it is refused with the
+//! names it holds. A frame in which the body was not seen (every field of its pose empty) is a
+//! gap, skipped; a partly empty one is an error. Motive's world is y-up unless
 //! its up axis was set to z: learn such files with `--gravity 0,-1,0` (the gravity check says so).
 
 use super::csv::{fields, Header};
@@ -37,11 +38,14 @@ pub(crate) struct Preamble {
     length: LengthUnit,
     /// The rows between the metadata and the column header, as fields.
     rows: Vec<Vec<String>>,
+    /// The rigid body to read, where one is named.
+    body: Option<String>,
 }
 
 impl Preamble {
-    /// The preamble that the metadata line `line` starts.
-    pub(crate) fn parse(line: &[u8]) -> Result<Preamble, Problem> {
+    /// The preamble that the metadata line `line` starts, of an export whose rigid body `body`
+    /// is to be read (where named).
+    pub(crate) fn parse(line: &[u8], body: Option<&str>) -> Result<Preamble, Problem> {
         let f = fields(line);
         let value = |key: &str| {
             f.iter()
@@ -66,6 +70,7 @@ impl Preamble {
         Ok(Preamble {
             length,
             rows: Vec::new(),
+            body: body.map(str::to_string),
         })
     }
 
@@ -105,22 +110,33 @@ impl Preamble {
                 .map_or("", String::as_str)
         };
         let component_row = self.rows.len() - 1;
-        let rigid = |col: usize| cell(type_row, col) == "Rigid Body";
         let mut bodies: Vec<&str> = Vec::new();
-        for col in (0..axes.len()).filter(|&c| rigid(c)) {
+        for col in (0..axes.len()).filter(|&c| cell(type_row, c) == "Rigid Body") {
             let name = cell(type_row + 1, col);
             if !bodies.contains(&name) {
                 bodies.push(name);
             }
         }
-        if bodies.len() > 1 {
-            return Err(Problem::Motive(format!(
-                "{} rigid bodies ({}): export the object's alone (and the palm's alone, as \
-                 NAME.palm.csv)",
-                bodies.len(),
-                bodies.join(", ")
-            )));
-        }
+        let chosen = match (self.body.as_deref(), bodies.as_slice()) {
+            (Some(b), _) if bodies.contains(&b) => b,
+            (Some(b), _) => {
+                return Err(Problem::Motive(format!(
+                    "no rigid body named {b:?}; the export holds {}",
+                    bodies.join(", ")
+                )))
+            }
+            (None, [one]) => *one,
+            (None, _) => {
+                return Err(Problem::Motive(format!(
+                    "{} rigid bodies ({}): name the object's (--object NAME; and the palm's, \
+                     --palm NAME, for an instrumented demonstration)",
+                    bodies.len(),
+                    bodies.join(", ")
+                )))
+            }
+        };
+        let rigid =
+            |col: usize| cell(type_row, col) == "Rigid Body" && cell(type_row + 1, col) == chosen;
         let roles = axes
             .iter()
             .enumerate()

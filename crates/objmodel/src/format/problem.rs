@@ -53,6 +53,8 @@ pub(crate) enum Problem {
     MixedUnits { names: [String; 2] },
     /// A motion-capture (OptiTrack Motive) export that cannot be read, and why.
     Motive(String),
+    /// A rigid body was named for a file that is no Motive export.
+    NotMotive(String),
     /// Value `role` is NaN (`nan`) or infinite.
     NotFinite { role: usize, nan: bool },
     /// The quaternion `q` (qx qy qz qw) is zero.
@@ -174,6 +176,11 @@ impl Problem {
                  \"{b}\"); give them one"
             ),
             Problem::Motive(why) => format!("Motive export: {why}"),
+            Problem::NotMotive(body) => format!(
+                "a rigid body ({body:?}) was named, but this is no OptiTrack Motive export \
+                 (whose first line is `Format Version,...`): only a Motive take holds several \
+                 bodies (a bag's topics are named with --object too)"
+            ),
             Problem::NotFinite { role, nan } => {
                 let what = if *nan { "NaN" } else { "infinite" };
                 let quoted = at

@@ -65,6 +65,13 @@ impl<R: BufRead> PoseReader<R> {
         }
     }
 
+    /// Read the rigid body `body` (where named) of an OptiTrack Motive take that holds
+    /// several; a file that is no Motive export is then an error.
+    pub(crate) fn with_rigid_body(mut self, body: Option<&str>) -> Self {
+        self.st.rigid_body = body.map(str::to_string);
+        self
+    }
+
     /// Line number (1-based) of the last pose returned; 0 before the first.
     pub fn line(&self) -> usize {
         self.st.pose_line

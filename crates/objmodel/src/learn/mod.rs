@@ -39,7 +39,8 @@
 //! # }
 //! ```
 //!
-//! A ROS 2 bag is a source too ([`Source::Bag`]): its object and palm streams are read into
+//! An OptiTrack Motive take holding the object and the palm as two rigid bodies is a source
+//! ([`Source::Take`]), read as two files are. A ROS 2 bag is a source too ([`Source::Bag`]): its object and palm streams are read into
 //! memory ([`crate::format::bag`]), and may hold several demonstrations when it is split at
 //! rests ([`Learner::observe_all`], [`Learner::learn`] take them all).
 //!
@@ -52,7 +53,7 @@ pub use crate::classify::Config;
 use crate::classify::{classify, Classification};
 use crate::format::bag::{read_bag_demonstrations, BagSelection};
 use crate::format::{
-    conversion_warning, detect_time_unit_of, to_metres, to_seconds, LengthUnit, TimeUnit,
+    conversion_warning, detect_time_unit_of, to_metres, to_seconds, LengthUnit, PoseFile, TimeUnit,
 };
 use crate::observation::Observation;
 use crate::recording::{Recorder, Recording, DEFAULT_CAPACITY};
@@ -79,6 +80,17 @@ pub enum Source<'a> {
         object: &'a Path,
         /// The palm's poses, `world_from_palm`.
         palm: Option<&'a Path>,
+    },
+    /// An OptiTrack Motive take (its CSV export) holding several rigid bodies: the object's
+    /// and, for an instrumented demonstration, the palm's, each named; read once each,
+    /// streaming. The demonstration is named after the file.
+    Take {
+        /// The export.
+        path: &'a Path,
+        /// The object's rigid body.
+        object: &'a str,
+        /// The palm's rigid body.
+        palm: Option<&'a str>,
     },
     /// Poses held in memory.
     Memory(&'a Demonstration),
@@ -109,6 +121,23 @@ impl<'a> Source<'a> {
         Source::Files {
             object: object.as_ref(),
             palm: Some(palm.as_ref()),
+        }
+    }
+
+    /// The object's and the palm's pose files, for files and takes.
+    fn pose_files(&self) -> Option<(PoseFile<'a>, Option<PoseFile<'a>>)> {
+        match *self {
+            Source::Files { object, palm } => {
+                Some((PoseFile::whole(object), palm.map(PoseFile::whole)))
+            }
+            Source::Take { path, object, palm } => {
+                let body = |b| PoseFile {
+                    path,
+                    rigid_body: Some(b),
+                };
+                Some((body(object), palm.map(body)))
+            }
+            Source::Memory(_) | Source::Bag { .. } => None,
         }
     }
 }
@@ -178,7 +207,8 @@ impl Learner {
     fn classify_recorded(&self, source: &Source) -> Result<(Classification, Recording)> {
         let (c, recording) = self.classify_once(source)?;
         let c = self.checked(c, &recording, |config| match *source {
-            Source::Files { object, palm } => {
+            Source::Files { .. } | Source::Take { .. } => {
+                let (object, palm) = source.pose_files().expect("files");
                 crate::classify::classify_files_recording(object, palm, config, None)
             }
             Source::Memory(demo) => {
@@ -197,7 +227,8 @@ impl Learner {
     /// estimated from the first frames (or given).
     fn classify_once(&self, source: &Source) -> Result<(Classification, Recording)> {
         Ok(match *source {
-            Source::Files { object, palm } => {
+            Source::Files { .. } | Source::Take { .. } => {
+                let (object, palm) = source.pose_files().expect("files");
                 let mut recorder = Recorder::new(self.capacity);
                 let c = crate::classify::classify_files_recording(
                     object,

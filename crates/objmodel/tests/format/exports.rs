@@ -152,7 +152,10 @@ fn motive_exports() {
         &["0,0,0,0,0,1,1,2,3,0,1,2,3,0,0,0,1,1,2,3,0,1,2,3"],
     );
     let e = msg(&two, 7);
-    assert!(e.contains("2 rigid bodies (box, palm)"), "{e}");
+    assert!(
+        e.contains("2 rigid bodies (box, palm): name the object's (--object NAME"),
+        "{e}"
+    );
     // A frame with part of the pose missing is no gap.
     let partial = ["0,0.0,0,0,0,1,100.5,-20,,0.0002,101,-20,300"];
     let e = msg(&motive("Millimeters", "Quaternion", &["box"], &partial), 8);
