@@ -99,6 +99,12 @@ pub struct ClassifyOpts {
     /// metres teaches nothing (its report says so)
     #[arg(long, value_name = "UNIT")]
     pub length_unit: Option<objmodel::format::LengthUnit>,
+    /// The order of the quaternion in TUM files: xyzw (the format's) or wxyz, for files a
+    /// tool wrote w first (MuJoCo, transforms3d, pyquaternion). Read in the wrong order, a
+    /// file's rests teach faces that are not on the object. CSV headers name their columns,
+    /// which decide.
+    #[arg(long, value_name = "ORDER", default_value = "xyzw")]
+    pub quat_order: objmodel::format::QuaternionOrder,
 }
 
 impl ClassifyOpts {
@@ -181,6 +187,7 @@ impl ClassifyOpts {
         c.clocks.max_dt_s = self.max_dt;
         c.clocks.detect_time_unit = !self.stamps_in_seconds;
         c.length_unit = self.length_unit;
+        c.quaternion_order = self.quat_order;
         Ok(c)
     }
 }

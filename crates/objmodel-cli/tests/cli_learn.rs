@@ -317,3 +317,41 @@ fn motive_takes_name_the_object_and_the_palm() {
     let r = run(&["classify", &take, "--object", "box", "--split"]).fails();
     assert!(r.stderr.contains("are for bags"), "{}", r.stderr);
 }
+
+/// `--quat-order wxyz` reads TUM files written w first as they were written: the same
+/// classification as the file written x y z w; an order that is neither is refused.
+#[test]
+fn quat_order_reads_w_first_tum_files() {
+    let d = TempDir::new("quat-order");
+    let files = synth("topple", d.path(), 1, 4, &[]);
+    let text = std::fs::read_to_string(&files[0]).unwrap();
+    let w_first: String = text
+        .lines()
+        .map(|l| {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            if l.starts_with('#') || f.len() != 8 {
+                return format!("{l}\n");
+            }
+            format!(
+                "{} {} {} {} {} {} {} {}\n",
+                f[0], f[1], f[2], f[3], f[7], f[4], f[5], f[6]
+            )
+        })
+        .collect();
+    let w = d.write("w_first.tum", &w_first);
+    let x = run(&["classify", &s(&files[0]), "--json"]).ok().json();
+    let given = run(&["classify", &s(&w), "--quat-order", "wxyz", "--json"])
+        .ok()
+        .json();
+    assert_eq!(given["kind"], x["kind"]);
+    assert_eq!(given["labels"], x["labels"]);
+    let edge = |v: &Value| vec3(&v["topples"][0]["edge"]["line"]["point"], "edge point");
+    assert!(dist(edge(&given), edge(&x)) < 1e-9);
+    // An argument error: clap's message (with ours) and exit code 2.
+    let r = run(&["classify", &s(&w), "--quat-order", "wzyx"]);
+    assert!(
+        r.code == Some(2) && r.stderr.contains("unknown quaternion order \"wzyx\""),
+        "{}",
+        r.stderr
+    );
+}

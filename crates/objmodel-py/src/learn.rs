@@ -106,7 +106,8 @@ fn warn_reports(py: Python<'_>, prepared: &[Prepared], reports: &[Observation]) 
 /// `demos`: a list of demonstrations (or one alone), each a pose file (str or os.PathLike,
 /// TUM or CSV; NAME.palm.* beside it is its palm, as on the command line) or a numpy array of
 /// `world_from_object` poses: (N, 8) rows `t x y z qx qy qz qw` (quaternion x y z w, as TUM
-/// files and scipy's `as_quat()`; `quat_order="wxyz"` for `t x y z qw qx qy qz`) or (N, 4, 4)
+/// files and scipy's `as_quat()`; `quat_order="wxyz"` for `t x y z qw qx qy qz`, in arrays
+/// and in TUM files written w first) or (N, 4, 4)
 /// homogeneous matrices with `times`.
 /// `palms`: one per demonstration (None: none, or NAME.palm.* for a file), the palm's
 /// `world_from_palm` poses the same way; palm matrices take their demonstration's times.
@@ -145,7 +146,7 @@ pub fn learn(
     options: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyTree>> {
     let order = QuatOrder::parse(quat_order)?;
-    let learner = Learner::new(config(gravity, method, options)?);
+    let learner = Learner::new(config(gravity, method, options)?.with_quaternion_order(order));
     let learner = if gravity_check {
         learner
     } else {
@@ -211,7 +212,7 @@ pub fn classify(
     options: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
     let order = QuatOrder::parse(quat_order)?;
-    let learner = Learner::new(config(gravity, method, options)?);
+    let learner = Learner::new(config(gravity, method, options)?.with_quaternion_order(order));
     let times = times.filter(|t| !t.is_none());
     let object = input(demo, times, order, "demo")?;
     let palm = palm

@@ -29,6 +29,15 @@ pub enum QuatOrder {
     Wxyz,
 }
 
+impl From<QuatOrder> for objmodel::format::QuaternionOrder {
+    fn from(o: QuatOrder) -> Self {
+        match o {
+            QuatOrder::Xyzw => Self::Xyzw,
+            QuatOrder::Wxyz => Self::Wxyz,
+        }
+    }
+}
+
 impl QuatOrder {
     /// `"xyzw"` or `"wxyz"`.
     pub fn parse(s: &str) -> PyResult<Self> {

@@ -94,6 +94,17 @@ def test_wxyz_order_is_honoured(box):
         assert dist > 1e-3 or ang > 1e-3
 
 
+def test_wxyz_order_is_honoured_in_tum_files(box, tmp_path):
+    t, m, truth = topple.topple(box, "-x")
+    rows = topple.rows_of(t, m)
+    path = write_tum(tmp_path / "w_first.tum", rows[:, [0, 1, 2, 3, 7, 4, 5, 6]])
+    b = objmodel.learn(str(path), quat_order="wxyz")
+    a = objmodel.learn([rows])
+    np.testing.assert_allclose(a.edges, b.edges, atol=1e-9)
+    dist, ang = nearest_edge(b, truth)
+    assert dist < 1e-6 and ang < 1e-6, (dist, ang)
+
+
 def test_a_palm_at_rest_changes_nothing(box):
     t, m, truth = topple.topple(box, "+x")
     rows = topple.rows_of(t, m)

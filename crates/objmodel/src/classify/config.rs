@@ -151,6 +151,24 @@ pub struct Config {
     /// learner checks against the data ([`crate::length_check`]).
     #[serde(default)]
     pub length_unit: Option<crate::format::LengthUnit>,
+    /// The order of the quaternion in pose files that do not name their columns (TUM
+    /// files): x y z w, the format's, or w x y z where a tool wrote them so
+    /// ([`crate::format::QuaternionOrder`]). CSV headers name theirs; poses in memory are
+    /// `UnitQuaternion`s.
+    #[serde(default)]
+    pub quaternion_order: crate::format::QuaternionOrder,
+}
+
+impl Config {
+    /// This configuration with pose files' quaternions read in `order` where they do not name
+    /// their columns ([`Config::quaternion_order`]).
+    pub fn with_quaternion_order(
+        mut self,
+        order: impl Into<crate::format::QuaternionOrder>,
+    ) -> Self {
+        self.quaternion_order = order.into();
+        self
+    }
 }
 
 impl Default for Config {
@@ -162,6 +180,7 @@ impl Default for Config {
             gravity: Some(Vector3::new(0.0, 0.0, -1.0)),
             clocks: Clocks::default(),
             length_unit: None,
+            quaternion_order: Default::default(),
         }
     }
 }

@@ -3,7 +3,7 @@
 use super::cleaning::RotatingCleaner;
 use super::{Analyzer, Classification, Config};
 use crate::fast::handover::{push_cleaned_frames, CleanedFrames, ThreadedPoses};
-use crate::format::{self, DeclaredUnits, LengthUnit, PoseFile, TimeUnit};
+use crate::format::{self, DeclaredUnits, LengthUnit, PoseFile, QuaternionOrder, TimeUnit};
 use crate::recording::Recorder;
 use crate::trajectory::StampedPose;
 use crate::Result;
@@ -46,6 +46,28 @@ fn position_unit(declared: DeclaredUnits, config: &Config) -> (f64, Option<Lengt
     }
 }
 
+/// The order in which a pose file's quaternions were written, read as x y z w: the one `config`
+/// gives for a file that does not name its columns (TUM), else x y z w (the reader moved
+/// named columns into it); and the warning where `config` gives one that the file's names
+/// override.
+fn quaternion_order(
+    declared: DeclaredUnits,
+    what: &str,
+    config: &Config,
+) -> (QuaternionOrder, Option<String>) {
+    match config.quaternion_order {
+        QuaternionOrder::Xyzw => (QuaternionOrder::Xyzw, None),
+        given if declared.named_columns => (
+            QuaternionOrder::Xyzw,
+            Some(format!(
+                "the {what}'s file names its columns: its quaternion is read by the names, \
+                 not in the order given ({given})"
+            )),
+        ),
+        given => (given, None),
+    }
+}
+
 /// Classify the demonstration in `object` (TUM or CSV), with `palm` as its palm trajectory
 /// when instrumented. Both files are streamed in time order: memory does not grow with their
 /// length. The demonstration's name is the object file's name.
@@ -80,16 +102,19 @@ pub(crate) fn classify_files_recording(
     let (object_first, object_units) = head(object_file);
     let (object_scale, object_warning) = stamp_unit(&object_first, object_units, "object", config);
     let (object_metres, object_length) = position_unit(object_units, config);
-    let mut warnings: Vec<String> = object_warning.into_iter().collect();
+    let (object_order, order_warning) = quaternion_order(object_units, "object", config);
+    let mut warnings: Vec<String> = object_warning.into_iter().chain(order_warning).collect();
     let mut length_unit = object_length;
+    let object_reordered = object_order != QuaternionOrder::Xyzw;
     match palm {
-        None if object_scale != 1.0 || object_metres != 1.0 => {
-            // Stamps not in seconds or positions not in metres: converted on this thread (not
-            // the fast path's).
+        None if object_scale != 1.0 || object_metres != 1.0 || object_reordered => {
+            // Stamps not in seconds, positions not in metres or quaternions written w first:
+            // converted on this thread (not the fast path's).
             for (i, p) in (0u64..).zip(ThreadedPoses::spawn(object_file.open()?)) {
                 let mut p = p?;
                 p.t *= object_scale;
                 p.pose.translation.vector *= object_metres;
+                p.pose.rotation = object_order.reorder(&p.pose.rotation);
                 if let Some(r) = recorder.as_deref_mut() {
                     r.object(i, p.t, &p.pose.rotation, &p.pose.translation.vector);
                 }
@@ -132,6 +157,8 @@ pub(crate) fn classify_files_recording(
             let (palm_first, palm_units) = head(palm);
             let (palm_scale, palm_warning) = stamp_unit(&palm_first, palm_units, "palm", config);
             let (palm_metres, palm_length) = position_unit(palm_units, config);
+            let (palm_order, palm_order_warning) = quaternion_order(palm_units, "palm", config);
+            warnings.extend(palm_order_warning);
             // Known only where both streams' units are.
             length_unit = length_unit.filter(|_| palm_length.is_some());
             warnings.extend(palm_warning);
@@ -144,6 +171,7 @@ pub(crate) fn classify_files_recording(
                     o.map(|mut o| {
                         o.t *= object_scale;
                         o.pose.translation.vector *= object_metres;
+                        o.pose.rotation = object_order.reorder(&o.pose.rotation);
                         o
                     })
                 })
@@ -153,6 +181,7 @@ pub(crate) fn classify_files_recording(
                     p.map(|mut p| {
                         p.t = p.t * palm_scale + offset;
                         p.pose.translation.vector *= palm_metres;
+                        p.pose.rotation = palm_order.reorder(&p.pose.rotation);
                         p
                     })
                 })

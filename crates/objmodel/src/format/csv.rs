@@ -206,7 +206,10 @@ impl Header {
 
     /// The units the header declares.
     pub(crate) fn declared(&self) -> DeclaredUnits {
-        self.declared
+        DeclaredUnits {
+            named_columns: true,
+            ..self.declared
+        }
     }
 
     /// Role of column `col`: an index into `COLUMNS`, or >= 8 for an ignored column.
@@ -431,9 +434,13 @@ mod tests {
             let (poses, _) = read(&format!("{header}\n0,0,0,0,0,0,0,1\n"));
             assert_eq!(poses.unwrap_err().to_string(), want);
         }
-        // A quaternion's "unit" is no problem, and declares nothing.
+        // A quaternion's "unit" is no problem, and declares no unit (the columns are named).
         let (poses, declared) = read("t,x,y,z,qx (unitless),qy [1],qz,qw\n0,0,0,0,0,0,0,1\n");
         assert_eq!(poses.unwrap().len(), 1);
-        assert_eq!(declared, DeclaredUnits::default());
+        let named = DeclaredUnits {
+            named_columns: true,
+            ..Default::default()
+        };
+        assert_eq!(declared, named);
     }
 }

@@ -117,6 +117,9 @@ pub struct DeclaredUnits {
     pub length: Option<LengthUnit>,
     /// The timestamps' unit.
     pub time: Option<TimeUnit>,
+    /// Whether the file names its columns (a CSV header's, a Motive export's): the quaternion
+    /// is then read by the names, whatever [`super::QuaternionOrder`] is given.
+    pub named_columns: bool,
 }
 
 #[cfg(test)]

@@ -13,7 +13,8 @@
 //!   Fields are comma separated with optional spaces and optional double quotes. A commented
 //!   header (`#timestamp,x,...`) is accepted too.
 //!
-//! In both the quaternion is in TUM order (x y z w) and a line gives `world_from_object`.
+//! In both the quaternion is in TUM order (x y z w) and a line gives `world_from_object`; a TUM
+//! file written w x y z is read so where the user says ([`QuaternionOrder`]).
 //! Values must be finite, the quaternion's norm within [`QUAT_NORM_TOLERANCE`] of 1 (it is then
 //! normalised; its sign is kept) and timestamps strictly increasing; gaps are fine.
 //!
@@ -28,6 +29,7 @@
 //! * `check.rs`: the checks of a line's values, as pure functions;
 //! * `time_unit.rs`: [`detect_time_unit`], stamps in ms, µs or ns recognised;
 //! * `length_unit.rs`: [`LengthUnit`], [`DeclaredUnits`]: the units a CSV header declares;
+//! * `quaternion_order.rs`: [`QuaternionOrder`], for TUM files written w x y z;
 //! * `tum.rs`, `csv.rs`: the syntax of TUM and CSV lines, and CSV headers (with their units);
 //! * `motive.rs`: OptiTrack Motive's CSV export (its preamble gives the CSV header);
 //! * `detect.rs`: [`detect_format`];
@@ -58,6 +60,7 @@ mod number;
 mod problem;
 #[cfg(test)]
 mod props;
+mod quaternion_order;
 mod reader;
 #[cfg(target_arch = "x86_64")]
 mod simd;
@@ -79,6 +82,7 @@ pub use files::{
 pub use layout::{Format, QUAT_NORM_TOLERANCE};
 pub use length_unit::{to_metres, DeclaredUnits, LengthUnit};
 pub use number::parse_f64;
+pub use quaternion_order::QuaternionOrder;
 pub use reader::PoseReader;
 pub use time_unit::{
     conversion_warning, detect_time_unit, detect_time_unit_of, to_seconds, TimeUnit,
