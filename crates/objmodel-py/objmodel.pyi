@@ -53,12 +53,15 @@ def learn(demos: Union[Poses, Sequence[Poses]], *,
           gravity: Gravity = (0.0, 0.0, -1.0),
           into: Union[Tree, PathLike, None] = None,
           no_palm: bool = False, quat_order: str = "xyzw", method: str = "robust",
-          gravity_check: bool = True, **options: Union[float, str]) -> Tree: ...
+          gravity_check: bool = True,
+          rigid_bodies: Union[str, tuple[str, Optional[str]], None] = None,
+          **options: Union[float, str]) -> Tree: ...
 
 def classify(demo: Poses, *, palm: Optional[Poses] = None,
              times: Optional[npt.ArrayLike] = None, name: Optional[str] = None,
              gravity: Gravity = (0.0, 0.0, -1.0), no_palm: bool = False,
              quat_order: str = "xyzw", method: str = "robust",
+             rigid_bodies: Union[str, tuple[str, Optional[str]], None] = None,
              **options: Union[float, str]) -> dict[str, Any]: ...
 
 def plan(tree: Union[Tree, PathLike], *, object_in_palm: Union[str, npt.ArrayLike, None] = None,

@@ -154,7 +154,9 @@ fn set(c: &mut Config, k: &str, x: f64, noise: &mut [Option<f64>; 4]) -> PyResul
         return Err(err(format!("{k} must be positive, got {x}")));
     }
     if ["contact_depth", "edge_tolerance"].contains(&k) && !(x >= 0.0 && x.is_finite()) {
-        return Err(err(format!("{k} must be zero or positive (metres), got {x}")));
+        return Err(err(format!(
+            "{k} must be zero or positive (metres), got {x}"
+        )));
     }
     match k {
         "alpha" => c.robust.alpha = x,

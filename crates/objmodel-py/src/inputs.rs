@@ -5,6 +5,8 @@
 //! Files stay files when object and palm both are ([`Source::Files`]: read once, streaming, as
 //! the command line reads them); anything else is gathered in memory ([`Source::Memory`]).
 //! Without an explicit palm, a file's palm is `NAME.palm.*` beside it, as on the command line.
+//! An OptiTrack Motive take holding several rigid bodies is read by their names
+//! (`rigid_bodies`, [`Source::Take`]).
 
 use crate::error::{err, lib};
 use crate::poses::{poses, QuatOrder};
@@ -55,8 +57,31 @@ pub enum Prepared {
         /// The palm's file.
         palm: Option<PathBuf>,
     },
+    /// Rigid bodies of an OptiTrack Motive take: the object's and (optional) the palm's.
+    Take {
+        /// The take's CSV export.
+        path: PathBuf,
+        /// The object's rigid body.
+        object: String,
+        /// The palm's rigid body.
+        palm: Option<String>,
+    },
     /// In memory.
     Memory(Demonstration),
+}
+
+/// The rigid bodies `rigid_bodies` names (`"box"`, or `("box", "hand")` with the palm's, or
+/// `("box", None)`), for Motive takes.
+pub fn rigid_bodies(obj: &Bound<'_, PyAny>) -> PyResult<(String, Option<String>)> {
+    if let Ok(object) = obj.extract::<String>() {
+        return Ok((object, None));
+    }
+    obj.extract::<(String, Option<String>)>().map_err(|_| {
+        err(
+            "rigid_bodies must name the object's rigid body, \"box\", or the object's and \
+             the palm's, (\"box\", \"hand\")",
+        )
+    })
 }
 
 impl Prepared {
@@ -64,6 +89,11 @@ impl Prepared {
     pub fn source(&self) -> Source<'_> {
         match self {
             Prepared::Files { object, palm } => Source::Files {
+                object,
+                palm: palm.as_deref(),
+            },
+            Prepared::Take { path, object, palm } => Source::Take {
+                path,
                 object,
                 palm: palm.as_deref(),
             },
@@ -76,6 +106,7 @@ impl Prepared {
     pub fn label(&self) -> String {
         match self {
             Prepared::Files { object, .. } => object.display().to_string(),
+            Prepared::Take { path, .. } => path.display().to_string(),
             Prepared::Memory(d) => d.name.clone(),
         }
     }
@@ -86,6 +117,10 @@ impl Prepared {
             Prepared::Files { object, palm } => (
                 Some(object.display().to_string()),
                 palm.as_ref().map(|p| p.display().to_string()),
+            ),
+            Prepared::Take { path, palm, .. } => (
+                Some(path.display().to_string()),
+                palm.as_ref().map(|_| path.display().to_string()),
             ),
             Prepared::Memory(_) => (None, None),
         }

@@ -24,10 +24,14 @@ fn demonstrations(
     names: Option<&Bound<'_, PyAny>>,
     no_palm: bool,
     order: QuatOrder,
+    bodies: Option<&(String, Option<String>)>,
 ) -> PyResult<Vec<Prepared>> {
     let (items, single) = items(demos)?;
     let n = items.len();
     let explicit_palms = palms.is_some_and(|p| !p.is_none());
+    if let Some((object, palm)) = bodies {
+        return takes(&items, explicit_palms, object, palm.as_deref());
+    }
     let palms = parallel(palms, n, single, "palms")?;
     let times = parallel(times, n, single, "times")?;
     let names = parallel(names, n, single, "names")?;
@@ -67,6 +71,38 @@ fn demonstrations(
         return Err(err("no demonstration files (only palm files were given)"));
     }
     Ok(out)
+}
+
+/// Motive takes `items` (files), each read by its rigid bodies `object` and `palm`; a take's
+/// palm is one of its bodies, so `palms` may not be given (`explicit_palms`).
+fn takes(
+    items: &[Bound<'_, PyAny>],
+    explicit_palms: bool,
+    object: &str,
+    palm: Option<&str>,
+) -> PyResult<Vec<Prepared>> {
+    if explicit_palms {
+        return Err(err(
+            "rigid_bodies names the palm's body in each take: palms may not be given too",
+        ));
+    }
+    items
+        .iter()
+        .enumerate()
+        .map(|(i, item)| {
+            if !crate::inputs::is_path(item) {
+                return Err(err(format!(
+                    "demos[{i}] is not a file: rigid_bodies names the bodies of Motive takes \
+                     (CSV exports)"
+                )));
+            }
+            Ok(Prepared::Take {
+                path: item.extract()?,
+                object: object.to_string(),
+                palm: palm.map(str::to_string),
+            })
+        })
+        .collect()
 }
 
 /// Learn `prepared` into `tree` (all of them or, on an error, none); the reports.
@@ -119,7 +155,10 @@ fn warn_reports(py: Python<'_>, prepared: &[Prepared], reports: &[Observation]) 
 /// nothing is learnt). `method`: "robust" (default) or "paper"; `gravity_check`: check the
 /// gravity given against the demonstrations (their rests' vertical, their flights' fall) and
 /// raise, naming the gravity they show, where they contradict it (False: learn anyway, as
-/// `--no-gravity-check`); `**options`: the command line's thresholds (`alpha`, `min_rest`,
+/// `--no-gravity-check`); `rigid_bodies`: for OptiTrack Motive takes (CSV exports) holding
+/// several rigid bodies, the object's, `"box"`, or the object's and the palm's, `("box",
+/// "hand")`, read from each file of `demos` (as `--object box --palm hand`); `**options`:
+/// the command line's thresholds (`alpha`, `min_rest`,
 /// `noise_position`, ...) and `length_unit` ("m", "cm" or "mm": the unit of the positions
 /// given as arrays, and of files that do not declare theirs; default metres, checked).
 ///
@@ -127,8 +166,8 @@ fn warn_reports(py: Python<'_>, prepared: &[Prepared], reports: &[Observation]) 
 /// line's messages. All demonstrations are learnt or, on an error, none.
 #[pyfunction]
 #[pyo3(
-    signature = (demos, *, palms=None, times=None, names=None, gravity=Gravity::default(), into=None, no_palm=false, quat_order="xyzw", method="robust", gravity_check=true, **options),
-    text_signature = "(demos, *, palms=None, times=None, names=None, gravity=(0, 0, -1), into=None, no_palm=False, quat_order='xyzw', method='robust', gravity_check=True, **options)"
+    signature = (demos, *, palms=None, times=None, names=None, gravity=Gravity::default(), into=None, no_palm=false, quat_order="xyzw", method="robust", gravity_check=true, rigid_bodies=None, **options),
+    text_signature = "(demos, *, palms=None, times=None, names=None, gravity=(0, 0, -1), into=None, no_palm=False, quat_order='xyzw', method='robust', gravity_check=True, rigid_bodies=None, **options)"
 )]
 #[allow(clippy::too_many_arguments)]
 pub fn learn(
@@ -143,16 +182,21 @@ pub fn learn(
     quat_order: &str,
     method: &str,
     gravity_check: bool,
+    rigid_bodies: Option<&Bound<'_, PyAny>>,
     options: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyTree>> {
     let order = QuatOrder::parse(quat_order)?;
+    let bodies = rigid_bodies
+        .filter(|b| !b.is_none())
+        .map(crate::inputs::rigid_bodies)
+        .transpose()?;
     let learner = Learner::new(config(gravity, method, options)?.with_quaternion_order(order));
     let learner = if gravity_check {
         learner
     } else {
         learner.without_gravity_check()
     };
-    let prepared = demonstrations(demos, palms, times, names, no_palm, order)?;
+    let prepared = demonstrations(demos, palms, times, names, no_palm, order, bodies.as_ref())?;
     match into {
         None => {
             let mut tree = Tree::default();
@@ -190,13 +234,13 @@ pub fn learn(
 ///
 /// `demo`, `palm`, `times`: as one demonstration of `learn` (a file, or an (N, 8) or
 /// (N, 4, 4) array); `name` names an array's demonstration (default `demo`); `no_palm`
-/// ignores NAME.palm.* beside a file. `gravity`, `quat_order`, `method`, `**options`: as for
-/// `learn`. Returns a dict: the JSON of `objmodel classify --json` (`kind`, `segments`,
+/// ignores NAME.palm.* beside a file. `gravity`, `quat_order`, `method`, `rigid_bodies`,
+/// `**options`: as for `learn`. Returns a dict: the JSON of `objmodel classify --json` (`kind`, `segments`,
 /// `edges`, `faces`, `warnings`, ..., `file` and `palm_file`, None for arrays).
 #[pyfunction]
 #[pyo3(
-    signature = (demo, *, palm=None, times=None, name=None, gravity=Gravity::default(), no_palm=false, quat_order="xyzw", method="robust", **options),
-    text_signature = "(demo, *, palm=None, times=None, name=None, gravity=(0, 0, -1), no_palm=False, quat_order='xyzw', method='robust', **options)"
+    signature = (demo, *, palm=None, times=None, name=None, gravity=Gravity::default(), no_palm=false, quat_order="xyzw", method="robust", rigid_bodies=None, **options),
+    text_signature = "(demo, *, palm=None, times=None, name=None, gravity=(0, 0, -1), no_palm=False, quat_order='xyzw', method='robust', rigid_bodies=None, **options)"
 )]
 #[allow(clippy::too_many_arguments)]
 pub fn classify(
@@ -209,17 +253,30 @@ pub fn classify(
     no_palm: bool,
     quat_order: &str,
     method: &str,
+    rigid_bodies: Option<&Bound<'_, PyAny>>,
     options: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
     let order = QuatOrder::parse(quat_order)?;
     let learner = Learner::new(config(gravity, method, options)?.with_quaternion_order(order));
     let times = times.filter(|t| !t.is_none());
-    let object = input(demo, times, order, "demo")?;
-    let palm = palm
-        .filter(|p| !p.is_none())
-        .map(|p| input(p, times, order, "palm"))
-        .transpose()?;
-    let prepared = prepare(object, palm, no_palm, name.unwrap_or_else(|| "demo".into()))?;
+    let palm = palm.filter(|p| !p.is_none());
+    let prepared = match rigid_bodies.filter(|b| !b.is_none()) {
+        Some(b) => {
+            let (object, palm_body) = crate::inputs::rigid_bodies(b)?;
+            takes(
+                std::slice::from_ref(demo),
+                palm.is_some(),
+                &object,
+                palm_body.as_deref(),
+            )?
+            .remove(0)
+        }
+        None => {
+            let object = input(demo, times, order, "demo")?;
+            let palm = palm.map(|p| input(p, times, order, "palm")).transpose()?;
+            prepare(object, palm, no_palm, name.unwrap_or_else(|| "demo".into()))?
+        }
+    };
     let c = py
         .detach(|| learner.classify(&prepared.source()))
         .map_err(lib)?;

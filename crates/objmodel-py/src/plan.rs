@@ -68,6 +68,24 @@ fn at_first_poses(
                 read_trajectory(palm).map_err(lib)?,
             )
         }
+        Prepared::Take { path, object, palm } => {
+            let Some(palm) = palm else {
+                return Err(err(format!(
+                    "{}: no palm's rigid body named; give rigid_bodies=(object, palm)",
+                    path.display()
+                )));
+            };
+            let read = |body: &str| -> PyResult<Vec<objmodel::StampedPose>> {
+                let file = objmodel::format::PoseFile {
+                    path,
+                    rigid_body: Some(body),
+                };
+                file.open()
+                    .and_then(|r| r.collect::<objmodel::Result<Vec<_>>>())
+                    .map_err(lib)
+            };
+            (read(object)?, read(palm)?)
+        }
         Prepared::Memory(d) => match &d.palm {
             Some(p) => (d.object.clone(), p.clone()),
             None => return Err(err(format!("{}: no palm given; give palm=", d.name))),

@@ -116,6 +116,46 @@ def test_a_palm_at_rest_changes_nothing(box):
     assert tree.to_dict()["demos"][0]["instrumented"] is True
 
 
+def write_motive_take(path, bodies):
+    """A Motive take (CSV export, millimetres) of `bodies`: (name, rows t x y z qx qy qz qw)
+    sharing their times."""
+    head = [",Type", ",Name", ",ID", ",", "Frame,Time (Seconds)"]
+    for k, (name, _) in enumerate(bodies):
+        head[0] += ",Rigid Body" * 7
+        head[1] += f",{name}" * 7
+        head[2] += f",{k}" * 7
+        head[3] += ",Rotation" * 4 + ",Position" * 3
+        head[4] += ",X,Y,Z,W,X,Y,Z"
+    with open(path, "w") as f:
+        f.write("Format Version,1.23,Rotation Type,Quaternion,Length Units,Millimeters\n\n")
+        f.write("\n".join(head) + "\n")
+        for i, t in enumerate(bodies[0][1][:, 0]):
+            cells = [str(i), repr(float(t))]
+            for _, rows in bodies:
+                r = rows[i]
+                cells += [repr(float(x)) for x in r[4:8]] + [repr(float(x) * 1e3) for x in r[1:4]]
+            f.write(",".join(cells) + "\n")
+    return path
+
+
+def test_motive_takes_by_their_rigid_bodies(tmp_path, box):
+    t, m, truth = topple.topple(box, "+x")
+    rows = topple.rows_of(t, m)
+    palm = np.tile([0.0, 0.1, 0.2, 0.0, 0.0, 0.0, 0.0, 1.0], (len(t), 1))
+    palm[:, 0] = t
+    take = write_motive_take(tmp_path / "take.csv", [("hand", palm), ("box", rows)])
+    tree = objmodel.learn(str(take), rigid_bodies=("box", "hand"))
+    np.testing.assert_allclose(tree.edges, objmodel.learn([rows], palms=[palm]).edges, atol=1e-9)
+    assert tree.to_dict()["demos"][0]["instrumented"] is True
+    c = objmodel.classify(take, rigid_bodies="box")
+    assert c["kind"] == "topple" and c["instrumented"] is False
+    assert c["file"] == str(take) and c["palm_file"] is None
+    with pytest.raises(objmodel.ObjmodelError, match=r"2 rigid bodies \(hand, box\)"):
+        objmodel.learn(str(take))
+    with pytest.raises(objmodel.ObjmodelError, match="not a file"):
+        objmodel.learn([rows], rigid_bodies="box")
+
+
 def test_palm_files_beside_their_demonstration(tmp_path, box):
     t, m, truth = topple.topple(box, "+x")
     rows = topple.rows_of(t, m)
