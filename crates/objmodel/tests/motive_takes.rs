@@ -104,14 +104,7 @@ fn a_take_of_object_and_palm_teaches_what_their_files_teach() {
         // millimetres converted).
         let (a, b) = (&from_take.classification, &from_files.classification);
         assert_eq!((a.kind, a.frames, &a.labels), (b.kind, b.frames, &b.labels));
-        assert_eq!(a.edges().count(), b.edges().count());
-        for (x, y) in a.edges().zip(b.edges()) {
-            assert!((x.line.point - y.line.point).norm() < 1e-9, "{x:?} {y:?}");
-            assert!(
-                (x.line.direction - y.line.direction).norm() < 1e-9,
-                "{x:?} {y:?}"
-            );
-        }
+        common::assert_same_edges(a, b, 1e-9);
         let phi = |o: &Observation| o.dynamics[0].phi.expect("φ");
         assert!((phi(&from_take) - phi(&from_files)).abs() < 1e-9);
     }

@@ -3,6 +3,8 @@
 //! poses written x y z w teach; read as the format says, they teach another object's features.
 //! A CSV header names its columns, which decide.
 
+mod common;
+
 use objmodel::format::{write_tum, QuaternionOrder};
 use objmodel::learn::{Config, Learner, Source};
 use objmodel::synth::{self, SynthBox, SynthNoise, ToppleParams};
@@ -86,14 +88,7 @@ fn w_first_files_read_in_their_order_teach_what_x_first_files_do() {
             (a.kind, &a.labels, &a.warnings),
             (b.kind, &b.labels, &b.warnings)
         );
-        assert_eq!(a.edges().count(), b.edges().count());
-        for (x, y) in a.edges().zip(b.edges()) {
-            assert!((x.line.point - y.line.point).norm() < 1e-9, "{x:?} {y:?}");
-            assert!(
-                (x.line.direction - y.line.direction).norm() < 1e-9,
-                "{x:?} {y:?}"
-            );
-        }
+        common::assert_same_edges(a, b, 1e-9);
         let (fa, fb) = (a.faces(), b.faces());
         assert_eq!(fa.len(), fb.len());
         for (x, y) in fa.iter().zip(&fb) {

@@ -239,8 +239,8 @@ pub(super) fn say_correlated(c: &mut Classification, correlated: &TrackerCorrela
         } else {
             let (white_mm, white_deg) = mm_deg(&k.white);
             format!(
-                "the {who}'s tracking noise may be correlated from frame to frame ({measured}: \
-                 too few to rule it out): the tests use the long-run size it may have, \
+                "the {who}'s tracking noise may be correlated from frame to frame ({measured}; \
+                 not ruled out): the tests use the long-run size it may have, \
                  {long_mm:.2} mm, {long_deg:.2} deg, not {white_mm:.2} mm, {white_deg:.2} deg \
                  as independent (give --noise-position and --noise-rotation to override)"
             )

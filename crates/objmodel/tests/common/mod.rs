@@ -47,3 +47,21 @@ fn truth(name: &str) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(data(&format!("{name}.truth.json"))).unwrap())
         .unwrap()
 }
+
+/// Assert that two classifications taught the same edges, in order, to within `tol` (metres
+/// for points, unit vectors' difference for directions).
+#[allow(dead_code)]
+pub fn assert_same_edges(
+    a: &objmodel::classify::Classification,
+    b: &objmodel::classify::Classification,
+    tol: f64,
+) {
+    assert_eq!(a.edges().count(), b.edges().count());
+    for (x, y) in a.edges().zip(b.edges()) {
+        assert!((x.line.point - y.line.point).norm() < tol, "{x:?} {y:?}");
+        assert!(
+            (x.line.direction - y.line.direction).norm() < tol,
+            "{x:?} {y:?}"
+        );
+    }
+}
