@@ -73,20 +73,14 @@ fn files_and_memory_give_the_same_observation() {
 
 /// A demonstration longer than the recorder keeps is still analysed, in the same pass, at a
 /// lower rate, and says so; its φ stays within the two estimates' uncertainty of the
-/// full-rate one. (The tracker's noise is given: a record that keeps one frame in several
-/// cannot check the noise estimate against consecutive frames, which the full one does.)
+/// full-rate one.
 #[test]
 fn dynamics_of_a_demonstration_longer_than_the_record() {
     let b = the_box();
     let d = synth::instrumented_topple(&b, 0, 0.2, &SynthNoise::REAL, 120.0, 3).demo;
     let n = d.object.len();
-    let mut config = Config::default();
-    config.robust.noise = Some(objmodel::noise::NoiseModel {
-        sigma_position: SynthNoise::REAL.sigma_position,
-        sigma_rotation: SynthNoise::REAL.sigma_rotation,
-    });
-    let full = observe(&Learner::new(config), &d);
-    let thinned = observe(&Learner::new(config).with_capacity(n / 3), &d);
+    let full = observe(&Learner::new(Config::default()), &d);
+    let thinned = observe(&Learner::new(Config::default()).with_capacity(n / 3), &d);
     assert_eq!(full.classification, {
         let mut c = thinned.classification.clone();
         c.warnings.clear();

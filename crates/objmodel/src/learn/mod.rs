@@ -40,9 +40,10 @@
 //! ```
 //!
 //! An OptiTrack Motive take holding the object and the palm as two rigid bodies is a source
-//! ([`Source::Take`]), read as two files are. A ROS 2 bag is a source too ([`Source::Bag`]): its object and palm streams are read into
-//! memory ([`crate::format::bag`]), and may hold several demonstrations when it is split at
-//! rests ([`Learner::observe_all`], [`Learner::learn`] take them all).
+//! ([`Source::Take`]), read as two files are. A ROS 2 bag is a source too ([`Source::Bag`]):
+//! its object and palm streams are read into memory ([`crate::format::bag`]), and may hold
+//! several demonstrations when it is split at rests ([`Learner::observe_all`],
+//! [`Learner::learn`] take them all).
 //!
 //! The two clocks ([`Config::clocks`]): the palm's stamps are shifted by
 //! [`Clocks::palm_time_offset_s`](crate::classify::Clocks) before anything else, and the stamps

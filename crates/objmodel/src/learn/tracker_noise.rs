@@ -6,7 +6,7 @@
 
 use crate::classify::{Classification, Config};
 use crate::noise::NoiseModel;
-use crate::noise_correlation::{Correlation, TrackerCorrelations};
+use crate::noise_correlation::TrackerCorrelations;
 use crate::recording::{RecordedFrame, Recording};
 
 /// Whether the noise the classification `c` used measures the tracker: estimated (none
@@ -66,20 +66,14 @@ pub(super) fn noise_check(
     }
 }
 
-/// The long-run noise of a tracker whose noise may be correlated from frame to frame
+/// The long-run noise of a tracker whose noise is correlated from frame to frame
 /// ([`crate::noise_correlation`]), where the robust method estimates the noise (none given)
 /// and every frame was kept: measured on the object's frames and, with a palm whose noise
-/// is not given, on the palm's; `None` where the object's long-run noise (its expectation
-/// over the correlation's sampling error) does not exceed what the same frames give as
-/// independent noise by more than the model tolerance that the tests add to the noise anyway
-/// (exact poses: the contacts' micro-motion is smooth, and both are the floor).
-///
-/// Not only where the correlation is significant: taking the noise as independent where a
-/// few windows cannot rule a correlation out is the one choice that makes every test too
-/// strict if it is there (a rest then shows motion, and a topple is measured from before it:
-/// edges 5-8 mm off on camera demonstrations that lost a few frames, whose correlation of
-/// 0.5 measured 3.96 standard errors where the test asked 4.14). The expectation weighs
-/// that chance; on independent noise it adds a few per cent.
+/// is not given, on the palm's; `None` where the object's is not correlated beyond its
+/// sampling error (one-sided at the tests' `alpha`), or where its long-run noise does not
+/// exceed what the same frames give as independent noise by more than the model tolerance
+/// that the tests add to the noise anyway (exact poses: the contacts' micro-motion is
+/// smooth, and both are the floor).
 pub(super) fn correlated_noise(
     config: &Config,
     recording: &Recording,
@@ -91,13 +85,9 @@ pub(super) fn correlated_noise(
     let object: Vec<crate::noise::PoseSample> = measuring(config, recording)
         .map(RecordedFrame::sample)
         .collect();
-    let significance = |mut c: Correlation| {
-        c.significant = c.is_significant(robust.alpha);
-        c
-    };
-    let object = significance(crate::noise_correlation::measure(&object)?);
+    let object = crate::noise_correlation::measure(&object)?;
     let tolerance = (robust.edge_tolerance_m, robust.edge_tolerance_rad);
-    if !object.matters(tolerance) {
+    if !object.significant(robust.alpha) || !object.matters(tolerance) {
         return None;
     }
     let palm = (robust.palm_noise.is_none() && recording.palm_stride == 1)
@@ -107,10 +97,10 @@ pub(super) fn correlated_noise(
                 .iter()
                 .map(|p| (p.t, p.pose.rotation, p.pose.translation.vector))
                 .collect();
-            crate::noise_correlation::measure(&palm).map(significance)
+            crate::noise_correlation::measure(&palm)
         })
         .flatten()
-        .filter(|c| c.matters(tolerance));
+        .filter(|c| c.significant(robust.alpha));
     Some(TrackerCorrelations { object, palm })
 }
 
@@ -219,32 +209,20 @@ pub(super) fn with_long_run_noise(config: &Config, correlated: &TrackerCorrelati
 
 /// Say in the classification made with the long-run noise where the noise came from.
 pub(super) fn say_correlated(c: &mut Classification, correlated: &TrackerCorrelations) {
-    let say = |who: &str, k: &Correlation| {
-        let measured = format!(
-            "lag-one correlation {}{:.2}, {:.1} standard errors above white noise's, over {} \
-             windows of {} frames",
+    let say = |who: &str, k: &crate::noise_correlation::Correlation| {
+        format!(
+            "the {who}'s tracking noise is correlated from frame to frame (lag-one \
+             correlation {}{:.2}, {:.1} standard errors above white noise's, over {} \
+             windows of {} frames): the tests use its long-run size, {:.2} mm, {:.2} deg \
+             (a filtering tracker; give --noise-position and --noise-rotation to override)",
             if k.at_least { "at least " } else { "" },
             k.rho,
             k.z,
             k.windows,
             crate::noise_correlation::WINDOW,
-        );
-        let (long_mm, long_deg) = mm_deg(&k.long_run);
-        if k.significant {
-            format!(
-                "the {who}'s tracking noise is correlated from frame to frame ({measured}): the \
-                 tests use its long-run size, {long_mm:.2} mm, {long_deg:.2} deg (a filtering \
-                 tracker; give --noise-position and --noise-rotation to override)"
-            )
-        } else {
-            let (white_mm, white_deg) = mm_deg(&k.white);
-            format!(
-                "the {who}'s tracking noise may be correlated from frame to frame ({measured}; \
-                 not ruled out): the tests use the long-run size it may have, \
-                 {long_mm:.2} mm, {long_deg:.2} deg, not {white_mm:.2} mm, {white_deg:.2} deg \
-                 as independent (give --noise-position and --noise-rotation to override)"
-            )
-        }
+            k.long_run.sigma_position * 1e3,
+            k.long_run.sigma_rotation.to_degrees()
+        )
     };
     let mut said = vec![say("object", &correlated.object)];
     if let Some(palm) = &correlated.palm {
@@ -254,11 +232,6 @@ pub(super) fn say_correlated(c: &mut Classification, correlated: &TrackerCorrela
     // Measured, not given by the user.
     c.noise_given = false;
     c.noise_correlation = Some(*correlated);
-}
-
-/// A noise in millimetres and degrees, for messages.
-fn mm_deg(n: &NoiseModel) -> (f64, f64) {
-    (n.sigma_position * 1e3, n.sigma_rotation.to_degrees())
 }
 
 /// The longest time \[s\] between the demonstration's motion segments (or before the first,
