@@ -185,7 +185,7 @@ pub fn learn(
     rigid_bodies: Option<&Bound<'_, PyAny>>,
     options: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyTree>> {
-    let order = QuatOrder::parse(quat_order)?;
+    let order = crate::poses::quat_order(quat_order)?;
     let bodies = rigid_bodies
         .filter(|b| !b.is_none())
         .map(crate::inputs::rigid_bodies)
@@ -256,7 +256,7 @@ pub fn classify(
     rigid_bodies: Option<&Bound<'_, PyAny>>,
     options: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
-    let order = QuatOrder::parse(quat_order)?;
+    let order = crate::poses::quat_order(quat_order)?;
     let learner = Learner::new(config(gravity, method, options)?.with_quaternion_order(order));
     let times = times.filter(|t| !t.is_none());
     let palm = palm.filter(|p| !p.is_none());

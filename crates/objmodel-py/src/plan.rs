@@ -133,7 +133,7 @@ pub fn plan(
     margin: Option<f64>,
     quat_order: &str,
 ) -> PyResult<Py<PyAny>> {
-    let order = QuatOrder::parse(quat_order)?;
+    let order = crate::poses::quat_order(quat_order)?;
     let tree = tree_arg(tree)?;
     let (palm_from_object, gravity_in_palm) = match (from_demo, object_in_palm) {
         (Some(_), Some(_)) => return Err(err("give object_in_palm or from_demo, not both")),

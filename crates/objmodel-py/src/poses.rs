@@ -20,35 +20,19 @@ use objmodel::format::{pose_from_values, QUAT_NORM_TOLERANCE};
 use objmodel::StampedPose;
 use pyo3::prelude::*;
 
-/// The order of a quaternion's four numbers in a row.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum QuatOrder {
-    /// `qx qy qz qw`: TUM, ROS, scipy, Eigen's `coeffs()`.
-    Xyzw,
-    /// `qw qx qy qz`: transforms3d, pyquaternion, MuJoCo, Drake.
-    Wxyz,
-}
+/// The order of a quaternion's four numbers in a row: the library's, which also reads TUM
+/// files written w first.
+pub use objmodel::format::QuaternionOrder as QuatOrder;
 
-impl From<QuatOrder> for objmodel::format::QuaternionOrder {
-    fn from(o: QuatOrder) -> Self {
-        match o {
-            QuatOrder::Xyzw => Self::Xyzw,
-            QuatOrder::Wxyz => Self::Wxyz,
-        }
-    }
-}
-
-impl QuatOrder {
-    /// `"xyzw"` or `"wxyz"`.
-    pub fn parse(s: &str) -> PyResult<Self> {
-        match s {
-            "xyzw" => Ok(QuatOrder::Xyzw),
-            "wxyz" => Ok(QuatOrder::Wxyz),
-            other => Err(err(format!(
-                "quat_order must be \"xyzw\" (TUM, ROS, scipy's as_quat) or \"wxyz\" \
-                 (transforms3d, pyquaternion, MuJoCo), not {other:?}"
-            ))),
-        }
+/// `quat_order`: exactly `"xyzw"` or `"wxyz"`.
+pub fn quat_order(s: &str) -> PyResult<QuatOrder> {
+    match s {
+        "xyzw" => Ok(QuatOrder::Xyzw),
+        "wxyz" => Ok(QuatOrder::Wxyz),
+        other => Err(err(format!(
+            "quat_order must be \"xyzw\" (TUM, ROS, scipy's as_quat) or \"wxyz\" \
+             (transforms3d, pyquaternion, MuJoCo), not {other:?}"
+        ))),
     }
 }
 

@@ -162,11 +162,8 @@ pub struct Config {
 impl Config {
     /// This configuration with pose files' quaternions read in `order` where they do not name
     /// their columns ([`Config::quaternion_order`]).
-    pub fn with_quaternion_order(
-        mut self,
-        order: impl Into<crate::format::QuaternionOrder>,
-    ) -> Self {
-        self.quaternion_order = order.into();
+    pub fn with_quaternion_order(mut self, order: crate::format::QuaternionOrder) -> Self {
+        self.quaternion_order = order;
         self
     }
 }
