@@ -34,6 +34,26 @@ pub fn max_sigmas(alpha: f64) -> (f64, f64) {
     (EDGE_MATCH_M / k, EDGE_MATCH_RAD / k)
 }
 
+/// Why `edge` is not taught, where its standard deviations exceed `max` (point \[m\],
+/// direction \[rad\]): [`max_sigmas`] for a roll; [`EDGE_MATCH_M`] and [`EDGE_MATCH_RAD`] for a
+/// part measured from its onset, whose edge is then not located even to the distance within
+/// which an edge is counted the object's (a slide, a rest and a topple taken for one part,
+/// measured from one frame, located an edge to ±23 mm). `who` names the kind of part ("a roll")
+/// in the reason.
+pub fn unlocated(edge: &EdgeObservation, max: (f64, f64), who: &str) -> Option<String> {
+    let (sp, sd) = (edge.sigma_point(), edge.sigma_direction());
+    (sp > max.0 || sd > max.1).then(|| {
+        format!(
+            "edge not taught: it is located to ±{:.1} mm and ±{:.1}° only ({who} teaches \
+             within ±{:.1} mm and ±{:.1}°)",
+            sp * 1e3,
+            sd.to_degrees(),
+            max.0 * 1e3,
+            max.1.to_degrees()
+        )
+    })
+}
+
 /// The distance \[m\] and angle \[rad\] from a line of unit direction `u` within which the
 /// true line lies with probability `p`, by the covariances of its point and direction: the 2-D
 /// normal error of the largest standard deviation normal to the line, `σ √(2 ln(1/(1-p)))`
@@ -216,6 +236,27 @@ mod tests {
             chi2_per_dof: 1.0,
             common_point_cov: Matrix3::zeros(),
         }
+    }
+
+    /// An edge is withheld exactly when a standard deviation (per axis normal to the line, the
+    /// root of half the covariance's trace) exceeds its bound, and the reason gives both.
+    #[test]
+    fn an_edge_located_worse_than_its_bound_is_withheld() {
+        let max = (EDGE_MATCH_M, EDGE_MATCH_RAD);
+        let per_axis = |s: f64| Matrix3::from_diagonal(&Vector3::new(s * s, s * s, 0.0));
+        let located = observation(Vector3::zeros(), per_axis(4.9e-3));
+        assert_eq!(unlocated(&located, max, "a part"), None);
+        let wide = observation(Vector3::zeros(), per_axis(5.1e-3));
+        let why = unlocated(&wide, max, "a part").expect("5.1 mm exceeds 5 mm");
+        assert!(
+            why.contains("±5.1 mm") && why.contains("a part teaches within ±5.0 mm"),
+            "{why}"
+        );
+        let mut turned = located.clone();
+        turned.direction_cov = per_axis(3.1f64.to_radians());
+        assert!(unlocated(&turned, max, "a part").is_some());
+        // A roll's bound at the tests' alpha is the stricter one.
+        assert!(unlocated(&located, max_sigmas(1e-3), "a roll").is_some());
     }
 
     /// An exact measurement along x leaves the point on its plane and no variance along x,

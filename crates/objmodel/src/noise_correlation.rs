@@ -73,7 +73,8 @@ pub struct TrackerCorrelations {
 }
 
 impl Correlation {
-    /// Whether the noise is correlated beyond the statistic's sampling error: one-sided at
+    /// Whether the noise is correlated beyond the statistic's sampling error (the learner does
+    /// not ask this: `learn::tracker_noise` uses the measured ρ as it is): one-sided at
     /// `alpha`, against Student's t with one fewer degree of freedom than windows, since the
     /// jackknife's standard error is itself estimated from the windows. (Against the normal
     /// quantile, 3.09 at 10⁻³, 120 files of independent noise with motion came close: z = 3.0

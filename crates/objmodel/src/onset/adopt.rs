@@ -95,6 +95,17 @@ pub(super) fn adopt(c: &mut Classification, r: Remeasured, recording: &Recording
     if first.edge.is_some() && !teaches(&r.sub) {
         return;
     }
+    // Measured from one frame, after another motion, a part may pass its edge model and still
+    // locate its edge to ±20 mm (a slide, a rest and a topple taken for one part).
+    let location = (crate::edge::EDGE_MATCH_M, crate::edge::EDGE_MATCH_RAD);
+    if let Some(why) = first
+        .edge
+        .as_ref()
+        .and_then(|e| crate::edge::unlocated(e, location, "a part measured from its onset"))
+    {
+        seg.withheld = Some(why);
+        return;
+    }
     // The labels from the reference on are the re-measured ones, in segment k.
     let i_ref = r.i_reference as usize;
     let i_sub_end = r.sub.labels.last().map_or(i_ref, |l| l.last);

@@ -46,7 +46,7 @@ pub use fit::{fit, frame_chi2, RollFit, RollNoise};
 pub use parts::mark_rolls;
 pub use record::Roll;
 
-use crate::edge::{max_sigmas, EdgeObservation, EDGE_MATCH_RAD};
+use crate::edge::{EdgeObservation, EDGE_MATCH_RAD};
 use crate::flight::{FlightFrame, FlightTest};
 use crate::support::SupportObservation;
 use nalgebra::{Rotation3, Vector3};
@@ -515,18 +515,7 @@ fn judge(frames: &[FlightFrame], fit: RollFit, test: &RollTest, min_turn: f64) -
         None
     };
     c.physics = c.rejected.is_some() && fit.frames >= MIN_ROLL_FRAMES && fit.turn.abs() >= min_turn;
-    let (sp, sd) = (edge.sigma_point(), edge.sigma_direction());
-    let (max_sp, max_sd) = max_sigmas(test.alpha);
-    if sp > max_sp || sd > max_sd {
-        c.withheld = Some(format!(
-            "edge not taught: it is located to ±{:.1} mm and ±{:.1}° only (a roll teaches \
-             within ±{:.1} mm and ±{:.1}°)",
-            sp * 1e3,
-            sd.to_degrees(),
-            max_sp * 1e3,
-            max_sd.to_degrees()
-        ));
-    }
+    c.withheld = crate::edge::unlocated(&edge, crate::edge::max_sigmas(test.alpha), "a roll");
     c
 }
 
