@@ -286,16 +286,20 @@ impl Learner {
         recording: &Recording,
         again: impl Fn(&Config) -> Result<Classification>,
     ) -> Result<Classification> {
+        let correlated = tracker_noise::correlated_noise(&self.config, recording);
         let rest = match tracker_noise::noise_check(&self.config, &first, recording) {
             NoiseCheck::OnRest(rest) => Some(rest),
             NoiseCheck::Measured => None,
+            // Correlated noise grows with the lag as a motion does: first frames whose noise
+            // is correlated look like motion to `noise::motion_dominated`, and the long-run
+            // noise, measured on the quiet windows of every frame, is the noise to test with.
+            NoiseCheck::Unmeasurable if correlated.is_some() => None,
             NoiseCheck::Unmeasurable => {
                 let mut c = first;
                 self.check(&mut c, recording, true);
                 return Ok(c);
             }
         };
-        let correlated = tracker_noise::correlated_noise(&self.config, recording);
         // The config to classify again with, and what the classification is told of it.
         type Say<'a> = Box<dyn Fn(&mut Classification) + 'a>;
         let (config, say): (Config, Say) = match (&correlated, &rest) {
