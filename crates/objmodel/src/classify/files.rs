@@ -68,6 +68,58 @@ fn quaternion_order(
     }
 }
 
+/// How one stream's poses, as read, become poses in seconds on the object's clock, metres and
+/// x y z w quaternions: its stamp unit, length unit and quaternion order (what the file does
+/// not declare and `config` recognises or gives), and its clock's offset.
+struct Conversion {
+    seconds: f64,
+    offset_s: f64,
+    metres: f64,
+    order: QuaternionOrder,
+}
+
+impl Conversion {
+    /// The conversion of the stream in `file` (`what`: "object" or "palm"), the warnings it
+    /// gives, and its length unit where known; `offset_s` is added to its stamps.
+    fn of(
+        file: PoseFile,
+        what: &str,
+        offset_s: f64,
+        config: &Config,
+    ) -> (Self, Vec<String>, Option<LengthUnit>) {
+        let (first, units) = head(file);
+        let (seconds, stamp_warning) = stamp_unit(&first, units, what, config);
+        let (metres, length) = position_unit(units, config);
+        let (order, order_warning) = quaternion_order(units, what, config);
+        let conversion = Self {
+            seconds,
+            offset_s,
+            metres,
+            order,
+        };
+        (
+            conversion,
+            stamp_warning.into_iter().chain(order_warning).collect(),
+            length,
+        )
+    }
+
+    /// Whether it leaves every pose as read.
+    fn is_identity(&self) -> bool {
+        self.seconds == 1.0
+            && self.offset_s == 0.0
+            && self.metres == 1.0
+            && self.order == QuaternionOrder::Xyzw
+    }
+
+    fn apply(&self, mut p: StampedPose) -> StampedPose {
+        p.t = p.t * self.seconds + self.offset_s;
+        p.pose.translation.vector *= self.metres;
+        p.pose.rotation = self.order.reorder(&p.pose.rotation);
+        p
+    }
+}
+
 /// Classify the demonstration in `object` (TUM or CSV), with `palm` as its palm trajectory
 /// when instrumented. Both files are streamed in time order: memory does not grow with their
 /// length. The demonstration's name is the object file's name.
@@ -99,22 +151,14 @@ pub(crate) fn classify_files_recording(
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| object.display().to_string());
     let mut a = Analyzer::new(&name, config, palm.is_some());
-    let (object_first, object_units) = head(object_file);
-    let (object_scale, object_warning) = stamp_unit(&object_first, object_units, "object", config);
-    let (object_metres, object_length) = position_unit(object_units, config);
-    let (object_order, order_warning) = quaternion_order(object_units, "object", config);
-    let mut warnings: Vec<String> = object_warning.into_iter().chain(order_warning).collect();
-    let mut length_unit = object_length;
-    let object_reordered = object_order != QuaternionOrder::Xyzw;
+    let (object_conversion, mut warnings, mut length_unit) =
+        Conversion::of(object_file, "object", 0.0, config);
     match palm {
-        None if object_scale != 1.0 || object_metres != 1.0 || object_reordered => {
+        None if !object_conversion.is_identity() => {
             // Stamps not in seconds, positions not in metres or quaternions written w first:
             // converted on this thread (not the fast path's).
             for (i, p) in (0u64..).zip(ThreadedPoses::spawn(object_file.open()?)) {
-                let mut p = p?;
-                p.t *= object_scale;
-                p.pose.translation.vector *= object_metres;
-                p.pose.rotation = object_order.reorder(&p.pose.rotation);
+                let p = object_conversion.apply(p?);
                 if let Some(r) = recorder.as_deref_mut() {
                     r.object(i, p.t, &p.pose.rotation, &p.pose.translation.vector);
                 }
@@ -154,37 +198,27 @@ pub(crate) fn classify_files_recording(
             }
         }
         Some(palm) => {
-            let (palm_first, palm_units) = head(palm);
-            let (palm_scale, palm_warning) = stamp_unit(&palm_first, palm_units, "palm", config);
-            let (palm_metres, palm_length) = position_unit(palm_units, config);
-            let (palm_order, palm_order_warning) = quaternion_order(palm_units, "palm", config);
-            warnings.extend(palm_order_warning);
+            let offset = config.clocks.palm_time_offset_s;
+            let (palm_conversion, palm_warnings, palm_length) =
+                Conversion::of(palm, "palm", offset, config);
+            // The palm's stamp-unit warning before its quaternion-order one, as the object's.
+            warnings.extend(palm_warnings);
             // Known only where both streams' units are.
             length_unit = length_unit.filter(|_| palm_length.is_some());
-            warnings.extend(palm_warning);
-            let offset = config.clocks.palm_time_offset_s;
             let mut objects = ThreadedPoses::spawn(object_file.open()?);
             let mut palms = ThreadedPoses::spawn(palm.open()?);
             // Both on the object's clock, in seconds.
             let mut next_object = || {
-                objects.next().transpose().map(|o| {
-                    o.map(|mut o| {
-                        o.t *= object_scale;
-                        o.pose.translation.vector *= object_metres;
-                        o.pose.rotation = object_order.reorder(&o.pose.rotation);
-                        o
-                    })
-                })
+                objects
+                    .next()
+                    .transpose()
+                    .map(|o| o.map(|o| object_conversion.apply(o)))
             };
             let mut next_palm = || {
-                palms.next().transpose().map(|p| {
-                    p.map(|mut p| {
-                        p.t = p.t * palm_scale + offset;
-                        p.pose.translation.vector *= palm_metres;
-                        p.pose.rotation = palm_order.reorder(&p.pose.rotation);
-                        p
-                    })
-                })
+                palms
+                    .next()
+                    .transpose()
+                    .map(|p| p.map(|p| palm_conversion.apply(p)))
             };
             let (mut o, mut p) = (next_object()?, next_palm()?);
             let mut index = 0u64;
