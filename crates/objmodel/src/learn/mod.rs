@@ -305,7 +305,7 @@ impl Learner {
         let (config, say): (Config, Say) = match (&correlated, &rest) {
             (Some(k), _) => (
                 with_long_run_noise(&self.config, k),
-                Box::new(move |c| say_correlated(c, k)),
+                Box::new(move |c| say_correlated(c, k, self.config.robust.alpha)),
             ),
             (None, Some(r)) => (r.config(&self.config), Box::new(move |c| r.reclassified(c))),
             (None, None) => {

@@ -213,22 +213,38 @@ pub(super) fn with_long_run_noise(config: &Config, correlated: &TrackerCorrelati
     config
 }
 
-/// Say in the classification made with the long-run noise where the noise came from.
-pub(super) fn say_correlated(c: &mut Classification, correlated: &TrackerCorrelations) {
+/// Say in the classification made with the long-run noise where the noise came from: that
+/// the noise is correlated where its windows prove it (one-sided at `alpha`,
+/// [`crate::noise_correlation::Correlation::significant`]), that it may be where they cannot
+/// rule it out (the measured ρ is used either way: [`correlated_noise`]).
+pub(super) fn say_correlated(c: &mut Classification, correlated: &TrackerCorrelations, alpha: f64) {
     let say = |who: &str, k: &crate::noise_correlation::Correlation| {
-        format!(
-            "the {who}'s tracking noise is correlated from frame to frame (lag-one \
-             correlation {}{:.2}, {:.1} standard errors above white noise's, over {} \
-             windows of {} frames): the tests use its long-run size, {:.2} mm, {:.2} deg \
-             (a filtering tracker; give --noise-position and --noise-rotation to override)",
+        let measured = format!(
+            "lag-one correlation {}{:.2}, {:.1} standard errors above white noise's, over {} \
+             windows of {} frames",
             if k.at_least { "at least " } else { "" },
             k.rho,
             k.z,
             k.windows,
             crate::noise_correlation::WINDOW,
-            k.long_run.sigma_position * 1e3,
-            k.long_run.sigma_rotation.to_degrees()
-        )
+        );
+        let mm_deg = |n: &NoiseModel| (n.sigma_position * 1e3, n.sigma_rotation.to_degrees());
+        let (long_mm, long_deg) = mm_deg(&k.long_run);
+        if k.significant(alpha) {
+            format!(
+                "the {who}'s tracking noise is correlated from frame to frame ({measured}): the \
+                 tests use its long-run size, {long_mm:.2} mm, {long_deg:.2} deg (a filtering \
+                 tracker; give --noise-position and --noise-rotation to override)"
+            )
+        } else {
+            let (white_mm, white_deg) = mm_deg(&k.white);
+            format!(
+                "the {who}'s tracking noise may be correlated from frame to frame ({measured}: \
+                 too few to rule it out): the tests use the long-run size it may have, \
+                 {long_mm:.2} mm, {long_deg:.2} deg, not {white_mm:.2} mm, {white_deg:.2} deg \
+                 as independent (give --noise-position and --noise-rotation to override)"
+            )
+        }
     };
     let mut said = vec![say("object", &correlated.object)];
     if let Some(palm) = &correlated.palm {
