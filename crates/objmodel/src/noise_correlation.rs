@@ -44,7 +44,7 @@ const QUIET_FACTOR: f64 = 2.0;
 /// nearly every window: the correlation went unmeasured, the tests took the noise as
 /// independent, too strict by the long-run factor, and the camera data set with jittered
 /// stamps taught 9 edges and 3 faces off the box among its palm topples.
-const GAP: f64 = 1.5;
+pub const GAP: f64 = 1.5;
 /// The largest correlation the windows resolve: the quadratic takes out the low frequencies
 /// that tell stronger correlations apart, and `R(ρ)` flattens (−0.036 at 0.7, −0.008 at
 /// 0.98, within the statistic's usual standard error of 0.03-0.05), while the long-run σ
