@@ -96,6 +96,24 @@ impl Correlation {
             && self.z > crate::stats::student_t_quantile(1.0 - alpha, self.windows as f64 - 1.0)
     }
 
+    /// Whether the correlation is beyond what the windows resolve, beyond their sampling error:
+    /// the statistic above `R(MAX_RHO)` one-sided at `alpha` (Student's t, as
+    /// [`Correlation::significant`]). The long-run σ is then unknown, and larger than
+    /// [`Correlation::long_run`] by any factor: frames that a logger interpolates between a
+    /// slower tracker's poses (ROS `tf` looked up at 100 Hz over a 30 Hz camera) are such, and
+    /// tested with the capped σ a camera data set so resampled taught edges 7.5 mm off the box
+    /// and faces 10 mm off. (A tracker's own filter at ρ 0.95 lies within the windows' error of
+    /// `R(MAX_RHO)` at 150 frames: capped, not beyond.)
+    pub fn beyond_resolution(&self, alpha: f64) -> bool {
+        if !self.at_least || self.statistic_se <= 0.0 {
+            return false;
+        }
+        let m = residual_maker();
+        let statistic = expected_statistic(&m, 0.0) + self.z * self.statistic_se;
+        let beyond = (statistic - expected_statistic(&m, MAX_RHO)) / self.statistic_se;
+        beyond > crate::stats::student_t_quantile(1.0 - alpha, self.windows as f64 - 1.0)
+    }
+
     /// Whether the long-run noise exceeds the noise the same windows give as independent by
     /// more than `tolerance` (position \[m\], rotation \[rad\]) in quadrature, in position or
     /// rotation: what a test that adds `tolerance` to the noise would notice. Exact poses
@@ -431,6 +449,31 @@ mod tests {
         // Correlated camera noise does matter.
         let camera = measure(&frames(150, 0.5, 0.0, 0.0, 5)).unwrap();
         assert!(camera.matters((3e-4, 0.5f64.to_radians())), "{camera:?}");
+    }
+
+    #[test]
+    fn interpolated_frames_are_beyond_resolution_a_filter_is_not() {
+        // A 30 Hz tracker's poses, looked up at 100 Hz by linear interpolation (as ROS tf
+        // does): beyond what the windows resolve. AR(1) noise at 0.95, at the cap: not beyond.
+        let (mut beyond, mut filtered) = (0, 0);
+        for seed in 0..50 {
+            let slow = frames(60, 0.0, 0.0, 0.0, 1000 + seed);
+            let mut fast = vec![];
+            let mut t = 0.0;
+            while t < slow[slow.len() - 1].0 {
+                let k = slow.iter().rposition(|s| s.0 <= t).unwrap();
+                let (a, b) = (&slow[k], &slow[k + 1]);
+                let s = (t - a.0) / (b.0 - a.0);
+                fast.push((t, a.1.slerp(&b.1, s), a.2 * (1.0 - s) + b.2 * s));
+                t += 0.01;
+            }
+            let c = measure(&fast).unwrap();
+            beyond += c.beyond_resolution(1e-3) as usize;
+            let f = measure(&frames(150, 0.95, 0.0, 0.0, 1100 + seed)).unwrap();
+            filtered += f.beyond_resolution(1e-3) as usize;
+        }
+        assert!(beyond >= 48, "interpolated: beyond in {beyond} of 50");
+        assert!(filtered <= 2, "AR(0.95): beyond in {filtered} of 50");
     }
 
     #[test]

@@ -321,6 +321,12 @@ impl Learner {
         let mut c = again(&learner.config)?;
         say(&mut c);
         learner.check(&mut c, recording, false);
+        if let Some(why) = correlated
+            .as_ref()
+            .and_then(|k| tracker_noise::beyond_resolution(k, self.config.robust.alpha))
+        {
+            c.withhold_all(&why);
+        }
         Ok(c)
     }
 

@@ -256,6 +256,25 @@ pub(super) fn say_correlated(c: &mut Classification, correlated: &TrackerCorrela
     c.noise_correlation = Some(*correlated);
 }
 
+/// Why nothing can be learnt with the long-run noise of `correlated`, where a tracker's
+/// correlation is beyond what the windows resolve
+/// ([`crate::noise_correlation::Correlation::beyond_resolution`] at `alpha`): the long-run σ is
+/// then only a lower bound, the tests would be too strict by an unknown factor, and every
+/// feature would be taught with too much confidence. `None` otherwise.
+pub(super) fn beyond_resolution(correlated: &TrackerCorrelations, alpha: f64) -> Option<String> {
+    let who = match (correlated.object.beyond_resolution(alpha), &correlated.palm) {
+        (true, _) => "object's",
+        (false, Some(p)) if p.beyond_resolution(alpha) => "palm's",
+        _ => return None,
+    };
+    Some(format!(
+        "the {who} poses are correlated from frame to frame beyond what ten-frame windows \
+         resolve, so the size of their noise is unknown (poses that a logger interpolates \
+         between a slower tracker's, as ROS tf lookups do, are so): give the tracker's own \
+         stream, or its noise (--noise-position, --noise-rotation, and the palm's)"
+    ))
+}
+
 /// The longest time \[s\] between the demonstration's motion segments (or before the first,
 /// or after the last), as (start, end); `None` without frames.
 fn longest_rest(c: &Classification, recording: &Recording) -> Option<(f64, f64)> {
