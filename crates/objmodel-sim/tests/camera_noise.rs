@@ -58,16 +58,9 @@ fn camera_topples_are_analysed_and_teach_only_the_box() {
         }
         edges += tree.edges.len();
         off.extend(
-            tree.edges
-                .iter()
-                .filter(|e| !edge_is_true(e, &features))
-                .map(|e| format!("{}: edge {:?}", spec.name, e.point)),
-        );
-        off.extend(
-            tree.faces
-                .iter()
-                .filter(|f| !face_is_true(f, &features))
-                .map(|f| format!("{}: face {:?}", spec.name, f.normal)),
+            off_the_box(&tree, &features)
+                .into_iter()
+                .map(|o| format!("{}: {o}", spec.name)),
         );
     }
     eprintln!("{edges} edges; unmeasurable {unmeasurable:?}; off the box {off:?}");
@@ -103,19 +96,22 @@ fn learnt_off_the_box(
         .iter()
         .filter(|r| r.classification.noise_correlation.is_some())
         .count();
-    let mut off: Vec<String> = tree
+    (off_the_box(&tree, features), tree.edges.len(), correlated)
+}
+
+/// The tree's features that are not the box's, as "edge at point" or "face normal".
+fn off_the_box(tree: &Tree, features: &BoxFeatures) -> Vec<String> {
+    let edges = tree
         .edges
         .iter()
         .filter(|e| !edge_is_true(e, features))
-        .map(|e| format!("edge at {:?}", e.point))
-        .collect();
-    off.extend(
-        tree.faces
-            .iter()
-            .filter(|f| !face_is_true(f, features))
-            .map(|f| format!("face {:?}", f.normal)),
-    );
-    (off, tree.edges.len(), correlated)
+        .map(|e| format!("edge at {:?}", e.point));
+    let faces = tree
+        .faces
+        .iter()
+        .filter(|f| !face_is_true(f, features))
+        .map(|f| format!("face {:?}", f.normal));
+    edges.chain(faces).collect()
 }
 
 #[test]
