@@ -199,7 +199,7 @@ impl Tree {
 
     /// Take out of the faces the observations that the topples of the edge `e` taught
     /// ([`FaceObservation::from_rest`]: its demonstration, its frames, an offset).
-    fn take_topple_faces(&mut self, e: &Edge) -> Vec<FaceObservation> {
+    pub(super) fn take_topple_faces(&mut self, e: &Edge) -> Vec<FaceObservation> {
         let taught = |o: &FaceObservation| {
             o.source == FaceSource::Rest
                 && o.offset.is_some()

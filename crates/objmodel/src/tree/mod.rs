@@ -416,12 +416,13 @@ impl Tree {
         self.withhold_edges_off_landed_faces();
         loop {
             self.refit_support();
+            let out_of_faces = self.withhold_edges_out_of_their_faces();
             self.condition_edges_on_faces();
             self.refit_centre_of_mass();
             self.shape = self.reconstruct_shape().ok();
-            // A roll's edge withheld takes its measurement of the support's height out with
-            // it, which may give the landings' faces their offsets: the shape again.
-            if !self.withhold_rolls_off_shape() {
+            // An edge withheld takes its measurement of the support's height out with it,
+            // which may give the landings' faces their offsets: the shape again.
+            if !self.withhold_rolls_off_shape() && !out_of_faces {
                 break;
             }
         }
