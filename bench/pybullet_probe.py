@@ -25,7 +25,6 @@ the features learnt and the wrong ones, and the precision over all boxes.
 Needs numpy, scipy and pybullet (pip install pybullet). Writes into $PROBE_DIR (default
 /tmp/objmodel-pybullet). Not a test: the numbers are for reading.
 """
-import json
 import math
 import os
 import sys
@@ -35,8 +34,7 @@ import pybullet as pb
 from scipy.spatial.transform import Rotation as R
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from mujoco_tosses import learn_and_score, random_box, track  # noqa: E402
-from mujoco_box_set import orientations  # noqa: E402
+from probe_common import record, run, settle  # noqa: E402
 
 BIN = os.environ.get("OBJMODEL", "target/release/objmodel")
 DIR = os.environ.get("PROBE_DIR", "/tmp/objmodel-pybullet")
@@ -84,23 +82,6 @@ class World:
 
     def close(self):
         pb.disconnect(self.c)
-
-
-def settle(half, rot):
-    """The box resting with rotation `rot` on the table: (position, rotation)."""
-    h = np.abs(rot.as_matrix()) @ half
-    return np.array([0.0, 0.0, h[2] + 1e-4]), rot
-
-
-def record(w, rows, t, t_next, rate, palm=None, palm_rows=None):
-    if t >= t_next:
-        p, q = w.pose(w.box)
-        rows.append([t, *p, *q.as_quat()])
-        if palm is not None:
-            pp, pq = w.pose(palm)
-            palm_rows.append([t, *pp, *pq.as_quat()])
-        return t_next + 1.0 / rate
-    return t_next
 
 
 def push(half, mu, rot, height_frac, offset_frac, topple, rate, rng):
@@ -212,69 +193,11 @@ def toss(half, mu, rate, rng):
     return np.array(rows), None
 
 
-def write(path, rows, what):
-    with open(path, "w") as f:
-        f.write(f"# timestamp tx ty tz qx qy qz qw  (PyBullet {what})\n")
-        for r in rows:
-            f.write("%.6f " % r[0] + " ".join("%.9f" % x for x in r[1:]) + "\n")
-
-
 def main():
     boxes = int(sys.argv[1]) if len(sys.argv) > 1 else 3
     per_kind = int(os.environ.get("PER_KIND", "5"))
     rng = np.random.default_rng(int(os.environ.get("SEED", "1")))
-    os.makedirs(DIR, exist_ok=True)
-    poses = orientations()
-    totals = [0, 0, 0, 0]
-    for k in range(boxes):
-        half, mu, bt_t, bt_r, faces, edges = random_box(
-            rng, [(0.025, 0.045), (0.02, 0.04), (0.035, 0.07)], (0.5, 0.9),
-            f"{DIR}/box{k}_{LEVEL}.truth.json")
-        paths, made = [], {}
-        for kind in ("topple", "slide", "palm", "toss"):
-            made[kind] = 0
-            tries = 0
-            while made[kind] < per_kind and tries < 4 * per_kind:
-                tries += 1
-                if LEVEL == "camera":
-                    rate, sp, sr = 30.0, 1e-3, math.radians(0.5)
-                else:
-                    rate = rng.uniform(150, 250)
-                    sp, sr = rng.uniform(1e-4, 5e-4), math.radians(rng.uniform(0.05, 0.3))
-                rot = R.from_matrix(poses[rng.integers(len(poses))])
-                if kind == "topple":
-                    got = push(half, max(mu, 0.9), rot, rng.uniform(0.8, 0.95), rng.uniform(-0.3, 0.3), True, rate, rng)
-                elif kind == "slide":
-                    got = push(half, rng.uniform(0.2, 0.35), rot, rng.uniform(0.15, 0.3), rng.uniform(-0.5, 0.5), False, rate, rng)
-                elif kind == "palm":
-                    got = palm_tilt(half, mu, rot, rate, rng)
-                else:
-                    got = toss(half, mu, rate, rng)
-                if got is None:
-                    continue
-                rows, palm = got
-                name = f"{DIR}/box{k}_{LEVEL}_{kind}{made[kind]}"
-                write(name + ".tum", track(rows, bt_t, bt_r, sp, sr, rng, drop=0.02), kind)
-                if palm is not None:
-                    write(name + ".palm.tum", track(palm, np.zeros(3), R.identity(), sp / 3, sr / 3, rng,
-                                                    drop=0, sign_flip=0), "palm")
-                paths.append(name + ".tum")
-                made[kind] += 1
-        scored = learn_and_score([BIN, "learn", *paths, "--json"], f"{DIR}/box{k}_{LEVEL}.json",
-                                 faces, edges)
-        if scored is None:
-            print(f"box {k}: learn failed")
-            continue
-        tree, et, ft, wrong = scored
-        totals = [totals[0] + et, totals[1] + len(tree["edges"]), totals[2] + ft, totals[3] + len(tree["faces"])]
-        print(f"box {k} {np.round(2e3 * half, 1)} mm, mu {mu:.2f}, demos {made}: edges "
-              f"{et}/{len(tree['edges'])}, faces {ft}/{len(tree['faces'])} (of 6), with offsets "
-              f"{sum(f.get('offset') is not None for f in tree['faces'])}"
-              + (f"; WRONG: {wrong}" if wrong else ""), flush=True)
-    learnt = totals[1] + totals[3]
-    print(json.dumps({"level": LEVEL, "boxes": boxes, "edges true/learnt": f"{totals[0]}/{totals[1]}",
-                      "faces true/learnt": f"{totals[2]}/{totals[3]}",
-                      "precision": f"{100.0 * (totals[0] + totals[2]) / learnt:.0f}%" if learnt else "-"}))
+    run(sys.modules[__name__], "PyBullet", boxes, per_kind, rng, LEVEL, BIN, DIR)
 
 
 if __name__ == "__main__":
