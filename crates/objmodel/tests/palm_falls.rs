@@ -9,7 +9,6 @@
 
 mod common;
 
-use nalgebra::Vector3;
 use objmodel::learn::{Config, Learner, Source};
 use objmodel::synth::{self, SynthBox, SynthNoise};
 use objmodel::tree::Tree;
@@ -18,35 +17,11 @@ use rand::{rngs::StdRng, SeedableRng};
 const DIR: &str = "pybullet_palm_falls";
 const LEFT: &str = "may have left the palm";
 
-/// The box's faces (outward normal, offset) and edges (point, direction), tag frame.
-type Faces = Vec<(Vector3<f64>, f64)>;
-type Edges = Vec<(Vector3<f64>, Vector3<f64>)>;
-
-fn truth(name: &str) -> (Faces, Edges) {
-    let json: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(common::data(&format!("{DIR}/{name}.truth.json"))).unwrap(),
-    )
-    .unwrap();
-    let v = common::vec3;
-    let faces = json["faces"].as_array().unwrap();
-    let edges = json["edges"].as_array().unwrap();
-    (
-        faces
-            .iter()
-            .map(|f| (v(&f["normal"]), f["offset"].as_f64().unwrap()))
-            .collect(),
-        edges
-            .iter()
-            .map(|e| (v(&e["point"]), v(&e["direction"])))
-            .collect(),
-    )
-}
-
 #[test]
 fn a_box_that_fell_off_the_palm_teaches_nothing_off_the_box() {
     let learner = Learner::new(Config::default());
     for name in ["a", "b", "c"] {
-        let (faces, edges) = truth(name);
+        let truth = common::box_truth(&format!("{DIR}/{name}.truth.json"));
         let (object, palm) = (
             common::data(&format!("{DIR}/{name}.tum")),
             common::data(&format!("{DIR}/{name}.palm.tum")),
@@ -60,25 +35,7 @@ fn a_box_that_fell_off_the_palm_teaches_nothing_off_the_box() {
             warnings.iter().any(|w| w.contains(LEFT)),
             "{name}: {warnings:?}"
         );
-        for f in &tree.faces {
-            let on_box = faces.iter().any(|(n, d)| {
-                f.normal.angle(n) < 5f64.to_radians()
-                    && f.offset.is_none_or(|o| (o - d).abs() < 5e-3)
-            });
-            assert!(
-                on_box,
-                "{name}: face {} {:?} is no face of the box",
-                f.id, f.normal
-            );
-        }
-        for e in &tree.edges {
-            let on_box = edges.iter().any(|(p, u)| {
-                let off = e.point - p;
-                let across = off - u * u.dot(&off);
-                e.direction.dot(u).abs().min(1.0).acos() < 3f64.to_radians() && across.norm() < 5e-3
-            });
-            assert!(on_box, "{name}: edge {} is no edge of the box", e.id);
-        }
+        common::assert_tree_on_box(&tree, &truth, name);
     }
 }
 

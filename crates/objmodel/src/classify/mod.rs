@@ -82,7 +82,7 @@ pub use files::classify_files;
 pub(crate) use files::classify_files_recording;
 pub(crate) use palm::SUPPORT_FRAMES;
 pub use palm::{Clocks, DEFAULT_MAX_DT_S};
-pub use parts::{height_difference_var, OFF_SUPPORT};
+pub use parts::{height_difference_var, OFF_LEVEL, OFF_SUPPORT};
 
 /// Classify a demonstration held in memory.
 pub fn classify(demo: &crate::Demonstration, config: &Config) -> crate::Result<Classification> {

@@ -11,16 +11,16 @@ use nalgebra::{Matrix3, Vector3};
 /// Whether a part's frames may hold a roll: it taught nothing and is a motion that no other
 /// model explains (not a rest, a completed topple's landing, a flight or an impact), nor an
 /// edge rotation whose line the rests showed to be off the support
-/// ([`crate::classify::OFF_SUPPORT`]).
+/// ([`crate::classify::OFF_SUPPORT`]) or off level ([`crate::classify::OFF_LEVEL`]).
 fn scanned(p: &Part) -> bool {
     !matches!(
         p.kind,
         Label::Rest | Label::Landing | Label::Flight | Label::Impact | Label::Roll
     ) && p.taught.is_empty()
         && p.segment.is_some()
-        && p.withheld
-            .as_ref()
-            .is_none_or(|w| !w.contains(crate::classify::OFF_SUPPORT))
+        && p.withheld.as_ref().is_none_or(|w| {
+            !w.contains(crate::classify::OFF_SUPPORT) && !w.contains(crate::classify::OFF_LEVEL)
+        })
 }
 
 /// Find the rolls of `c`'s motions in the kept frames ([`super::find_rolls`]) and put them

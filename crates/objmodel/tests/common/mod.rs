@@ -65,3 +65,54 @@ pub fn assert_same_edges(
         );
     }
 }
+
+/// A box's faces (outward normal, offset) and edges (point, direction) in its tag's frame, as
+/// the probes with other simulators write them (`bench/mujoco_tosses.py`'s `write_truth`).
+#[allow(dead_code)]
+pub struct BoxTruth {
+    pub faces: Vec<(Vector3<f64>, f64)>,
+    pub edges: Vec<(Vector3<f64>, Vector3<f64>)>,
+}
+
+/// The box truth `tests/data/{file}`.
+#[allow(dead_code)]
+pub fn box_truth(file: &str) -> BoxTruth {
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(data(file)).unwrap()).unwrap();
+    let faces = json["faces"].as_array().unwrap();
+    let edges = json["edges"].as_array().unwrap();
+    BoxTruth {
+        faces: faces
+            .iter()
+            .map(|f| (vec3(&f["normal"]), f["offset"].as_f64().unwrap()))
+            .collect(),
+        edges: edges
+            .iter()
+            .map(|e| (vec3(&e["point"]), vec3(&e["direction"])))
+            .collect(),
+    }
+}
+
+/// Assert that every face and edge of `tree` is one of the box's, as `bench/precision.py`
+/// counts them: a face within 5° (and, with an offset, 5 mm), an edge within 3° and 5 mm.
+#[allow(dead_code)]
+pub fn assert_tree_on_box(tree: &objmodel::tree::Tree, truth: &BoxTruth, name: &str) {
+    for f in &tree.faces {
+        let on_box = truth.faces.iter().any(|(n, d)| {
+            f.normal.angle(n) < 5f64.to_radians() && f.offset.is_none_or(|o| (o - d).abs() < 5e-3)
+        });
+        assert!(
+            on_box,
+            "{name}: face {} {:?} is no face of the box",
+            f.id, f.normal
+        );
+    }
+    for e in &tree.edges {
+        let on_box = truth.edges.iter().any(|(p, u)| {
+            let off = e.point - p;
+            let across = off - u * u.dot(&off);
+            e.direction.dot(u).abs().min(1.0).acos() < 3f64.to_radians() && across.norm() < 5e-3
+        });
+        assert!(on_box, "{name}: edge {} is no edge of the box", e.id);
+    }
+}
