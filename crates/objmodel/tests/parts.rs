@@ -375,3 +375,36 @@ fn a_mujoco_palm_topple_at_120_hz_is_measured_from_the_stop_before_its_fall() {
         assert!(!kinds.contains(&Label::General), "{name}: {kinds:?}");
     }
 }
+
+/// A file that ends two frames after the object stopped: those frames do not say what it came
+/// to rest on, and the topple teaches its edge without the face after it (a rest before needs
+/// as many frames, `MIN_FACE_FRAMES`); eight frames do. (A box that tumbled off Drake's still,
+/// tilted palm onto the table taught, from the two frames its file held of that rest, a face
+/// 11° off beside its edge.)
+#[test]
+fn a_rest_of_two_frames_teaches_no_face_after_a_topple() {
+    let learner = Learner::new(Config::default());
+    let b = SynthBox::new(Vector3::new(0.04, 0.03, 0.06), (0.0, 0.0), 0.3);
+    let mut taught_after = [0; 2];
+    for seed in 0..6u64 {
+        let p = synth::ToppleParams {
+            side: (seed % 4) as usize,
+            ..Default::default()
+        };
+        let full = synth::topple(&b, &p, &SynthNoise::REAL, 30.0, 900 + seed).demo;
+        // The fall ends 1 s of rest, the push and the fall after the first frame.
+        let t_stop = full.object[0].t + 1.0 + p.push_s + p.fall_s;
+        for (k, frames_after) in [2.0, 8.0].into_iter().enumerate() {
+            let mut d = full.clone();
+            d.object
+                .retain(|x| x.t <= t_stop + (frames_after - 0.5) / 30.0);
+            let c = learner.observe(&Source::Memory(&d)).unwrap().classification;
+            assert_eq!(c.topples.len(), 1, "{seed} {frames_after}: {:?}", c.parts);
+            if c.topples[0].resting_normal_after.is_some() {
+                taught_after[k] += 1;
+            }
+        }
+    }
+    assert_eq!(taught_after[0], 0, "{taught_after:?}");
+    assert!(taught_after[1] >= 4, "{taught_after:?}");
+}
