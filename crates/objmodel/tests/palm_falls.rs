@@ -20,6 +20,7 @@ const LEFT: &str = "may have left the palm";
 #[test]
 fn a_box_that_fell_off_the_palm_teaches_nothing_off_the_box() {
     let learner = Learner::new(Config::default());
+    let mut said = Vec::new();
     for name in ["a", "b", "c"] {
         let truth = common::box_truth(&format!("{DIR}/{name}.truth.json"));
         let (object, palm) = (
@@ -31,12 +32,15 @@ fn a_box_that_fell_off_the_palm_teaches_nothing_off_the_box() {
             .learn(&mut tree, &[Source::instrumented(&object, &palm)])
             .unwrap();
         let warnings = &reports[0].classification.warnings;
-        assert!(
-            warnings.iter().any(|w| w.contains(LEFT)),
-            "{name}: {warnings:?}"
-        );
+        if warnings.iter().any(|w| w.contains(LEFT)) {
+            said.push(name);
+        }
         common::assert_tree_on_box(&tree, &truth, name);
     }
+    // The rule is what keeps a and b right. (c's rest on the table is no arrival on the
+    // support already, its edge off the support: nothing is left for the rule to withhold,
+    // and it says nothing.)
+    assert_eq!(said, ["a", "b"]);
 }
 
 #[test]

@@ -215,7 +215,7 @@ fn conditioned(e: &Edge, planes: &[FacePlane]) -> Option<(EdgeEstimate, Vec<Stri
 impl Tree {
     /// Withhold every edge that a face it joins contradicts, as the other demonstrations
     /// measure that face (the test [`Tree::condition_edges_on_faces`] leaves such a face out
-    /// with; see the module documentation): whether it is withheld.
+    /// with; see the module documentation): whether any was withheld.
     ///
     /// An object turned about one of its edges rested before (and after) on a face that holds
     /// that edge. A fixed line of rotation out of such a face beyond the uncertainties and the
