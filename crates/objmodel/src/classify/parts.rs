@@ -43,7 +43,7 @@ pub(crate) fn direction_off_level(
     })
 }
 
-/// The end of the reason an edge off level is not taught ([`direction_off_level`]); a part
+/// The end of the reason an edge off level is not taught (`direction_off_level`); a part
 /// withheld so is not scanned for rolls (`crate::roll`): its turn was about a line out of the
 /// face it stood on (a box pivoting on a corner), and windows of it pass for rolls whose lines
 /// are still off level, each by too little to fail alone (Drake: a roll 3.0° from level at
