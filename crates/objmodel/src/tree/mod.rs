@@ -409,8 +409,8 @@ impl Tree {
 
     /// Recompute what depends on all the features: the edges' own estimates, the support's
     /// height and the offsets it gives the landings' faces, the edges conditioned on their
-    /// faces, the centre of mass, the shape (without the rolls' edges off it) and the
-    /// contradictions between them.
+    /// faces (without those the faces they rested on contradict), the centre of mass, the
+    /// shape (without the rolls' edges off it) and the contradictions between them.
     fn refit_whole(&mut self) {
         self.edges.iter_mut().for_each(Edge::refit);
         self.withhold_edges_off_landed_faces();
