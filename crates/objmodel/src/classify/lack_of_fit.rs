@@ -69,7 +69,9 @@ pub(super) fn systematic_point_var(
 /// pivot that slips while the object turns turns the axis of the later frames with it: on
 /// rapier pushes at exact poses, an axis turned 1.2-2.5° within the resting face as the pivot
 /// slipped 0.3-0.7 mm, and came out 6 σ off. The excess `|d|²/2 - s²` (zero when negative) is
-/// that systematic error per axis.
+/// that systematic error per axis. It widens the taught edge's σ, but not the σ with which
+/// the edge is tested for level (`classify::analysis`): a slipping pivot turns the axis within
+/// the level plane, and an axis that turns out of it (a twist, a corner pivot) is no edge.
 pub(super) fn systematic_direction_var(
     blocks: &[Block],
     order: &[usize],

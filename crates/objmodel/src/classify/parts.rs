@@ -1,7 +1,7 @@
 //! The parts of a segment and what each must show before it teaches: where a part ends
 //! (`part_end`), whether it follows another motion without a rest between and so is not
 //! measured from its own start (`after_other_motion`), whether its feature is level as a
-//! contact on a level support is (`edge_off_level`, `face_off_level`), and whether a completed
+//! contact on a level support is (`direction_off_level`, `face_off_level`), and whether a completed
 //! topple's edge is on the support in both its rests (`edge_on_support`).
 
 use super::block::Block;
@@ -13,18 +13,15 @@ use crate::landing::{RestPlace, SUPPORT_FLATNESS_M};
 use crate::noise::NoiseModel;
 use nalgebra::{UnitQuaternion, Vector3};
 
-/// Whether an edge is not level: an edge a box topples about lies in the face it rests on, and
-/// that face lies on a level support (a table, or a palm in the palm's frame) to within
-/// [`SUPPORT_LEVEL_SIGMA_RAD`]. The edge's tilt from level (its direction's component along
-/// "down" `d`) is tested against that and the direction's own variance along `d`, χ²₁ at `alpha`.
-/// (The segment's fits only bound the tilt by [`super::RobustConfig::max_axis_tilt_rad`], a
-/// search bound; a thrown box's flight from a hand passed it with an "edge" 20° from level.)
-pub(super) fn edge_off_level(e: &EdgeObservation, d: &Vector3<f64>, alpha: f64) -> Option<String> {
-    direction_off_level(&e.line.direction, &e.direction_cov, d, alpha)
-}
-
-/// [`edge_off_level`] for a direction `u` of covariance `cov` (a roll's edge in the world,
-/// [`crate::roll`]).
+/// Whether an edge's direction `u` (covariance `cov`) is not level: an edge a box topples
+/// about lies in the face it rests on, and that face lies on a level support (a table, or a
+/// palm in the palm's frame) to within [`SUPPORT_LEVEL_SIGMA_RAD`]. The edge's tilt from level
+/// (its direction's component along "down" `d`) is tested against that and the direction's own
+/// variance along `d`, χ²₁ at `alpha`. (The segment's fits only bound the tilt by
+/// [`super::RobustConfig::max_axis_tilt_rad`], a search bound; a thrown box's flight from a
+/// hand passed it with an "edge" 20° from level.) A topple's edge is tested with its
+/// covariance before the split-half lack of fit of its axis (`classify::analysis`); a roll's
+/// edge in the world ([`crate::roll`]) with its own.
 pub(crate) fn direction_off_level(
     u: &Vector3<f64>,
     cov: &nalgebra::Matrix3<f64>,
