@@ -63,13 +63,20 @@ impl Face {
 
     /// Recompute the estimate from the observations.
     pub(super) fn refit(&mut self) {
-        // Reference sign: the first observation whose sign is known, else the first.
-        let reference = self
-            .observations
-            .iter()
-            .find(|o| o.sign_known)
-            .unwrap_or(&self.observations[0])
-            .normal;
+        // Reference sign: the most precise observation whose sign is known, else the most
+        // precise. (The first one, as before, made the fusion depend on the order of the
+        // demonstrations: a palm "slide" known to ±39°, 90° from the rests it matched within
+        // that, came first, and the rests' normals were signed by their dot product with it,
+        // one each way: Drake, a face 16° off.)
+        let most_precise = |sign_known: bool| {
+            self.observations
+                .iter()
+                .filter(|o| o.sign_known || !sign_known)
+                .min_by(|a, b| a.sigma_normal().total_cmp(&b.sigma_normal()))
+        };
+        let reference = most_precise(true)
+            .or_else(|| most_precise(false))
+            .map_or(self.normal, |o| o.normal);
         let (mut sum, mut wsum, mut wsum2) = (Vector3::zeros(), 0.0, 0.0);
         // The known offsets, signed as the reference normal, with their weights.
         let mut offsets: Vec<(f64, f64)> = Vec::new();
@@ -263,6 +270,34 @@ mod tests {
         f.observations = obs;
         f.refit();
         f
+    }
+
+    /// The fused normal does not depend on the order of the observations: a rough one (σ 39°)
+    /// nearly normal to two precise ones, first or last, leaves their mean where they are.
+    #[test]
+    fn a_rough_first_observation_does_not_sign_the_precise_ones() {
+        let with = |normal: Vector3<f64>, sigma: f64| FaceObservation {
+            normal: normal.normalize(),
+            normal_cov: Matrix3::identity() * sigma * sigma,
+            ..rest("d", 0.0, 1e-3)
+        };
+        let rough = with(Vector3::new(-0.58, 0.09, -0.81), 39f64.to_radians());
+        let a = with(Vector3::new(-0.154, -0.988, 0.0), 1f64.to_radians());
+        let b = with(Vector3::new(-0.154, -0.988, 0.027), 1f64.to_radians());
+        let truth = Vector3::new(-0.154, -0.988, 0.0135).normalize();
+        for obs in [
+            vec![rough.clone(), a.clone(), b.clone()],
+            vec![a.clone(), b.clone(), rough.clone()],
+            vec![b.clone(), rough.clone(), a.clone()],
+        ] {
+            let f = fused(obs);
+            assert!(
+                f.normal.angle(&truth) < 0.1f64.to_radians(),
+                "{:?} is {:.1}° off",
+                f.normal,
+                f.normal.angle(&truth).to_degrees()
+            );
+        }
     }
 
     /// Offsets taught through edges share those edges' contact depth: each one's own variance
