@@ -361,12 +361,10 @@ pub(super) fn analyse_segment(
         let reference_var = (sigma_ref_rot * inv_chord).powi(2);
         let drift_var = systematic_direction_var(blocks, &topple_blocks, &e.line, sigma_ref_rot);
         // The level test sees the direction without the drift of its axis: see `level_cov`.
-        let u = e.line.direction;
-        level_cov = Some(
-            e.direction_cov + (nalgebra::Matrix3::identity() - u * u.transpose()) * reference_var,
-        );
+        e.add_systematic_direction_var(reference_var);
+        level_cov = Some(e.direction_cov);
+        e.add_systematic_direction_var(drift_var);
         topple_systematic_direction_var = drift_var + reference_var;
-        e.add_systematic_direction_var(topple_systematic_direction_var);
     }
     // The part's own frames, after trimming and up to where another motion takes over, must
     // still be enough to test a fixed line (the segment's fit was tested with all of them).
@@ -383,10 +381,11 @@ pub(super) fn analyse_segment(
     let turned_too_little = edge
         .as_ref()
         .and_then(|e| edge_turns_too_little(e, config.robust.edge_tolerance_m));
-    let off_level = edge.as_ref().zip(seg.down_ref).and_then(|(e, d)| {
-        let cov = level_cov.unwrap_or(e.direction_cov);
-        direction_off_level(&e.line.direction, &cov, &d, alpha)
-    });
+    let off_level = edge
+        .as_ref()
+        .zip(level_cov)
+        .zip(seg.down_ref)
+        .and_then(|((e, cov), d)| direction_off_level(&e.line.direction, &cov, &d, alpha));
     // A completed topple: the edge lies on the support (the table, or the palm in the palm's
     // frame) in both rests; where the rests leave it there, what they do not explain is the
     // edge's own error, and what they measure of it is used. "Down" in the poses' frame is
