@@ -66,23 +66,22 @@ pub struct FaceObservation {
 }
 
 impl FaceObservation {
-    /// The face an object rested on, from the unit "down" direction in the object frame at rest,
-    /// when toppling about `edge` (which lies in that face).
+    /// The face an object rested on before or after toppling about `edge`, from the unit
+    /// "down" direction in the object frame at rest. The normal is "down" itself, as in
+    /// [`Self::from_gravity`]: a measurement of its own, as uncertain as the support is level.
+    /// (It was "down" made normal to the edge, so that the face held its edge: an edge a few
+    /// degrees off then tilted the face it rested on with it, and the tree could not use that
+    /// rest to put the edge right.) The offset is the edge's: the face holds the edge, so its
+    /// plane passes through the edge's point (`edge.line.point`, the line's point nearest the
+    /// origin, where `n · p` is the same for the plane normal to "down" and for the one through
+    /// the whole line, to second order in the angle between them).
     pub fn from_rest(down: &Vector3<f64>, edge: &EdgeObservation) -> Self {
-        let u = edge.line.direction;
-        let n = (down - u * u.dot(down)).normalize();
-        let p = Matrix3::identity() - n * n.transpose();
-        let level = SUPPORT_LEVEL_SIGMA_RAD * SUPPORT_LEVEL_SIGMA_RAD;
+        let n = down.normalize();
         Self {
-            demo: edge.demo.clone(),
-            normal: n,
-            normal_cov: p * (edge.direction_cov + Matrix3::identity() * level) * p,
             offset: Some(n.dot(&edge.line.point)),
             offset_var: Some(n.dot(&(edge.point_cov * n))),
             offset_common_var: n.dot(&(edge.common_point_cov * n)),
-            sign_known: true,
-            source: FaceSource::Rest,
-            frames: edge.frames,
+            ..Self::from_gravity(&n, &edge.demo, edge.frames)
         }
     }
 

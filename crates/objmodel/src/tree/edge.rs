@@ -39,9 +39,9 @@ pub struct Edge {
     /// included in `point_cov` and `sigma_point_m`; absent where no landed face tests the edge.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub between_sigma_m: Option<f64>,
-    /// The faces whose planes, as the other demonstrations measure them, `point`, `direction`
-    /// and their covariances are conditioned on (`tree/edge_faces.rs`); empty where the edge is
-    /// its observations' estimate alone.
+    /// The faces whose planes (their offsets as the other demonstrations measure them) `point`,
+    /// `direction` and their covariances are conditioned on (`tree/edge_faces.rs`); empty where
+    /// the edge is its observations' estimate alone.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub conditioned_on: Vec<String>,
     /// The estimate from the edge's own observations alone, where `conditioned_on` is not

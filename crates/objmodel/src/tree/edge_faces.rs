@@ -1,5 +1,6 @@
 //! An edge is where two faces of the object meet: each edge's estimate conditioned on the
-//! planes of the faces it joins, as the other demonstrations measure them.
+//! planes of the faces it joins: their normals as every rest on them measures them, their
+//! offsets as the other demonstrations' edges do.
 //!
 //! A topple teaches its edge from the frames of one turn: at 30 Hz a fall of a fraction of a
 //! second locates it to a few millimetres and degrees. The faces it joins are measured far
@@ -9,11 +10,14 @@
 //! measurements of the edge, with the face's uncertainty for noise, and each face the edge
 //! joins gives them.
 //!
-//! The face is taken *without* the edge's own demonstrations ([`super::Face::without`]): its
-//! offset came partly through this very edge (and its normal, from the rest, is made normal to
-//! the edge's direction), and counting that twice would shrink the σ for nothing. Conditioned
-//! on what the other demonstrations measure, the estimate is the joint one of the edge and
-//! its faces.
+//! The face is taken *without the offsets* of the edge's own demonstrations
+//! ([`super::Face::without_offsets_of`]): those came through this very edge, and counting them
+//! twice would shrink the σ for nothing. Their normals stay: a rest's normal is gravity in the
+//! object frame, a measurement of its own. (When it was made normal to the edge, the edge's
+//! own rests could not be used: at camera noise a fast palm topple taught an edge 5° off
+//! from 3 frames, the face it landed on 5° off with it, and the rest that showed that face
+//! right, 0.2° off, was never seen by the edge.) Conditioned on the rests and on what the
+//! other demonstrations measure, the estimate is the joint one of the edge and its faces.
 //!
 //! The part of the point's covariance common to every edge of the object (the contact's depth,
 //! [`crate::edge::EdgeObservation::add_contact_depth_var`]) is common to the faces' offsets
@@ -43,7 +47,7 @@ use super::{
 use crate::stats::chi2_threshold;
 use nalgebra::{Matrix3, Vector3};
 
-/// A face as one measurement of an edge: its plane from the other demonstrations.
+/// A face as one measurement of an edge: its plane, its offset from the other demonstrations.
 struct FacePlane {
     id: String,
     normal: Vector3<f64>,
@@ -54,15 +58,15 @@ struct FacePlane {
 }
 
 impl FacePlane {
-    fn of(face: &Face, demos: &[String]) -> Option<Self> {
-        let f = face.without(demos)?;
+    fn of(face: &Face, demos: &[String]) -> Self {
+        let f = face.without_offsets_of(demos);
         let own_var = |s: f64| (s * s - f.offset_common_var()).max(0.0);
-        Some(Self {
+        Self {
             id: f.id.clone(),
             normal: f.normal,
             normal_var: f.sigma_normal_rad.powi(2),
             offset: f.offset.zip(f.offset_sigma_m.map(own_var)),
-        })
+        }
     }
 }
 
@@ -213,9 +217,9 @@ fn conditioned(e: &Edge, planes: &[FacePlane]) -> Option<(EdgeEstimate, Vec<Stri
 }
 
 impl Tree {
-    /// Withhold every edge that a face it joins contradicts, as the other demonstrations
-    /// measure that face (the test [`Tree::condition_edges_on_faces`] leaves such a face out
-    /// with; see the module documentation): whether any was withheld.
+    /// Withhold every edge that a face it joins contradicts, as the rests and the other
+    /// demonstrations measure that face (the test [`Tree::condition_edges_on_faces`] leaves such
+    /// a face out with; see the module documentation): whether any was withheld.
     ///
     /// An object turned about one of its edges rested before (and after) on a face that holds
     /// that edge. A fixed line of rotation out of such a face beyond the uncertainties and the
@@ -232,7 +236,7 @@ impl Tree {
                 .faces
                 .iter()
                 .filter_map(|id| self.faces.iter().find(|f| &f.id == id))
-                .filter_map(|f| FacePlane::of(f, &e.support))
+                .map(|f| FacePlane::of(f, &e.support))
                 .filter_map(|plane| {
                     let (_, _, v) = own.against(&plane);
                     v.contradicts.then(|| {
@@ -261,9 +265,9 @@ impl Tree {
                 out.push((
                     i,
                     format!(
-                        "edge {} is not in the faces it rested on, as the other demonstrations \
-                         measure them: {}; a line of rotation out of the face the object stood \
-                         on is no edge of it (a corner pivot, a twist); withheld",
+                        "edge {} is not in the faces it rested on, as the rests and the other \
+                         demonstrations measure them: {}; a line of rotation out of the face \
+                         the object stood on is no edge of it (a corner pivot, a twist); withheld",
                         e.id,
                         off.join(", ")
                     ),
@@ -296,7 +300,7 @@ impl Tree {
                 .faces
                 .iter()
                 .filter_map(|id| faces.iter().find(|f| &f.id == id))
-                .filter_map(|f| FacePlane::of(f, &e.support))
+                .map(|f| FacePlane::of(f, &e.support))
                 .collect();
             if let Some((estimate, used)) = conditioned(e, &planes) {
                 e.observed = Some(e.own());
@@ -488,6 +492,43 @@ mod tests {
         assert!(w.why.contains("12.0° out of face f0's plane"), "{}", w.why);
         assert_eq!(tree.faces.len(), 1);
         assert!(!tree.withhold_edges_out_of_their_faces());
+    }
+
+    /// A topple's own rests are measurements of the faces it joins: an edge 5° off (a fast
+    /// topple seen in three frames, σ 1.8°) between two rests that show their faces exactly is
+    /// put near their line, and its σ covers what is left. (With the resting faces made normal
+    /// to the edge, the face it landed on tilted 5° with it, and the edge stayed 5° off.)
+    #[test]
+    fn an_edge_is_put_right_by_its_own_rests() {
+        use crate::face::FaceObservation;
+        let truth = Vector3::z();
+        let off = 5f64.to_radians();
+        let u = Vector3::new(off.sin() * 0.6, off.sin() * 0.8, off.cos());
+        let o = edge(Vector3::new(X, Y, 0.0), u, 0.003, 1.8f64.to_radians(), 0.0).observations[0]
+            .clone();
+        let mut tree = Tree::default();
+        let eid = tree.add_edge(o.clone());
+        for down in [Vector3::x(), Vector3::y()] {
+            let fid = tree.add_face(FaceObservation::from_rest(&down, &o));
+            tree.edges[0].faces.push(fid);
+        }
+        tree.refit_whole();
+        let e = tree.edges.iter().find(|e| e.id == eid).expect("kept");
+        assert_eq!(e.conditioned_on.len(), 2, "{:?}", e.conditioned_on);
+        let err = e.direction.cross(&truth).norm().asin();
+        assert!(err < 1.5f64.to_radians(), "{}° off", err.to_degrees());
+        let z2 = mahalanobis2(
+            &(truth * e.direction.z.signum()),
+            &e.direction,
+            &e.direction_cov,
+            &e.direction,
+        );
+        assert!(z2 < 9.0, "χ² {z2}");
+        assert_eq!(tree.faces.len(), 2);
+        for f in &tree.faces {
+            let a = f.normal.dot(&truth).asin().abs().to_degrees();
+            assert!(a < 0.01, "face {} {a}° off", f.id);
+        }
     }
 
     /// The common part (the contact's depth) does not shrink: it is the edge's and the faces'

@@ -152,16 +152,23 @@ impl Face {
         common.iter().sum::<f64>() / common.len().max(1) as f64
     }
 
-    /// The face as the demonstrations other than `demos` show it; `None` when only those show
-    /// it.
-    pub(super) fn without(&self, demos: &[String]) -> Option<Face> {
+    /// The face without the offsets that `demos` gave it: their observations' offsets came
+    /// through those demonstrations' own edges (a topple's resting face passes through its
+    /// edge, [`FaceObservation::from_rest`]), their normals from the rests (gravity), which
+    /// are measurements of their own.
+    pub(super) fn without_offsets_of(&self, demos: &[String]) -> Face {
         let mut f = self.clone();
-        f.observations.retain(|o| !demos.contains(&o.demo));
-        if f.observations.is_empty() {
-            return None;
+        for o in f
+            .observations
+            .iter_mut()
+            .filter(|o| demos.contains(&o.demo))
+        {
+            o.offset = None;
+            o.offset_var = None;
+            o.offset_common_var = 0.0;
         }
         f.refit();
-        Some(f)
+        f
     }
 
     /// RMS standard deviation \[rad\] of the normal per axis without the support's level

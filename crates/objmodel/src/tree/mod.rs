@@ -9,8 +9,8 @@
 //!   ([`LineStats`](crate::geometry::LineStats)), with the
 //!   covariance of that mean: the larger of the propagated one and the between-demonstration
 //!   scatter divided by the number of demonstrations; then conditioned on the planes of the
-//!   faces it joins as the other demonstrations measure them (`tree/edge_faces.rs`; its own
-//!   estimate kept as [`Edge::observed`]);
+//!   faces it joins as the rests and the other demonstrations measure them
+//!   (`tree/edge_faces.rs`; its own estimate kept as [`Edge::observed`]);
 //! * a face's normal is the weighted mean of its observations' normals (their signs aligned), its
 //!   offset the weighted mean of the offsets that are known, with the mean's sigma widened by
 //!   the Birge ratio `√(χ²/(N-1))` when the offsets scatter beyond their own sigmas;
