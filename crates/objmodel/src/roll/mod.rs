@@ -46,7 +46,7 @@ pub use fit::{fit, frame_chi2, RollFit, RollNoise};
 pub use parts::mark_rolls;
 pub use record::Roll;
 
-use crate::edge::{EdgeObservation, EDGE_MATCH_RAD};
+use crate::edge::EdgeObservation;
 use crate::flight::{FlightFrame, FlightTest};
 use crate::support::SupportObservation;
 use nalgebra::{Rotation3, Vector3};
@@ -263,16 +263,21 @@ pub fn find_rolls(frames: &[FlightFrame], test: &RollTest) -> Vec<Candidate> {
     out
 }
 
-/// Whether two rolls turn the same way about parallel lines (directions within their σ at
-/// `alpha`, χ²₂, or 3°), in the object frame.
-fn same_turn(a: &RollFit, b: &RollFit, alpha: f64) -> bool {
+/// Largest angle \[rad\] between the lines of two rolls, one right after the other and turning
+/// the same way, that are taken for one turn whose line moved: half a box's right angle. A
+/// tumble over the next edge of a box turns about a line parallel to the last (a face's width
+/// away) or at right angles to it.
+const ONE_TURN_RAD: f64 = std::f64::consts::FRAC_PI_4;
+
+/// Whether two rolls turn the same way about lines less than [`ONE_TURN_RAD`] apart, in the
+/// object frame. (It was parallel lines, within their σ at `alpha` or 3°: a pushed box in
+/// Drake rolled on its side about a line that moved 10 mm and turned 3.3° between two windows
+/// of one turn, σ 0.4° each, and both taught: an edge 20 mm off the box.)
+fn same_turn(a: &RollFit, b: &RollFit) -> bool {
     let (ua, ub) = (a.object_line.direction, b.object_line.direction);
     let aligned = ua.dot(&ub) * a.turn.signum() * b.turn.signum() > 0.0;
     let angle = ua.cross(&ub).norm().atan2(ua.dot(&ub).abs());
-    let var = (a.direction_cov.trace() + b.direction_cov.trace()) / 2.0;
-    aligned
-        && (angle <= EDGE_MATCH_RAD
-            || angle * angle <= var * crate::stats::chi2_threshold(2.0, alpha))
+    aligned && angle < ONE_TURN_RAD
 }
 
 /// How far \[m\] the second roll's line lies from the first's (in the object frame, normal to
@@ -291,7 +296,7 @@ fn line_moved(a: &RollFit, b: &RollFit, test: &RollTest) -> Option<f64> {
 }
 
 /// Rolls that follow each other without a frame between them (or one: a frame the cut between
-/// them left out) and turn the same way about parallel lines that are not one line
+/// them left out) and turn the same way ([`same_turn`]) about lines that are not one line
 /// ([`line_moved`]) teach nothing: one turn whose line moved, where the change test cut it
 /// ([`split_at_change`]). An object rolling over an
 /// edge stops turning when its face lands, and tumbling on over the next edge its line jumps
@@ -304,13 +309,13 @@ fn withhold_drifting(rolls: &mut [Candidate], test: &RollTest) {
         .windows(2)
         .enumerate()
         .filter(|(_, w)| w[1].first <= w[0].last + 2)
-        .filter(|(_, w)| same_turn(&w[0].fit, &w[1].fit, test.alpha))
+        .filter(|(_, w)| same_turn(&w[0].fit, &w[1].fit))
         .filter_map(|(k, w)| Some((k, line_moved(&w[0].fit, &w[1].fit, test)?)))
         .collect();
     for (k, moved) in drifting {
         for r in &mut rolls[k..=k + 1] {
             r.withheld = Some(format!(
-                "it turns on about a parallel line {:.1} mm away, without a frame between: the \
+                "it turns on about a line {:.1} mm away, without a frame between: the \
                  line moved during one turn (a contact that slides or rolls), not an edge",
                 moved * 1e3
             ));
