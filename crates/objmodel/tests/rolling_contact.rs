@@ -10,17 +10,9 @@
 
 mod common;
 
-use objmodel::learn::{Config, Learner, Source};
-use objmodel::tree::Tree;
-
 #[test]
 fn a_roll_whose_line_moves_teaches_no_edge() {
-    let learner = Learner::new(Config::default());
-    let truth = common::box_truth("drake_rolling_contact/push.truth.json");
-    let object = common::data("drake_rolling_contact/push.tum");
-    let mut tree = Tree::default();
-    let mut reports = learner.learn(&mut tree, &[Source::file(&object)]).unwrap();
-    let c = reports.remove(0).classification;
+    let c = common::learn_alone_on_box("drake_rolling_contact/push");
     assert!(c.rolls.iter().all(|r| !r.taught), "{:?}", c.rolls);
     let moved = c
         .parts
@@ -32,5 +24,4 @@ fn a_roll_whose_line_moves_teaches_no_edge() {
         })
         .count();
     assert_eq!(moved, 2, "{:?}", c.parts);
-    common::assert_tree_on_box(&tree, &truth, "push");
 }

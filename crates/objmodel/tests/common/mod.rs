@@ -116,3 +116,19 @@ pub fn assert_tree_on_box(tree: &objmodel::tree::Tree, truth: &BoxTruth, name: &
         assert!(on_box, "{name}: edge {} is no edge of the box", e.id);
     }
 }
+
+/// Learn `tests/data/{stem}.tum` alone (default configuration, no palm) and assert that the
+/// tree holds no feature off the box of `{stem}.truth.json` ([`assert_tree_on_box`]); its
+/// classification, for further checks.
+#[allow(dead_code)]
+pub fn learn_alone_on_box(stem: &str) -> objmodel::classify::Classification {
+    use objmodel::learn::{Config, Learner, Source};
+    let truth = box_truth(&format!("{stem}.truth.json"));
+    let object = data(&format!("{stem}.tum"));
+    let mut tree = objmodel::tree::Tree::default();
+    let mut reports = Learner::new(Config::default())
+        .learn(&mut tree, &[Source::file(&object)])
+        .unwrap();
+    assert_tree_on_box(&tree, &truth, stem);
+    reports.remove(0).classification
+}
