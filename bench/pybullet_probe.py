@@ -14,7 +14,7 @@ friction, tag pose) is demonstrated as a user would, in one set:
 * tosses: thrown onto the table with a spin; it lands, bounces, slides, rolls and stops.
 
 All of a box's demonstrations are learnt into one tree (`objmodel learn *.tum --json`), and
-every learnt feature is compared with the box's (`mujoco_tosses.edge_true` / `face_true`: an
+every learnt feature is compared with the box's (`scoring.edge_true` / `face_true`: an
 edge within 5 mm and 3°, a face within 5° and, where it has an offset, 5 mm). Prints per box
 the features learnt and the wrong ones, and the precision over all boxes.
 
