@@ -11,8 +11,12 @@
 //! the first segment of a file whose rest before it is shorter than the rest test's window
 //! teaches nothing from its first part (its later parts are measured from their own onset,
 //! [`crate::onset`]).
+//!
+//! Those first frames are not called rest when they move ([`unlabel_moving_start`]): a file
+//! that starts at a throw's release (real tosses tracked at 148 Hz move 7 mm between their
+//! first two frames, at 0.15 mm of noise) starts with general motion, not with a rest.
 
-use crate::classify::Classification;
+use crate::classify::{Classification, Label};
 use crate::recording::Recording;
 
 /// Withhold what the first segment of `c` taught when the rest before it, from the first kept
@@ -39,5 +43,53 @@ pub fn withhold_unrested_start(c: &mut Classification, recording: &Recording, wi
     c.topples.retain(|t| !t.segments.contains(&0));
     if c.topples.is_empty() {
         c.paper_edge = None;
+    }
+}
+
+/// Label the frames that `c` calls rest before its first segment [`Label::General`] when they
+/// move: when the rest before the first segment is shorter than the rest test's window
+/// (`window_s`, as in [`withhold_unrested_start`]) and the position moves between two of its
+/// frames, or from its last frame to the next, by more than the tracking noise allows (χ²₃ of
+/// the step under twice the position noise, at `alpha` over the steps tested). The votes and
+/// what the demonstration taught do not change: those frames voted for nothing, and a rest
+/// shorter than the window teaches nothing ([`withhold_unrested_start`]). The parts, filled
+/// from the labels afterwards, follow.
+pub fn unlabel_moving_start(
+    c: &mut Classification,
+    recording: &Recording,
+    window_s: f64,
+    alpha: f64,
+) {
+    let Some(noise) = c.noise else { return };
+    let Some(lead) = c
+        .labels
+        .first()
+        .filter(|r| r.label == Label::Rest && r.segment.is_none())
+    else {
+        return;
+    };
+    if lead.t_end - lead.t_start >= window_s {
+        return;
+    }
+    let last = lead.last as u64;
+    let frames = &recording.object;
+    let k = frames.partition_point(|f| f.index <= last);
+    // The leading rest's kept frames and the frame after them.
+    let steps: Vec<f64> = frames[..(k + 1).min(frames.len())]
+        .windows(2)
+        .map(|w| (w[1].position - w[0].position).norm_squared())
+        .collect();
+    if steps.is_empty() {
+        return;
+    }
+    let var = 2.0 * noise.sigma_position.powi(2);
+    let limit = crate::stats::chi2_threshold(3.0, alpha / steps.len() as f64);
+    if steps.iter().all(|d| d / var <= limit) {
+        return;
+    }
+    for r in c.labels.iter_mut().take_while(|r| r.segment.is_none()) {
+        if r.label == Label::Rest {
+            r.label = Label::General;
+        }
     }
 }

@@ -44,3 +44,33 @@ fn every_feature_learnt_from_real_tosses_is_the_cubes_and_the_rests_find_its_fac
         assert_eq!(found, 1, "face {n:?} found {found} times: {:?}", tree.faces);
     }
 }
+
+/// Each file starts at the release, in flight (7 mm between its first two frames at 0.15 mm
+/// of noise): no file starts with a rest, although the rest test, with no window before a
+/// file's first frames, cannot tell them moving (`start_rest::unlabel_moving_start`).
+#[test]
+fn a_toss_tracked_from_its_release_does_not_start_with_a_rest() {
+    let paths = tosses();
+    let sources: Vec<Source> = paths.iter().map(Source::file).collect();
+    let mut tree = Tree::default();
+    let reports = Learner::new(Config::default())
+        .learn(&mut tree, &sources)
+        .unwrap();
+    for (path, r) in paths.iter().zip(&reports) {
+        let parts = &r.classification.parts;
+        assert_ne!(
+            parts[0].kind,
+            objmodel::classify::Label::Rest,
+            "{}: {:?}",
+            path.display(),
+            parts[0]
+        );
+        // And each ends at rest, as its last frames show.
+        assert_eq!(
+            parts.last().unwrap().kind,
+            objmodel::classify::Label::Rest,
+            "{}",
+            path.display()
+        );
+    }
+}

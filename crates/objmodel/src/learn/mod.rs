@@ -355,6 +355,12 @@ impl Learner {
                 recording,
                 self.config.robust.rest_window_s,
             );
+            crate::start_rest::unlabel_moving_start(
+                classification,
+                recording,
+                self.config.robust.rest_window_s,
+                self.config.robust.alpha,
+            );
             crate::onset::remeasure_later_parts(classification, recording, &self.config);
             crate::flight::withhold_topples_that_fly(classification, recording, &self.config);
             crate::flight::withhold_after_leaving_the_palm(classification, recording, &self.config);
