@@ -3,6 +3,7 @@
 simulated dataset (written by `objmodel dataset`).
 
     python3 bench/precision.py DATA_DIR [--bin target/release/objmodel] [--tables box,scene,all]
+                               [--learn-args "--support-height 0"]
 
 A learnt edge is true when it is within 5 mm and 3 degrees of an edge of the box, a face when
 its normal is within 5 degrees of a face's (sign included when known) and its offset, if known,
@@ -162,8 +163,9 @@ def measurable_rolls(truths, rates):
 
 
 class Data:
-    def __init__(self, root, binary, noise_given=False):
+    def __init__(self, root, binary, noise_given=False, learn_args=()):
         self.root, self.bin, self.noise_given = root, binary, noise_given
+        self.learn_args = list(learn_args)
         self.manifest = json.load(open(os.path.join(root, "manifest.json")))
         self._truth, self._classify = {}, {}
 
@@ -184,7 +186,8 @@ class Data:
             if len(noises) == 1:
                 sp, sr = noises.pop()
                 args += ["--noise-position", str(max(sp, 5e-5)), "--noise-rotation", str(max(sr, 2e-4))]
-        out = subprocess.run([self.bin, "learn", *args, "--json", "--quiet"], capture_output=True, text=True)
+        out = subprocess.run([self.bin, "learn", *args, *self.learn_args, "--json", "--quiet"],
+                             capture_output=True, text=True)
         if out.returncode != 0:
             raise SystemExit(f"objmodel learn failed on {len(args)} files: {out.stderr.strip()}")
         return json.loads(out.stdout)
@@ -271,7 +274,14 @@ def score(data, demos):
         else:
             off_s = "-" if off is None else f"{off * 1e3:.1f} mm"
             r["wrong"].append((f, False, f"face {f['id']} ({ang:.1f} deg, offset {off_s} from {faces[k][0]}; evidence {f.get('evidence')})"))
+        if off is not None and f.get("offset_sigma_m"):
+            OFFSET_Z.append(off / f["offset_sigma_m"])
     return r
+
+
+# |offset error| / its σ of every face that matched a face of the box with an offset (all
+# tables), for the summary at the end.
+OFFSET_Z = []
 
 
 def pct(a, b):
@@ -286,8 +296,10 @@ def main():
     ap.add_argument("--why", type=int, default=40, help="wrong features to explain (0: none)")
     ap.add_argument("--noise", choices=["given"], help="given: pass the simulator's noise to "
                     "learn where the demonstrations learnt together share one (not at mocap)")
+    ap.add_argument("--learn-args", default="", help="more options for every `objmodel learn`, "
+                    "e.g. \"--support-height 0\" (the table's top in objmodel's scenes)")
     a = ap.parse_args()
-    data = Data(a.data, a.bin, a.noise == "given")
+    data = Data(a.data, a.bin, a.noise == "given", a.learn_args.split())
     demos = data.manifest["demos"]
     by_name = {d["name"]: d for d in demos}
     tables = a.tables.split(",")
@@ -351,6 +363,12 @@ def main():
             print(f"| {box} | {noise} | {r['demos']} | {r['true_e']}/{r['edges']} | {r['true_f']}/{r['faces']} | {pct(r['true_e'] + r['true_f'], r['edges'] + r['faces'])} | {fe}/{len(r['shown_e'])} | {ff}/{len(r['shown_f'])} | {pct(fe + ff, len(r['shown_e']) + len(r['shown_f']))} |")
             wrong_all += [(f"{box} {noise} all", w) for w in r["wrong"]]
         print()
+
+    if OFFSET_Z:
+        z = np.array(OFFSET_Z)
+        print(f"Face offsets learnt (nearest face of the box, every table): {len(z)}; "
+              f"|error|/sigma median {np.median(z):.2f} (honest 0.67), max {z.max():.1f}, "
+              f"above 5: {(z > 5).sum()}\n")
 
     if a.why and wrong_all:
         print(f"### Wrong features and where they came from (first {a.why})\n")

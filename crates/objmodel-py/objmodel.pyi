@@ -55,6 +55,7 @@ def learn(demos: Union[Poses, Sequence[Poses]], *,
           no_palm: bool = False, quat_order: str = "xyzw", method: str = "robust",
           gravity_check: bool = True,
           rigid_bodies: Union[str, tuple[str, Optional[str]], None] = None,
+          support_height: Optional[float] = None, support_sigma: float = 0.001,
           **options: Union[float, str]) -> Tree: ...
 
 def classify(demo: Poses, *, palm: Optional[Poses] = None,

@@ -38,6 +38,21 @@ pub struct LearnArgs {
     /// their flights' fall): for a gravity known to be right that the check refuses.
     #[arg(long)]
     pub no_gravity_check: bool,
+    /// The support's height [m] along -gravity, in the frame the poses are given in, when it
+    /// is known (a tracked table; a frame whose origin is on the floor: 0). The rests after a
+    /// flight then give the faces they rest on their offsets, and the object its shape, without
+    /// an edge rolled over on the support
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub support_height: Option<f64>,
+    /// How well [m] the support's height is known: its measurement, its flatness and its level
+    /// where the object rests
+    #[arg(
+        long,
+        value_name = "M",
+        default_value_t = 1e-3,
+        requires = "support_height"
+    )]
+    pub support_sigma: f64,
     #[command(flatten)]
     pub bag: BagArgs,
     #[command(flatten)]
@@ -162,11 +177,20 @@ fn print_all_warnings(reports: &[Observation]) {
 /// Run `objmodel learn`.
 pub fn run(a: &LearnArgs) -> Result<()> {
     let config = a.opts.config()?;
-    let learner = if a.no_gravity_check {
-        Learner::new(config).without_gravity_check()
-    } else {
-        Learner::new(config)
-    };
+    let mut learner = Learner::new(config);
+    if a.no_gravity_check {
+        learner = learner.without_gravity_check();
+    }
+    if let Some(h) = a.support_height {
+        if !(h.is_finite() && a.support_sigma.is_finite() && a.support_sigma > 0.0) {
+            bail!(
+                "--support-height {h} --support-sigma {}: the height must be finite and its σ \
+                 positive (metres)",
+                a.support_sigma
+            );
+        }
+        learner = learner.with_support(h, a.support_sigma);
+    }
     let learnt = |tree: &mut Tree| -> objmodel::Result<_> {
         let reports = demo_sources(&a.demos, a.palm.as_deref(), &a.bag)
             .and_then(|sources| learn_sources_into(tree, &sources, &learner))

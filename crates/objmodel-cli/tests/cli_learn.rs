@@ -355,3 +355,61 @@ fn quat_order_reads_w_first_tum_files() {
         r.stderr
     );
 }
+
+/// `--support-height`: real tosses (the ContactNets cube, `objmodel`'s
+/// `tests/data/contactnets_tosses`) learnt with the board's height give every face an offset
+/// and the tree a shape, as the README says; a σ without a height, or a height that is not a
+/// number, is refused.
+#[test]
+fn learn_with_the_supports_height_gives_the_tossed_cube_its_shape() {
+    let data =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../objmodel/tests/data/contactnets_tosses");
+    let mut files: Vec<String> = std::fs::read_dir(&data)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "tum"))
+        .map(|p| s(&p))
+        .collect();
+    files.sort();
+    let mut args = vec!["learn".to_string()];
+    args.extend(files.iter().cloned());
+    let with = |extra: &[&str]| {
+        let mut a = args.clone();
+        a.extend(extra.iter().map(|x| x.to_string()));
+        a
+    };
+    let t = run(&with(&[
+        "--json",
+        "--support-height",
+        "0",
+        "--support-sigma",
+        "0.001",
+    ]))
+    .ok()
+    .json();
+    let faces = t["faces"].as_array().unwrap();
+    assert_eq!(faces.len(), 6);
+    for f in faces {
+        let d = f["offset"].as_f64().expect("an offset");
+        assert!((d - 0.0524).abs() < 5e-3, "{f}");
+    }
+    assert_eq!(t["support"]["given"], true);
+    assert_eq!(t["shape"]["vertices"].as_array().unwrap().len(), 8);
+    let without = run(&with(&["--json"])).ok().json();
+    assert!(without["faces"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|f| f["offset"].is_null()));
+    // (clap's own message, not objmodel's.)
+    let r = run(&with(&["--support-sigma", "0.001"]));
+    r.check(
+        r.code == Some(2) && r.stderr.contains("--support-height"),
+        "a σ alone names the height it needs",
+    );
+    let r = run(&with(&["--support-height", "nan"])).fails();
+    r.check(
+        r.stderr.contains("must be finite"),
+        "a height that is not a number is refused",
+    );
+}

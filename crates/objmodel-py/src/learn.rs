@@ -157,7 +157,10 @@ fn warn_reports(py: Python<'_>, prepared: &[Prepared], reports: &[Observation]) 
 /// raise, naming the gravity they show, where they contradict it (False: learn anyway, as
 /// `--no-gravity-check`); `rigid_bodies`: for OptiTrack Motive takes (CSV exports) holding
 /// several rigid bodies, the object's, `"box"`, or the object's and the palm's, `("box",
-/// "hand")`, read from each file of `demos` (as `--object box --palm hand`); `**options`:
+/// "hand")`, read from each file of `demos` (as `--object box --palm hand`);
+/// `support_height`: the support's height [m] along -gravity in the tracking frame, when it
+/// is known (as `--support-height`: the rests then give their faces offsets), known to
+/// `support_sigma` [m] (default 0.001); `**options`:
 /// the command line's thresholds (`alpha`, `min_rest`,
 /// `noise_position`, ...) and `length_unit` ("m", "cm" or "mm": the unit of the positions
 /// given as arrays, and of files that do not declare theirs; default metres, checked).
@@ -166,8 +169,8 @@ fn warn_reports(py: Python<'_>, prepared: &[Prepared], reports: &[Observation]) 
 /// line's messages. All demonstrations are learnt or, on an error, none.
 #[pyfunction]
 #[pyo3(
-    signature = (demos, *, palms=None, times=None, names=None, gravity=Gravity::default(), into=None, no_palm=false, quat_order="xyzw", method="robust", gravity_check=true, rigid_bodies=None, **options),
-    text_signature = "(demos, *, palms=None, times=None, names=None, gravity=(0, 0, -1), into=None, no_palm=False, quat_order='xyzw', method='robust', gravity_check=True, rigid_bodies=None, **options)"
+    signature = (demos, *, palms=None, times=None, names=None, gravity=Gravity::default(), into=None, no_palm=false, quat_order="xyzw", method="robust", gravity_check=true, rigid_bodies=None, support_height=None, support_sigma=1e-3, **options),
+    text_signature = "(demos, *, palms=None, times=None, names=None, gravity=(0, 0, -1), into=None, no_palm=False, quat_order='xyzw', method='robust', gravity_check=True, rigid_bodies=None, support_height=None, support_sigma=0.001, **options)"
 )]
 #[allow(clippy::too_many_arguments)]
 pub fn learn(
@@ -183,6 +186,8 @@ pub fn learn(
     method: &str,
     gravity_check: bool,
     rigid_bodies: Option<&Bound<'_, PyAny>>,
+    support_height: Option<f64>,
+    support_sigma: f64,
     options: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyTree>> {
     let order = crate::poses::quat_order(quat_order)?;
@@ -195,6 +200,18 @@ pub fn learn(
         learner
     } else {
         learner.without_gravity_check()
+    };
+    let learner = match support_height {
+        Some(h) if h.is_finite() && support_sigma.is_finite() && support_sigma > 0.0 => {
+            learner.with_support(h, support_sigma)
+        }
+        Some(h) => {
+            return Err(err(format!(
+                "support_height {h}, support_sigma {support_sigma}: the height must be finite \
+                 and its sigma positive (metres)"
+            )))
+        }
+        None => learner,
     };
     let prepared = demonstrations(demos, palms, times, names, no_palm, order, bodies.as_ref())?;
     match into {

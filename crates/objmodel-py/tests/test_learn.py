@@ -267,3 +267,27 @@ def test_millimetres_given_or_refused(box):
     assert refused.edges.shape[0] == 0 and refused.faces.shape[0] == 0
     with pytest.raises(objmodel.ObjmodelError, match="unknown length unit \"in\""):
         objmodel.learn([mm], length_unit="in")
+
+
+def test_real_tosses_with_the_supports_height_give_the_cube(tmp_path):
+    """The ContactNets cube's tosses (crates/objmodel/tests/data/contactnets_tosses): with the
+    board's height given, the rests give all six faces their offsets and the cube its eight
+    corners; without it, the faces have none; a height that is not finite is refused."""
+    data = os.path.join(os.path.dirname(__file__), "..", "..", "objmodel", "tests", "data",
+                        "contactnets_tosses")
+    files = sorted(os.path.join(data, f) for f in os.listdir(data) if f.endswith(".tum"))
+    assert len(files) == 58
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        without = objmodel.learn(files)
+        tree = objmodel.learn(files, support_height=0.0, support_sigma=0.001)
+        with pytest.raises(objmodel.ObjmodelError, match="support_height"):
+            objmodel.learn(files, support_height=float("nan"))
+    assert without.faces.shape[0] == 6 and np.isnan(without.faces[:, 3]).all()
+    assert without.vertices is None
+    faces = tree.faces
+    assert faces.shape[0] == 6
+    assert np.all(np.abs(faces[:, 3] - 0.0524) < 5e-3), faces
+    corners = tree.vertices
+    assert corners.shape == (8, 3)
+    assert np.all(np.abs(np.abs(corners) - 0.0524) < 5e-3), corners

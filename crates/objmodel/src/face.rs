@@ -19,6 +19,7 @@
 //! edge: normal and offset. The normal is made exactly perpendicular to the edge.
 
 use crate::edge::EdgeObservation;
+use crate::rest_place::RestHeight;
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
@@ -63,6 +64,11 @@ pub struct FaceObservation {
     pub source: FaceSource,
     /// Frames behind it.
     pub frames: u64,
+    /// Where a rest on the support (beside no topple) held the object, and its height's σ
+    /// from the tracking noise: a height of the support the user gave makes it the face's
+    /// offset ([`crate::support`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rest_height: Option<RestHeight>,
 }
 
 impl FaceObservation {
@@ -102,6 +108,7 @@ impl FaceObservation {
             sign_known: true,
             source: FaceSource::Rest,
             frames,
+            rest_height: None,
         }
     }
 

@@ -38,32 +38,7 @@ use serde::{Deserialize, Serialize};
 /// (tables and floors are flat to about a millimetre).
 pub const SUPPORT_FLATNESS_M: f64 = 1e-3;
 
-/// Where a rest was: the mean position of the object frame's origin over it, in the frame the
-/// poses are given in, split along and across gravity.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct RestPlace {
-    /// Height \[m\] along −gravity (above the origin of the poses' frame).
-    pub height: f64,
-    /// The position less its component along gravity \[m\].
-    pub across: Vector3<f64>,
-}
-
-impl RestPlace {
-    /// The place of `position` with gravity pointing along the unit `down`.
-    pub fn new(position: &Vector3<f64>, down: &Vector3<f64>) -> Self {
-        let along = down.dot(position);
-        Self {
-            height: -along,
-            across: position - down * along,
-        }
-    }
-
-    /// The position this place was made from ([`RestPlace::new`]'s inverse), with the same
-    /// unit `down`.
-    pub fn position(&self, down: &Vector3<f64>) -> Vector3<f64> {
-        self.across - down * self.height
-    }
-}
+pub use crate::rest_place::RestPlace;
 
 /// A rest reached after a free flight, with what the face test needs.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -79,6 +79,7 @@ pub mod onset;
 pub mod pendulum;
 pub mod prediction;
 pub mod recording;
+pub mod rest_place;
 pub mod roll;
 pub mod screw;
 pub mod se3;

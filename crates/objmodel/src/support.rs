@@ -12,6 +12,10 @@
 //! A landing ([`crate::landing`]) rests on the support with the face it teaches: that face's
 //! plane is at the support's height, so its offset is the landing's height above it,
 //! `d = h − z` (the object frame's origin is `d` above the face it rests on).
+//!
+//! The user may know the support's height (a tracked table, a motion-capture frame whose
+//! origin is on the floor): given ([`SupportObservation::given`], `objmodel learn
+//! --support-height`), it is the support's height, whatever the edges measured.
 
 use crate::face::SUPPORT_LEVEL_SIGMA_RAD;
 use crate::landing::{Landing, SUPPORT_FLATNESS_M};
@@ -30,8 +34,32 @@ pub struct SupportObservation {
     pub sigma_m: f64,
     /// Where it was across gravity \[m\].
     pub across: Vector3<f64>,
-    /// What measured it: `"roll"` or `"topple"`.
+    /// What measured it: `"roll"` or `"topple"`; `"given"` for the user's
+    /// ([`SupportObservation::given`]).
     pub from: String,
+}
+
+/// The demonstration name a given support's observation stands under.
+pub const GIVEN: &str = "(given)";
+
+impl SupportObservation {
+    /// The support's height as the user gives it: `height` \[m\] along −gravity in the frame
+    /// the poses are given in, known to `sigma_m` (how well the plane is known, its flatness
+    /// and its level across where the object rests included).
+    pub fn given(height: f64, sigma_m: f64) -> Self {
+        Self {
+            demo: GIVEN.to_string(),
+            height,
+            sigma_m,
+            across: Vector3::zeros(),
+            from: "given".to_string(),
+        }
+    }
+
+    /// Whether the user gave it.
+    pub fn is_given(&self) -> bool {
+        self.from == "given"
+    }
 }
 
 /// The support's height, when the observations determine it.
@@ -47,6 +75,10 @@ pub struct SupportHeight {
     pub observations: usize,
     /// Demonstrations.
     pub demos: usize,
+    /// Whether it is the height the user gave ([`SupportObservation::given`]) rather than
+    /// the demonstrations' measurements.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub given: bool,
 }
 
 /// Variance \[m²\] of a support's height between two places `apart` metres apart, beyond the
@@ -59,8 +91,20 @@ fn support_var(apart: f64) -> f64 {
 impl SupportHeight {
     /// The support's height from `observations`: their mean weighted by their noise and the
     /// support's flatness, when at least two demonstrations give one and their scatter is
-    /// what noise, flatness and tilt explain (χ² at `alpha`); `None` otherwise.
+    /// what noise, flatness and tilt explain (χ² at `alpha`); `None` otherwise. A height the
+    /// user gave ([`SupportObservation::given`]) is the support's, whatever was measured.
     pub fn fuse(observations: &[SupportObservation], alpha: f64) -> Option<Self> {
+        // A height the user gave is the support's, alone: its σ is theirs.
+        if let Some(g) = observations.iter().rev().find(|o| o.is_given()) {
+            return Some(Self {
+                height: g.height,
+                sigma_m: g.sigma_m,
+                across: g.across,
+                observations: 1,
+                demos: 0,
+                given: true,
+            });
+        }
         let mut demos: Vec<&str> = observations.iter().map(|o| o.demo.as_str()).collect();
         demos.sort_unstable();
         demos.dedup();
@@ -100,16 +144,24 @@ impl SupportHeight {
             across,
             observations: observations.len(),
             demos: demos.len(),
+            given: false,
         })
     }
 
     /// The offset \[m\] of the face a landing rests on, and its variance: the landing's
     /// height above the support, with both their noise and the support's flatness and tilt
-    /// between the landing's place and the observations'.
+    /// between the landing's place and the observations' (a given height's σ holds them).
     pub fn offset_of(&self, landing: &Landing) -> (f64, f64) {
-        let apart = (landing.place.across - self.across).norm();
-        let var = landing.sigma_height_m.powi(2) + self.sigma_m.powi(2) + support_var(apart);
-        (landing.place.height - self.height, var)
+        self.offset_at(&landing.place, landing.sigma_height_m)
+    }
+
+    /// The offset \[m\] of the face a rest at `place` rests on, its height known to
+    /// `sigma_m`, and the offset's variance ([`Self::offset_of`]).
+    pub fn offset_at(&self, place: &crate::landing::RestPlace, sigma_m: f64) -> (f64, f64) {
+        let apart = (place.across - self.across).norm();
+        let between = if self.given { 0.0 } else { support_var(apart) };
+        let var = sigma_m.powi(2) + self.sigma_m.powi(2) + between;
+        (place.height - self.height, var)
     }
 }
 
@@ -163,6 +215,29 @@ mod tests {
         let tilt = (SUPPORT_LEVEL_SIGMA_RAD * 0.5).powi(2);
         let expected = 1e-6 / 16.0 + s.sigma_m.powi(2) + 2.0 * SUPPORT_FLATNESS_M.powi(2) + tilt;
         assert!((var / expected - 1.0).abs() < 1e-9, "{var} vs {expected}");
+    }
+
+    #[test]
+    fn a_given_height_is_the_supports_alone_and_its_sigma_is_the_offsets() {
+        // Alone, and beside two demonstrations that measured another height.
+        let given = SupportObservation::given(0.01, 1e-3);
+        let s = SupportHeight::fuse(std::slice::from_ref(&given), 1e-4).expect("given");
+        assert!(s.given && s.height == 0.01 && s.sigma_m == 1e-3);
+        let all = [obs("a", 0.0, 0.0), given.clone(), obs("b", 0.0, 0.2)];
+        assert_eq!(SupportHeight::fuse(&all, 1e-4), Some(s.clone()));
+        let noise = NoiseModel {
+            sigma_position: 1e-3,
+            sigma_rotation: 0.01,
+        };
+        let place = RestPlace {
+            height: 0.06,
+            across: Vector3::new(3.0, 4.0, 0.0),
+        };
+        let l = Landing::new("c", &Vector3::new(0.0, 0.0, -1.0), place, 16, &noise);
+        let (d, var) = s.offset_of(&l);
+        assert!((d - 0.05).abs() < 1e-12);
+        // No tilt over the 5 m from the origin: the given σ holds the plane's level.
+        assert!((var - (1e-6 / 16.0 + 1e-6)).abs() < 1e-15, "{var}");
     }
 
     /// The fused height's σ is honest: over many supports measured as the model says (noise,

@@ -74,3 +74,46 @@ fn a_toss_tracked_from_its_release_does_not_start_with_a_rest() {
         );
     }
 }
+
+/// With the board's height given (its surface is the board frame's z = 0, to about a
+/// millimetre: the cube rests 0.9 mm lower than its stated half-width), the rests after the
+/// flights give the six faces their offsets, within their σ of the cube's, and the tree the
+/// cube's shape: its corners within 5 mm, and no more vertices than a cube's.
+#[test]
+fn with_the_boards_height_given_the_rests_give_the_cube_its_shape() {
+    let paths = tosses();
+    let sources: Vec<Source> = paths.iter().map(Source::file).collect();
+    let mut tree = Tree::default();
+    Learner::new(Config::default())
+        .with_support(0.0, 1e-3)
+        .learn(&mut tree, &sources)
+        .unwrap();
+    let truth = common::box_truth(&format!("{DIR}/cube.truth.json"));
+    common::assert_tree_on_box(&tree, &truth, DIR);
+    assert_eq!(tree.faces.len(), 6, "{:?}", tree.faces);
+    for f in &tree.faces {
+        let (Some(d), Some(sigma)) = (f.offset, f.offset_sigma_m) else {
+            panic!("face {} has no offset: {f:?}", f.id);
+        };
+        let (_, truth_d) = truth
+            .faces
+            .iter()
+            .find(|(n, _)| f.normal.angle(n) < 5f64.to_radians())
+            .unwrap();
+        assert!(
+            (d - truth_d).abs() < 5.0 * sigma,
+            "face {}: offset {d} at ±{sigma}, the cube's {truth_d}",
+            f.id
+        );
+    }
+    let shape = tree
+        .shape
+        .as_ref()
+        .expect("a shape from six faces with offsets");
+    assert_eq!(shape.vertices.len(), 8);
+    let half = 0.0524;
+    for v in &shape.vertices {
+        let corner = v.map(|x| half * x.signum());
+        assert!((v - corner).norm() < 5e-3, "vertex {v:?}");
+    }
+}

@@ -489,6 +489,7 @@ pub(super) fn analyse_segment(
             sign_known: seg.down_ref.is_some(),
             source: FaceSource::Slide,
             frames: s.n as u64,
+            rest_height: None,
         })
     });
 

@@ -264,6 +264,7 @@ impl PaperMethod {
                 sign_known: down.is_some(),
                 source: FaceSource::Slide,
                 frames: self.slide_frames,
+                rest_height: None,
             }
         });
         let (t0, t1) = self.t_range.unwrap_or((0.0, 0.0));

@@ -5,6 +5,7 @@
 use super::{analysis, Classification, Label};
 use crate::face::FaceObservation;
 use crate::noise::NoiseModel;
+use crate::rest_place::RestHeight;
 use nalgebra::{UnitQuaternion, Vector3};
 
 impl Classification {
@@ -20,8 +21,19 @@ impl Classification {
             .into_iter()
             .filter(|r| r.supported && !r.with_edge && r.frames as f64 >= analysis::MIN_FACE_FRAMES)
             .filter_map(|r| {
-                r.normal
-                    .map(|n| FaceObservation::from_gravity(&n, &self.name, r.frames))
+                let n = r.normal?;
+                // Its place, for a support's height the user gives ([`crate::support`]);
+                // its height's σ as a landing's ([`crate::landing::Landing::new`]). Not
+                // relative to a palm: that height is not the support's.
+                let place = r.place.filter(|_| !self.instrumented);
+                let rest_height = place.zip(self.noise).map(|(place, noise)| RestHeight {
+                    place,
+                    sigma_m: noise.sigma_position / (r.frames.max(1) as f64).sqrt(),
+                });
+                Some(FaceObservation {
+                    rest_height,
+                    ..FaceObservation::from_gravity(&n, &self.name, r.frames)
+                })
             })
             .collect()
     }

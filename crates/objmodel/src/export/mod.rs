@@ -151,19 +151,22 @@ fn friction_from(tree: &Tree, notes: &mut Vec<String>) -> f64 {
         Some(b) if b * BOUND_MARGIN > DEFAULT_FRICTION => {
             let mu = b * BOUND_MARGIN;
             notes.push(format!(
-                "friction: {mu:.3}, {BOUND_MARGIN} x the lower bound {b:.3} the demonstrations                  show (above the default {DEFAULT_FRICTION}); not measured: give --friction"
+                "friction: {mu:.3}, {BOUND_MARGIN} x the lower bound {b:.3} the demonstrations \
+                 show (above the default {DEFAULT_FRICTION}); not measured: give --friction"
             ));
             mu
         }
         Some(b) => {
             notes.push(format!(
-                "friction: {DEFAULT_FRICTION}, the default (the demonstrations show only that                  it is above {b:.3}); give --friction"
+                "friction: {DEFAULT_FRICTION}, the default (the demonstrations show only \
+                 that it is above {b:.3}); give --friction"
             ));
             DEFAULT_FRICTION
         }
         None => {
             notes.push(format!(
-                "friction: {DEFAULT_FRICTION}, the default (no demonstration tells it); give                  --friction"
+                "friction: {DEFAULT_FRICTION}, the default (no demonstration tells it); \
+                 give --friction"
             ));
             DEFAULT_FRICTION
         }

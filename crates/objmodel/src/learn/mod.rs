@@ -150,6 +150,8 @@ pub struct Learner {
     capacity: usize,
     /// Whether [`Learner::learn`] checks the gravity given against the demonstrations.
     gravity_checked: bool,
+    /// The support's height the user gave, if any ([`Learner::with_support`]).
+    support: Option<crate::support::SupportObservation>,
 }
 
 impl Learner {
@@ -159,7 +161,16 @@ impl Learner {
             config,
             capacity: DEFAULT_CAPACITY,
             gravity_checked: true,
+            support: None,
         }
+    }
+
+    /// Learn with the support's height known: `height` \[m\] along −gravity in the frame the
+    /// poses are given in, to `sigma_m` ([`crate::support::SupportObservation::given`]). The
+    /// rests after a flight then give their faces offsets without an edge on the support.
+    pub fn with_support(mut self, height: f64, sigma_m: f64) -> Self {
+        self.support = Some(crate::support::SupportObservation::given(height, sigma_m));
+        self
     }
 
     /// Learn without checking the gravity given against the demonstrations (see
@@ -602,6 +613,9 @@ impl Learner {
                     .extend(added.note(&o.classification.name));
             }
             out.push(o);
+        }
+        if let (Some(given), None) = (&self.support, &contradicted) {
+            tree.give_support(given.clone());
         }
         match failure {
             Some(e) => Err(e),

@@ -269,6 +269,7 @@ mod tests {
             sign_known: true,
             source: FaceSource::Rest,
             frames: 30,
+            rest_height: None,
         }
     }
 

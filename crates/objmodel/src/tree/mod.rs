@@ -162,11 +162,11 @@ pub struct Tree {
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub landings: Vec<crate::landing::Landing>,
     /// The demonstrations' measurements of the support's height ([`crate::support`]): the
-    /// edges they turned about on it.
+    /// edges they turned about on it; and the height the user gave, if any.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub supports: Vec<crate::support::SupportObservation>,
-    /// The support's height, when at least two demonstrations measured it and agree; it gives
-    /// the landings' faces their offsets.
+    /// The support's height, when the user gave it or at least two demonstrations measured it
+    /// and agree; it gives the landings' faces their offsets.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub support: Option<crate::support::SupportHeight>,
     /// Edges held back: the faces the landings show contradict them
