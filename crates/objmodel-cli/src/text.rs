@@ -261,6 +261,21 @@ pub fn tree(tree: &Tree) -> String {
             f.evidence.rest
         );
     }
+    if let Some(sp) = &tree.support {
+        let from = if sp.given {
+            "given".to_string()
+        } else {
+            format!(
+                "measured by {} edges on it in {} demonstrations",
+                sp.observations, sp.demos
+            )
+        };
+        s += &format!(
+            "  support: height {:+.4} m ±{:.2} mm ({from})\n",
+            sp.height,
+            sp.sigma_m * 1e3
+        );
+    }
     match tree.reconstruct_shape() {
         Ok(shape) => {
             s += &format!(

@@ -395,6 +395,13 @@ fn learn_with_the_supports_height_gives_the_tossed_cube_its_shape() {
     }
     assert_eq!(t["support"]["given"], true);
     assert_eq!(t["shape"]["vertices"].as_array().unwrap().len(), 8);
+    let summary = run(&with(&["--support-height", "0"])).ok();
+    summary.check(
+        summary
+            .stdout
+            .contains("support: height +0.0000 m ±1.00 mm (given)"),
+        "the summary shows the support given",
+    );
     let without = run(&with(&["--json"])).ok().json();
     assert!(without["faces"]
         .as_array()
