@@ -39,9 +39,9 @@ pub struct LearnArgs {
     #[arg(long)]
     pub no_gravity_check: bool,
     /// The support's height [m] along -gravity, in the frame the poses are given in, when it
-    /// is known (a tracked table; a frame whose origin is on the floor: 0). The rests after a
-    /// flight then give the faces they rest on their offsets, and the object its shape, without
-    /// an edge rolled over on the support
+    /// is known (a tracked table; a frame whose origin is on the floor: 0). Every rest on the
+    /// support then gives the face it rests on its offset, and the object its shape, without
+    /// an edge rolled over on the support. Kept in the model file (`--into`) once given
     #[arg(long, value_name = "M", allow_negative_numbers = true)]
     pub support_height: Option<f64>,
     /// How well [m] the support's height is known: its measurement, its flatness and its level

@@ -166,8 +166,8 @@ impl Learner {
     }
 
     /// Learn with the support's height known: `height` \[m\] along −gravity in the frame the
-    /// poses are given in, to `sigma_m` ([`crate::support::SupportObservation::given`]). The
-    /// rests after a flight then give their faces offsets without an edge on the support.
+    /// poses are given in, to `sigma_m` ([`crate::support::SupportObservation::given`]). Every
+    /// rest on the support then gives its face an offset, without an edge on the support.
     pub fn with_support(mut self, height: f64, sigma_m: f64) -> Self {
         self.support = Some(crate::support::SupportObservation::given(height, sigma_m));
         self

@@ -166,7 +166,8 @@ pub struct Tree {
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub supports: Vec<crate::support::SupportObservation>,
     /// The support's height, when the user gave it or at least two demonstrations measured it
-    /// and agree; it gives the landings' faces their offsets.
+    /// and agree; it gives the confirmed landings' faces their offsets (and, given, every rest's
+    /// on the support).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub support: Option<crate::support::SupportHeight>,
     /// Edges held back: the faces the landings show contradict them
