@@ -8,6 +8,7 @@
 mod common;
 
 use objmodel::learn::{Config, Learner, Source};
+use objmodel::observation::Observation;
 use objmodel::tree::Tree;
 use std::path::PathBuf;
 
@@ -23,15 +24,20 @@ fn tosses() -> Vec<PathBuf> {
     paths
 }
 
-#[test]
-fn every_feature_learnt_from_real_tosses_is_the_cubes_and_the_rests_find_its_faces() {
+/// The 58 tosses learnt together by `learner`: the tree and each toss's report, in the order
+/// of [`tosses`].
+fn learnt(learner: Learner) -> (Tree, Vec<Observation>) {
     let paths = tosses();
     assert_eq!(paths.len(), 58);
     let sources: Vec<Source> = paths.iter().map(Source::file).collect();
     let mut tree = Tree::default();
-    Learner::new(Config::default())
-        .learn(&mut tree, &sources)
-        .unwrap();
+    let reports = learner.learn(&mut tree, &sources).unwrap();
+    (tree, reports)
+}
+
+#[test]
+fn every_feature_learnt_from_real_tosses_is_the_cubes_and_the_rests_find_its_faces() {
+    let (tree, _) = learnt(Learner::new(Config::default()));
     let truth = common::box_truth(&format!("{DIR}/cube.truth.json"));
     common::assert_tree_on_box(&tree, &truth, DIR);
     // Each of the six faces, found by one face of the tree.
@@ -50,13 +56,8 @@ fn every_feature_learnt_from_real_tosses_is_the_cubes_and_the_rests_find_its_fac
 /// file's first frames, cannot tell them moving (`start_rest::unlabel_moving_start`).
 #[test]
 fn a_toss_tracked_from_its_release_does_not_start_with_a_rest() {
-    let paths = tosses();
-    let sources: Vec<Source> = paths.iter().map(Source::file).collect();
-    let mut tree = Tree::default();
-    let reports = Learner::new(Config::default())
-        .learn(&mut tree, &sources)
-        .unwrap();
-    for (path, r) in paths.iter().zip(&reports) {
+    let (_, reports) = learnt(Learner::new(Config::default()));
+    for (path, r) in tosses().iter().zip(&reports) {
         let parts = &r.classification.parts;
         assert_ne!(
             parts[0].kind,
@@ -81,13 +82,7 @@ fn a_toss_tracked_from_its_release_does_not_start_with_a_rest() {
 /// cube's shape: its corners within 5 mm, and no more vertices than a cube's.
 #[test]
 fn with_the_boards_height_given_the_rests_give_the_cube_its_shape() {
-    let paths = tosses();
-    let sources: Vec<Source> = paths.iter().map(Source::file).collect();
-    let mut tree = Tree::default();
-    Learner::new(Config::default())
-        .with_support(0.0, 1e-3)
-        .learn(&mut tree, &sources)
-        .unwrap();
+    let (tree, _) = learnt(Learner::new(Config::default()).with_support(0.0, 1e-3));
     let truth = common::box_truth(&format!("{DIR}/cube.truth.json"));
     common::assert_tree_on_box(&tree, &truth, DIR);
     assert_eq!(tree.faces.len(), 6, "{:?}", tree.faces);
