@@ -17,6 +17,8 @@ and, with an offset, 5 mm).
     python3 bench/contactnets.py CONTACT_NETS_REPO [OUT_DIR]      (OUT_DIR default /tmp/contactnets)
     EVERY=10 ...        (only tosses 0, 10, 20, ...: how tests/data/contactnets_tosses was made,
                          with toss 334 added by ONLY_TOO=334)
+    SUPPORT_HEIGHT=0 ...  (learn with the board's height given, `--support-height 0`: the
+                         faces' offsets and the shape)
 
 Needs numpy. The repository: `git clone https://github.com/DAIRLab/contact-nets`. Not a test:
 the numbers are for reading (see the notes on issue 20); `crates/objmodel/tests/real_tosses.rs`
@@ -125,13 +127,23 @@ def main():
                    "edges": [{"point": list(p), "direction": list(u)} for p, u in edges]},
                   f, indent=1)
     print(f"{len(paths)} tosses written to {out}")
-    s = learn_and_score([BIN, "learn", *paths, "--json"], f"{out}/tree.json", faces, edges)
+    given = os.environ.get("SUPPORT_HEIGHT")
+    support = ["--support-height", given] if given is not None else []
+    s = learn_and_score([BIN, "learn", *paths, *support, "--json"], f"{out}/tree.json", faces, edges)
     if s is None:
         sys.exit(1)
     tree, et, ft, wrong = s
     print(f"edges {et}/{len(tree['edges'])} true (the cube has 12), faces {ft}/{len(tree['faces'])} "
           f"true (of 6), offsets known: {sum(f['offset'] is not None for f in tree['faces'])}, "
           f"centre of mass: {'none' if tree.get('com') is None else tree['com']}")
+    for f in tree["faces"]:
+        if f["offset"] is not None:
+            print(f"  {f['id']}: offset {f['offset'] * 1e3:.2f} mm ±{f['offset_sigma_m'] * 1e3:.2f} "
+                  f"(the cube's {HALF * 1e3:.1f} mm)")
+    if tree.get("shape"):
+        lo, hi = tree["shape"]["extents"]
+        print(f"  shape: {len(tree['shape']['vertices'])} vertices, extents "
+              f"{[round(x * 1e3, 1) for x in lo]} to {[round(x * 1e3, 1) for x in hi]} mm")
     if wrong:
         print("WRONG:", wrong)
     kinds = {}
