@@ -19,16 +19,20 @@
 use crate::classify::{Classification, Label};
 use crate::recording::Recording;
 
+/// How long \[s\] `c` rests before its first segment, from the first kept frame, when that is
+/// less than `window_s` (the rest test's window): a start not known to be a rest.
+fn unrested_start(c: &Classification, recording: &Recording, window_s: f64) -> Option<f64> {
+    let (first, s) = (recording.object.first()?, c.segments.first()?);
+    let rest = s.t_start - first.t;
+    (rest < window_s).then_some(rest)
+}
+
 /// Withhold what the first segment of `c` taught when the rest before it, from the first kept
 /// frame, lasts less than `window_s` (the rest test's window); see the module documentation.
 pub fn withhold_unrested_start(c: &mut Classification, recording: &Recording, window_s: f64) {
-    let (Some(first), Some(s)) = (recording.object.first(), c.segments.first()) else {
+    let Some(rest) = unrested_start(c, recording, window_s) else {
         return;
     };
-    let rest = s.t_start - first.t;
-    if rest >= window_s {
-        return;
-    }
     let s = &mut c.segments[0];
     if s.edge.is_some() || s.face.is_some() {
         s.withheld = Some(format!(
@@ -48,7 +52,7 @@ pub fn withhold_unrested_start(c: &mut Classification, recording: &Recording, wi
 
 /// Label the frames that `c` calls rest before its first segment [`Label::General`] when they
 /// move: when the rest before the first segment is shorter than the rest test's window
-/// (`window_s`, as in [`withhold_unrested_start`]) and the position moves between two of its
+/// (`window_s`, measured as [`withhold_unrested_start`] measures it) and the position moves between two of its
 /// frames, or from its last frame to the next, by more than the tracking noise allows (χ²₃ of
 /// the step under twice the position noise, at `alpha` over the steps tested). The votes and
 /// what the demonstration taught do not change: those frames voted for nothing, and a rest
@@ -68,7 +72,7 @@ pub fn unlabel_moving_start(
     else {
         return;
     };
-    if lead.t_end - lead.t_start >= window_s {
+    if unrested_start(c, recording, window_s).is_none() {
         return;
     }
     let last = lead.last as u64;

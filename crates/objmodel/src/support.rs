@@ -197,18 +197,20 @@ mod tests {
         assert!(SupportHeight::fuse(&[obs("a", 0.0, 0.0), obs("b", 0.05, 0.1)], 1e-4).is_none());
     }
 
-    #[test]
-    fn a_landing_is_its_face_offset_above_the_support() {
-        let s = SupportHeight::fuse(&[obs("a", 0.7, 0.0), obs("b", 0.7, 0.0)], 1e-4).unwrap();
+    /// A 16-frame landing on its −z face at `height`, at `across`, under 1 mm of noise.
+    fn landing_at(height: f64, across: Vector3<f64>) -> Landing {
         let noise = NoiseModel {
             sigma_position: 1e-3,
             sigma_rotation: 0.01,
         };
-        let place = RestPlace {
-            height: 0.735,
-            across: Vector3::new(0.3, 0.4, 0.0),
-        };
-        let l = Landing::new("c", &Vector3::new(0.0, 0.0, -1.0), place, 16, &noise);
+        let place = RestPlace { height, across };
+        Landing::new("c", &Vector3::new(0.0, 0.0, -1.0), place, 16, &noise)
+    }
+
+    #[test]
+    fn a_landing_is_its_face_offset_above_the_support() {
+        let s = SupportHeight::fuse(&[obs("a", 0.7, 0.0), obs("b", 0.7, 0.0)], 1e-4).unwrap();
+        let l = landing_at(0.735, Vector3::new(0.3, 0.4, 0.0));
         let (d, var) = s.offset_of(&l);
         assert!((d - 0.035).abs() < 1e-12);
         // Noise of both, flatness at two places, and a 1° tilt over the 0.5 m between them.
@@ -225,15 +227,7 @@ mod tests {
         assert!(s.given && s.height == 0.01 && s.sigma_m == 1e-3);
         let all = [obs("a", 0.0, 0.0), given.clone(), obs("b", 0.0, 0.2)];
         assert_eq!(SupportHeight::fuse(&all, 1e-4), Some(s.clone()));
-        let noise = NoiseModel {
-            sigma_position: 1e-3,
-            sigma_rotation: 0.01,
-        };
-        let place = RestPlace {
-            height: 0.06,
-            across: Vector3::new(3.0, 4.0, 0.0),
-        };
-        let l = Landing::new("c", &Vector3::new(0.0, 0.0, -1.0), place, 16, &noise);
+        let l = landing_at(0.06, Vector3::new(3.0, 4.0, 0.0));
         let (d, var) = s.offset_of(&l);
         assert!((d - 0.05).abs() < 1e-12);
         // No tilt over the 5 m from the origin: the given σ holds the plane's level.
