@@ -182,14 +182,9 @@ pub fn run(a: &LearnArgs) -> Result<()> {
         learner = learner.without_gravity_check();
     }
     if let Some(h) = a.support_height {
-        if !(h.is_finite() && a.support_sigma.is_finite() && a.support_sigma > 0.0) {
-            bail!(
-                "--support-height {h} --support-sigma {}: the height must be finite and its σ \
-                 positive (metres)",
-                a.support_sigma
-            );
-        }
-        learner = learner.with_support(h, a.support_sigma);
+        learner = learner
+            .with_support(h, a.support_sigma)
+            .with_context(|| format!("--support-height {h} --support-sigma {}", a.support_sigma))?;
     }
     let learnt = |tree: &mut Tree| -> objmodel::Result<_> {
         let reports = demo_sources(&a.demos, a.palm.as_deref(), &a.bag)

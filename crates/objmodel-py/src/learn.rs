@@ -202,15 +202,11 @@ pub fn learn(
         learner.without_gravity_check()
     };
     let learner = match support_height {
-        Some(h) if h.is_finite() && support_sigma.is_finite() && support_sigma > 0.0 => {
-            learner.with_support(h, support_sigma)
-        }
-        Some(h) => {
-            return Err(err(format!(
-                "support_height {h}, support_sigma {support_sigma}: the height must be finite \
-                 and its sigma positive (metres)"
-            )))
-        }
+        Some(h) => learner.with_support(h, support_sigma).map_err(|e| {
+            err(format!(
+                "support_height {h}, support_sigma {support_sigma}: {e}"
+            ))
+        })?,
         None => learner,
     };
     let prepared = demonstrations(demos, palms, times, names, no_palm, order, bodies.as_ref())?;

@@ -45,15 +45,22 @@ pub const GIVEN: &str = "(given)";
 impl SupportObservation {
     /// The support's height as the user gives it: `height` \[m\] along −gravity in the frame
     /// the poses are given in, known to `sigma_m` (how well the plane is known, its flatness
-    /// and its level across where the object rests included).
-    pub fn given(height: f64, sigma_m: f64) -> Self {
-        Self {
+    /// and its level across where the object rests included). An error unless the height is
+    /// finite and its σ finite and positive.
+    pub fn given(height: f64, sigma_m: f64) -> crate::Result<Self> {
+        if !(height.is_finite() && sigma_m.is_finite() && sigma_m > 0.0) {
+            return Err(crate::Error::Data(format!(
+                "a support's height must be finite and its σ positive, in metres (height \
+                 {height}, σ {sigma_m})"
+            )));
+        }
+        Ok(Self {
             demo: GIVEN.to_string(),
             height,
             sigma_m,
             across: Vector3::zeros(),
             from: "given".to_string(),
-        }
+        })
     }
 
     /// Whether the user gave it.
@@ -220,9 +227,25 @@ mod tests {
     }
 
     #[test]
+    fn a_given_height_must_be_finite_and_its_sigma_positive() {
+        for (h, s) in [
+            (f64::NAN, 1e-3),
+            (f64::INFINITY, 1e-3),
+            (0.0, 0.0),
+            (0.0, -1e-3),
+            (0.0, f64::NAN),
+            (0.0, f64::INFINITY),
+        ] {
+            let e = SupportObservation::given(h, s).unwrap_err().to_string();
+            assert!(e.contains("must be finite"), "{h} {s}: {e}");
+        }
+        assert!(SupportObservation::given(-0.3, 1e-6).is_ok());
+    }
+
+    #[test]
     fn a_given_height_is_the_supports_alone_and_its_sigma_is_the_offsets() {
         // Alone, and beside two demonstrations that measured another height.
-        let given = SupportObservation::given(0.01, 1e-3);
+        let given = SupportObservation::given(0.01, 1e-3).unwrap();
         let s = SupportHeight::fuse(std::slice::from_ref(&given), 1e-4).expect("given");
         assert!(s.given && s.height == 0.01 && s.sigma_m == 1e-3);
         let all = [obs("a", 0.0, 0.0), given.clone(), obs("b", 0.0, 0.2)];

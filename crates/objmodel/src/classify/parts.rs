@@ -121,12 +121,6 @@ impl RestPair {
             ),
         )
     }
-
-    /// The rotation from the rest before to the rest after, in the world
-    /// (`R_after R_before⁻¹`).
-    pub fn turn(&self) -> UnitQuaternion<f64> {
-        self.r_after * self.r_before.inverse()
-    }
 }
 
 /// Whether a completed topple's edge lies on the support in both its rests, and what the rests

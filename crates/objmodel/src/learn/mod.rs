@@ -167,10 +167,11 @@ impl Learner {
 
     /// Learn with the support's height known: `height` \[m\] along −gravity in the frame the
     /// poses are given in, to `sigma_m` ([`crate::support::SupportObservation::given`]). Every
-    /// rest on the support then gives its face an offset, without an edge on the support.
-    pub fn with_support(mut self, height: f64, sigma_m: f64) -> Self {
-        self.support = Some(crate::support::SupportObservation::given(height, sigma_m));
-        self
+    /// rest on the support then gives its face an offset, without an edge on the support. An
+    /// error unless the height is finite and its σ finite and positive.
+    pub fn with_support(mut self, height: f64, sigma_m: f64) -> crate::Result<Self> {
+        self.support = Some(crate::support::SupportObservation::given(height, sigma_m)?);
+        Ok(self)
     }
 
     /// Learn without checking the gravity given against the demonstrations (see

@@ -24,12 +24,15 @@
 //!    about its wrist turns it about a fixed line off the object);
 //! 3. turns about a level line, when gravity is known (an edge rolled over lies in the face on
 //!    the level support: `direction_off_level`, χ²₁ at `alpha`);
-//! 4. the free-flight model does not explain (χ² at `alpha`), or explains only with a centre of
-//!    mass that the object cannot have: farther from its origin than a flight's may be
-//!    (`flight::MAX_COM_M`, beyond its σ), or other than the one the demonstration's flights
-//!    determined. A spinning object in flight turns about a moving axis, which over a short
-//!    window can pass for a fixed one; and a roll's frames pass for a flight of the point that
-//!    accelerates with gravity, its centre of acceleration, about 0.3 m from the edge.
+//! 4. the fall of a point of the object with gravity does not explain (χ² at `alpha`;
+//!    [`FlightTest::falls_at`], the flight model without its rotation test), or explains only
+//!    with a point that the object cannot have: farther from its origin than a flight's centre
+//!    of mass may be (`flight::MAX_COM_M`, beyond its σ), or other than the centre of mass the
+//!    demonstration's flights determined. A spinning object in flight turns about a moving
+//!    axis, which over a short window can pass for a fixed one; and a roll's frames pass for a
+//!    flight of the point that accelerates with gravity, its centre of acceleration, about
+//!    0.3 m from the edge. The flight's rotation test is not asked: a window whose translation
+//!    a fall explains shows the roll's line too weakly to teach an edge, however it turned.
 //!
 //! Such a window is a `roll` part. It teaches its edge when the edge is located well enough to
 //! be a feature: within 5 mm and 3° of its estimate but with probability `alpha`
@@ -512,10 +515,10 @@ fn judge(frames: &[FlightFrame], fit: RollFit, test: &RollTest, min_turn: f64) -
         Some(w)
     } else if test
         .flight
-        .and_then(|f| f.explains_at(frames, test.alpha))
+        .and_then(|f| f.falls_at(frames, test.alpha))
         .is_some_and(|f| !test.com_rules_out(&f))
     {
-        Some("the free-flight model explains it too".into())
+        Some("a point of the object falling freely explains it too".into())
     } else {
         None
     };

@@ -518,7 +518,7 @@ fn a_flight_whose_centre_of_mass_is_off_the_object_is_no_alternative() {
     for _ in 0..40 {
         let frames = noisy_frames(&poses, &synth_noise, &mut rng);
         let f = fit(&frames, &test.noise).unwrap();
-        if let Some(fl) = flight.explains_at(&frames, test.alpha) {
+        if let Some(fl) = flight.falls_at(&frames, test.alpha) {
             flights += 1;
             off_object += usize::from(fl.com.norm() > 0.3);
         }
