@@ -3,7 +3,8 @@
 //! at motion-capture noise (100-250 Hz, 0.1-0.5 mm, 0.05-0.3°), at the "real" camera preset
 //! (30 Hz, 1 mm, 0.5°, with dropped frames, sign and mirror flips) and on exact poses; and the
 //! centre of mass the flights report against the box's. `OBJMODEL_FLIGHT_TOSSES=N` sets the
-//! number of tosses (default 10); the counts are printed.
+//! number of tosses (default 200, the set docs/method.md quotes: a few seconds); the counts are
+//! printed.
 
 use objmodel::classify::{Config, Label};
 use objmodel::learn::{Learner, Source};
@@ -144,7 +145,7 @@ fn flights_of_rapier_tosses_agree_with_the_truth() {
     let n = std::env::var("OBJMODEL_FLIGHT_TOSSES")
         .ok()
         .and_then(|s| s.parse().ok())
-        .unwrap_or(10);
+        .unwrap_or(200);
     let levels = measure(n);
     for (name, c) in &levels {
         eprintln!(
@@ -175,6 +176,11 @@ fn flights_of_rapier_tosses_agree_with_the_truth() {
         assert!(precision_beyond_boundary >= 0.8, "{name}: {c:?}");
         if *name != "real" {
             assert!(c.recall() >= 0.6, "{name}: {c:?}");
+            // A flight must turn as a free body does (`flight::torque_free`): without that
+            // test, 82-84% of the frames called flight flew, and 2 of the 6 centres of mass
+            // at mocap noise lay outside their covariance (31 mm off).
+            assert!(c.precision() >= 0.85, "{name}: {c:?}");
+            assert_eq!(c.com_consistent, c.coms, "{name}: {c:?}");
         }
     }
 }

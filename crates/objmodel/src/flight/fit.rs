@@ -17,9 +17,10 @@
 //! parameters the data determine; `N` the data's normal matrix, `P` the prior's).
 //!
 //! The same fit with `g = 0` is the alternative "no acceleration" (a rest, a constant-velocity
-//! carry, a rotation about a fixed point, which `c` on the axis makes exactly unaccelerated):
-//! a window is a flight only if the data reject it, i.e. the window is long enough for the
-//! fall under gravity to show above the noise.
+//! carry, a rotation about a fixed point, which `c` on the axis makes exactly unaccelerated),
+//! with `c` on the object as a centre of mass must be ([`fit_on_object`]): a window is a
+//! flight only if the data reject it, i.e. the window is long enough for the fall under
+//! gravity to show above the noise.
 
 use crate::noise::NoiseModel;
 use crate::recording::RecordedFrame;

@@ -25,7 +25,7 @@
 //! 3. turns about a level line, when gravity is known (an edge rolled over lies in the face on
 //!    the level support: `direction_off_level`, χ²₁ at `alpha`);
 //! 4. the fall of a point of the object with gravity does not explain (χ² at `alpha`;
-//!    [`FlightTest::falls_at`], the flight model without its rotation test), or explains only
+//!    `FlightTest::falls_at`, the flight model without its rotation test), or explains only
 //!    with a point that the object cannot have: farther from its origin than a flight's centre
 //!    of mass may be (`flight::MAX_COM_M`, beyond its σ), or other than the centre of mass the
 //!    demonstration's flights determined. A spinning object in flight turns about a moving
