@@ -28,7 +28,7 @@ fn a_roll_whose_line_moves_teaches_no_edge() {
 
 /// A box pushed over onto its side (Drake, point contact, motion-capture noise:
 /// `bench/drake_probe.py LEVEL=mocap`, box 2 of a probe set, push 1): between its rests it
-/// turned 90° about its long edge and 7° about the vertical. A roll of 22 frames (9.8°) in
+/// turned 90° about its long edge and 10° about the vertical. A roll of 22 frames (9.8°) in
 /// its fall passed every test of a rotation about a fixed line (χ² 101 on 101 degrees of
 /// freedom), 7.3 mm off the box's edge at σ 1.1 mm. Its edge must lie on the support in both
 /// rests, as a topple's does, whenever the rests' downs are square to it (a turn about the

@@ -149,8 +149,8 @@ impl FlightTest {
     /// A roll is tested against it (`roll::judge`): where the fall of a point explains a
     /// roll's frames, the roll's line is too weakly shown to teach an edge, even when the
     /// rotation says the object was not flying (with the whole flight model there, a Drake
-    /// push at motion-capture noise taught two edges 7 mm off at σ 1 mm from a box turning
-    /// about a vertex).
+    /// push at motion-capture noise taught two edges 7 mm off at σ 1 mm from two rolls in the
+    /// fall of the pushed box).
     pub(crate) fn falls_at(&self, frames: &[FlightFrame], alpha: f64) -> Option<FlightFit> {
         self.fit(frames, &self.gravity)
             .filter(|f| self.passes(f, alpha))

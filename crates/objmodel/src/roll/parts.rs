@@ -138,7 +138,7 @@ pub fn mark_rolls(c: &mut Classification, recording: &Recording, config: &Config
 /// (within [`crate::edge::EDGE_MATCH_RAD`]) and the two are at least the roll's turn apart: a
 /// turn about the vertical (the object spun or was pushed round on the support) moves no
 /// edge's height. (Asked of the rests' whole rotation, a Drake push that turned its box 90°
-/// about its edge and 7° about the vertical went untested, and its roll taught an edge 7.3 mm
+/// about its edge and 10° about the vertical went untested, and its roll taught an edge 7.3 mm
 /// off at σ 1.1 mm.) Not tested where a rest's down is not square to the edge (the object
 /// rolled over other edges too).
 fn off_support(
