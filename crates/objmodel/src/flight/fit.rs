@@ -279,3 +279,55 @@ pub fn frame_chi2(
         - rc * rc.transpose() * var_r;
     cov.try_inverse().map_or(f64::INFINITY, |w| e.dot(&(w * e)))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{rngs::StdRng, Rng, SeedableRng};
+
+    /// `½ xᵀ N x − rhsᵀ x`, which the least-squares solution minimises.
+    fn objective(np: &M9, rhs: &V9, x: &V9) -> f64 {
+        0.5 * x.dot(&(np * x)) - rhs.dot(x)
+    }
+
+    /// On random positive definite systems whose free solution lies outside the ball: the
+    /// bounded solution's point is on the sphere, `x0, v0` are optimal for it (the gradient
+    /// along them vanishes), and no other point of the ball, with its own optimal `x0, v0`,
+    /// does better.
+    #[test]
+    fn the_bounded_solution_is_the_best_point_of_the_ball() {
+        let mut rng = StdRng::seed_from_u64(58);
+        for _ in 0..200 {
+            let a = SMatrix::<f64, 12, 9>::from_fn(|_, _| rng.random_range(-1.0..1.0));
+            let np = a.transpose() * a + M9::identity() * 1e-3;
+            let rhs = V9::from_fn(|_, _| rng.random_range(-1.0..1.0));
+            let free = np.try_inverse().unwrap() * rhs;
+            let r_max = 0.5 * free.fixed_rows::<3>(0).norm();
+            let x = on_ball(&np, &rhs, r_max).unwrap();
+            let c = x.fixed_rows::<3>(0).into_owned();
+            assert!(
+                (c.norm() / r_max - 1.0).abs() < 1e-9,
+                "{} vs {r_max}",
+                c.norm()
+            );
+            let gradient = np * x - rhs;
+            assert!(gradient.fixed_rows::<6>(3).norm() < 1e-9 * rhs.norm().max(1.0));
+            let best = objective(&np, &rhs, &x);
+            let d_inv = np
+                .fixed_view::<6, 6>(3, 3)
+                .into_owned()
+                .try_inverse()
+                .unwrap();
+            let b = np.fixed_view::<3, 6>(0, 3).into_owned();
+            for _ in 0..50 {
+                let dir = Vector3::from_fn(|_, _| rng.random_range(-1.0..1.0f64)).normalize();
+                let other = dir * r_max * rng.random_range(0.0..=1.0f64).cbrt();
+                let o = d_inv * (rhs.fixed_rows::<6>(3) - b.transpose() * other);
+                let mut y = V9::zeros();
+                y.fixed_rows_mut::<3>(0).copy_from(&other);
+                y.fixed_rows_mut::<6>(3).copy_from(&o);
+                assert!(objective(&np, &rhs, &y) >= best - 1e-9 * best.abs().max(1.0));
+            }
+        }
+    }
+}
