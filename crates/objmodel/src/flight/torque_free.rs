@@ -12,13 +12,16 @@
 //! The test: the angular velocity of each step between frames (world frame,
 //! `log(R_{k+1} R_kᵀ) / Δt`), averaged by time over each third of the window. That average
 //! telescopes to the rotation between the third's end frames over its duration `T`, whose
-//! per-axis noise is `√2 σ_r / T` for independent rotation errors of `σ_r`. Between two thirds
-//! the change `Δ` can exceed the bound `B` (the sum of `|ω_k|² Δt_k / √3` over the steps from
-//! the first third's start to the second's end) only by the noise: `|Δ| ≤ B + |noise|`, so
-//! `(|Δ| − B)₊² / σ_Δ²` is at most a χ²₃ variable, a conservative test at any inertia. Three
-//! pairs of thirds are tested (first with second, second with third, first with third), each
-//! at a third of the level (Bonferroni). The noise inflates `|ω_k|²` and so `B`: the test errs
-//! towards calling a motion free.
+//! per-axis noise is `√2 σ_r / T` for independent rotation errors of `σ_r`. The change `Δ`
+//! between thirds `p` and `q` has per-axis variance `σ_Δ² = 2 σ_r² (1/T_p² + 1/T_q²)`, and
+//! `2 σ_r² / (T_p T_q)` more when they are adjacent (the frame they share ends one average
+//! and starts the other, so its error adds up in their difference). `Δ` can exceed the bound
+//! `B` (the sum of `|ω_k|² Δt_k / √3` over the steps from the first third's start to the
+//! second's end) only by the noise: `|Δ| ≤ B + |noise|`, so `(|Δ| − B)₊² / σ_Δ²` is at most
+//! a χ²₃ variable, a conservative test at any inertia. Three pairs of thirds are tested
+//! (first with second, second with third, first with third), each at a third of the level
+//! (Bonferroni). The noise inflates `|ω_k|²` and so `B`: the test errs towards calling a
+//! motion free.
 
 use super::FlightFrame;
 use crate::se3::so3_log;
@@ -61,7 +64,9 @@ pub fn torque_chi2(frames: &[FlightFrame], sigma_rotation: f64) -> f64 {
             .sum::<f64>()
             / 3f64.sqrt();
         let excess = ((wq - wp).norm() - bound).max(0.0);
-        let var = 2.0 * var_r * (1.0 / (tp * tp) + 1.0 / (tq * tq));
+        // Adjacent thirds share a frame, which enters both averages with opposite signs.
+        let shared = if q == p + 1 { 1.0 / (tp * tq) } else { 0.0 };
+        let var = 2.0 * var_r * (1.0 / (tp * tp) + 1.0 / (tq * tq) + shared);
         worst = worst.max(if var > 0.0 {
             excess * excess / var
         } else if excess > 0.0 {
