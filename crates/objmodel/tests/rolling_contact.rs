@@ -33,7 +33,7 @@ fn a_roll_whose_line_moves_teaches_no_edge() {
 /// freedom), 7.3 mm off the box's edge at σ 1.1 mm. Its edge must lie on the support in both
 /// rests, as a topple's does, whenever the rests' downs are square to it (a turn about the
 /// vertical moves no edge's height): its heights differ by 42 mm, and it teaches nothing.
-/// (The test asked for the rests' whole rotation to be about the roll's line, and the 7°
+/// (The test asked for the rests' whole rotation to be about the roll's line, and the 10°
 /// about the vertical let this roll through, once the flight finder no longer took its first
 /// frames for a flight.)
 #[test]
