@@ -7,8 +7,9 @@
 //! changes no faster than any rigid body's can without a torque), that the model without
 //! acceleration does not (the fall shows above the noise: a rest, a constant-velocity carry or
 //! a rotation about a fixed edge is not a flight), whose centre of mass lies within `r_max` of
-//! the object's origin, and that has at least [`MIN_FLIGHT_FRAMES`] frames. Flights are found on the kept frames
-//! ([`crate::recording`]) of the runs of parts a flight may split (see [`mark_flights`]), after
+//! the object's origin, and that has at least [`MIN_FLIGHT_FRAMES`] frames. Flights are found
+//! on the kept frames ([`crate::recording`]) of the runs of parts a flight may split (see
+//! [`mark_flights`]), after
 //! the classification, never on the stream: a greedy scan from each frame, the window grown (doubling, then bisecting)
 //! to the longest that the model explains, kept if it is a flight, else the scan moves on by
 //! one frame.

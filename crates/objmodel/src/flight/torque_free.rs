@@ -49,15 +49,16 @@ pub fn torque_chi2(frames: &[FlightFrame], sigma_rotation: f64) -> f64 {
     }
     let a = s / 3;
     let thirds = [0..a, a..s - a, s - a..s];
-    let mean = |r: &std::ops::Range<usize>| -> (Vector3<f64>, f64) {
+    // Each third's mean rate (by time) and duration.
+    let means = thirds.clone().map(|r| {
         let t: f64 = steps[r.clone()].iter().map(|(_, dt)| dt).sum();
-        let w: Vector3<f64> = steps[r.clone()].iter().map(|(w, dt)| w * *dt).sum();
+        let w: Vector3<f64> = steps[r].iter().map(|(w, dt)| w * *dt).sum();
         (w / t, t)
-    };
+    });
     let var_r = sigma_rotation * sigma_rotation;
     let mut worst = 0.0f64;
     for (p, q) in [(0, 1), (1, 2), (0, 2)] {
-        let ((wp, tp), (wq, tq)) = (mean(&thirds[p]), mean(&thirds[q]));
+        let ((wp, tp), (wq, tq)) = (means[p], means[q]);
         let bound: f64 = steps[thirds[p].start..thirds[q].end]
             .iter()
             .map(|(w, dt)| w.norm_squared() * dt)
