@@ -25,9 +25,11 @@
 mod ar1_sandwich;
 mod jackknife;
 mod onset;
+mod swing;
 
 pub use jackknife::{jackknife_fall, JACKKNIFE_BLOCKS};
 pub use onset::{onset, onset_at_rate, Onset};
+pub use swing::{fit_swing, SwingFit};
 
 use serde::{Deserialize, Serialize};
 

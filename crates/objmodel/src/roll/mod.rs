@@ -17,7 +17,9 @@
 //!    the window is grown, the window is cut where its line changes (`split_at_change`, χ²₉)
 //!    and its end frames are dropped while the fit of the others rejects them (χ²₅ at
 //!    `alpha`), it is cut to the frames that turn one way (`one_way`: a turn back is an
-//!    impact), and it then passes χ² at `alpha` over at least [`MIN_ROLL_FRAMES`] frames;
+//!    impact) and to those whose turn a pendulum explains (`swing`: nothing but gravity turns
+//!    an object about a fixed edge; a face that lands stops the turn at once), and it then
+//!    passes χ² at `alpha` over at least [`MIN_ROLL_FRAMES`] frames;
 //! 2. turns far enough about the line to locate it against the contact's own wander (as a
 //!    topple must: `classify::parts::edge_turns_too_little`), about a line within
 //!    `r_palm` of the object's origin (as a topple's edge must be: a hand swinging the object
@@ -44,6 +46,7 @@
 mod fit;
 mod parts;
 mod record;
+mod swing;
 
 pub use fit::{fit, frame_chi2, RollFit, RollNoise};
 pub use parts::mark_rolls;
@@ -52,7 +55,7 @@ pub use record::Roll;
 use crate::edge::EdgeObservation;
 use crate::flight::{FlightFrame, FlightTest};
 use crate::support::SupportObservation;
-use nalgebra::{Rotation3, Vector3};
+use nalgebra::Vector3;
 
 /// Significance level at which the fixed-line model must explain a window while the window is
 /// grown (the same reasoning as [`crate::flight::FLIGHT_FIT_ALPHA`]: the grown window ends
@@ -244,6 +247,17 @@ pub fn find_rolls(frames: &[FlightFrame], test: &RollTest) -> Vec<Candidate> {
         let (first, end, best) = split_at_change(frames, i, end, best, test);
         let (first, end, fit) = trim(frames, first, end, best, test);
         let Some((first, end, fit)) = one_way(frames, first, end, fit, test) else {
+            i += 1;
+            continue;
+        };
+        let swing = swing::SwingTest {
+            noise: &test.noise,
+            alpha: test.alpha,
+            min_frames,
+        };
+        let Some((first, end, fit)) = swing::swing_part(frames, first, end, fit, &swing) else {
+            // No pendulum's turn from its start or to its end: it may hold one between an
+            // impact before it and a landing after it, which a later start finds.
             i += 1;
             continue;
         };
@@ -445,14 +459,7 @@ fn one_way(
     fit: RollFit,
     test: &RollTest,
 ) -> Option<(usize, usize, RollFit)> {
-    let window = &frames[start..end];
-    let u = fit.world_line.direction;
-    let r0 = window[0].rotation;
-    let angle = |f: &FlightFrame| {
-        let rel = Rotation3::from_matrix_unchecked(f.rotation * r0.transpose());
-        rel.scaled_axis().dot(&u)
-    };
-    let theta: Vec<f64> = window.iter().map(angle).collect();
+    let theta = swing::angles_about(&frames[start..end], &fit.world_line.direction);
     let (mut lo, mut hi) = (0, 0);
     for (k, &a) in theta.iter().enumerate() {
         if a < theta[lo] {

@@ -82,18 +82,22 @@ pub fn mark_rolls(c: &mut Classification, recording: &Recording, config: &Config
         let frames: Vec<FlightFrame> = kept.iter().map(|&f| f.into()).collect();
         for mut r in find_rolls(&frames, &test) {
             let (a, b) = (kept[r.first], kept[r.last]);
-            if r.withheld.is_none() {
-                r.withheld = rests.as_ref().and_then(|rests| {
-                    off_support(
-                        &test.edge(&r.fit, &c.name),
-                        &r.fit,
-                        rests,
-                        &down,
-                        noise,
-                        robust,
-                    )
-                });
-            }
+            // Said with any other reason the roll has (its line moved, it is located too
+            // poorly): off the support, it is no edge, however well located.
+            let off = rests.as_ref().and_then(|rests| {
+                off_support(
+                    &test.edge(&r.fit, &c.name),
+                    &r.fit,
+                    rests,
+                    &down,
+                    noise,
+                    robust,
+                )
+            });
+            r.withheld = match (off, r.withheld.take()) {
+                (Some(off), Some(other)) => Some(format!("{other}; and {off}")),
+                (off, other) => off.or(other),
+            };
             let taught = r.withheld.is_none();
             // A taught roll's edge lies on the support: its world line's height is the
             // support's.
