@@ -36,6 +36,8 @@ pub struct ClassifyOpts {
     #[arg(long, default_value_t = 1.0)]
     pub min_rest: f64,
     /// Tracking position noise [m] per axis; estimated from the data if not given (robust).
+    /// Where the frames show more noise than given (beyond sampling error), the larger is
+    /// used, with a warning.
     #[arg(long)]
     pub noise_position: Option<f64>,
     /// Tracking orientation noise [rad] per axis; estimated if not given (robust).

@@ -47,3 +47,43 @@ fn a_correlation_few_windows_cannot_prove_still_widens_the_tests() {
         );
     }
 }
+
+/// A topple filmed by the camera preset (rapier, `objmodel dataset`, post_topple_camera_s1:
+/// 0.7 mm and 0.3° per frame, three times that along the line of sight, correlated from frame
+/// to frame at 0.5), learnt with the per-frame noise given, as a user who read it off the
+/// tracker's datasheet gives it. Trusted, that noise made every test too strict and every σ
+/// too small: the rest before the topple looked like motion, the edge was measured from a
+/// pose in it and taught 5.4 mm off the box at ±1.9 mm. The frames show more noise than was
+/// given (their long-run noise is 3.3 mm, 1.9°); the learner says so and tests with the larger.
+#[test]
+fn a_noise_given_smaller_than_the_frames_show_is_not_trusted() {
+    let stem = "rapier_camera/post_topple";
+    let truth = common::box_truth(&format!("{stem}.truth.json"));
+    let mut config = Config::default();
+    let given = objmodel::noise::NoiseModel {
+        sigma_position: 0.7e-3,
+        sigma_rotation: 0.3f64.to_radians(),
+    };
+    config.robust.noise = Some(given);
+    let mut tree = objmodel::tree::Tree::default();
+    let reports = Learner::new(config)
+        .learn(&mut tree, &[Source::file(&data(&format!("{stem}.tum")))])
+        .unwrap();
+    common::assert_tree_on_box(&tree, &truth, stem);
+    let c = &reports[0].classification;
+    assert!(
+        c.warnings
+            .iter()
+            .any(|w| w.contains("is smaller than the frames")),
+        "{:?}",
+        c.warnings
+    );
+    let used = c.noise.expect("a noise");
+    assert!(
+        used.sigma_position > 2.0 * given.sigma_position
+            && used.sigma_rotation > 2.0 * given.sigma_rotation,
+        "{used:?}"
+    );
+    assert!(!c.noise_given);
+    assert!(!tree.edges.is_empty(), "the topple still teaches its edge");
+}

@@ -301,7 +301,7 @@ impl Learner {
         let correlated = tracker_noise::correlated_noise(&self.config, recording);
         let rest = match tracker_noise::noise_check(&self.config, &first, recording) {
             NoiseCheck::OnRest(rest) => Some(rest),
-            NoiseCheck::Measured => None,
+            NoiseCheck::Measured => tracker_noise::given_check(&self.config, recording),
             // Correlated noise grows with the lag as a motion does: first frames whose noise
             // is correlated look like motion to `noise::motion_dominated`, and the long-run
             // noise, measured on the quiet windows of every frame, is the noise to test with.

@@ -60,10 +60,91 @@ pub(super) fn noise_check(
                 noise,
                 first,
                 measured,
+                given: false,
+                palm: None,
             })
         }
         _ => NoiseCheck::Measured,
     }
+}
+
+/// Whether the noise the user gave is smaller than the demonstration shows, beyond sampling
+/// error (one-sided at `alpha`, [`crate::noise::exceeds`]), in position or rotation: the
+/// estimate the robust method makes without a noise given (from the first frames, where
+/// their motion does not dominate it: [`crate::noise::motion_dominated`]). Then the noise to
+/// classify with is the larger of each, and of the long-run noise where the tracker's noise
+/// is correlated from frame to frame ([`crate::noise_correlation`]). A noise given too small
+/// makes every test too strict and every σ too small, and rests look like motion, so that a
+/// rest cannot be the check: on the standard set's camera scenes (0.7 mm, 0.3° per frame,
+/// three times that along the line of sight, correlated from frame to frame), the per-frame
+/// noise given taught edges off the box (`bench/precision.py --noise given`: topples 22/25
+/// true, palm topples 13/16). Only where the robust method classified every frame with the
+/// noise given for the object.
+pub(super) fn given_check(config: &Config, recording: &Recording) -> Option<RestNoise> {
+    let robust = &config.robust;
+    let given = robust.noise?;
+    if config.method != crate::classify::Method::Robust || recording.object_stride != 1 {
+        return None;
+    }
+    let tolerance = (robust.edge_tolerance_m, robust.edge_tolerance_rad);
+    let all: Vec<crate::noise::PoseSample> = measuring(config, recording)
+        .map(RecordedFrame::sample)
+        .collect();
+    let first = &all[..all.len().min(robust.warmup_frames.max(3))];
+    // What the data show of the noise, from how many frames, and the noise to test with: the
+    // quiet windows' where they measure it (correlated noise looks like motion to the first
+    // frames' test), else the first frames' where their motion does not dominate them.
+    let (shown, frames, noise) = match crate::noise_correlation::measure(&all) {
+        Some(k) => {
+            let long_run = if k.matters(tolerance) {
+                k.long_run
+            } else {
+                k.white
+            };
+            (
+                k.white,
+                k.windows * crate::noise_correlation::WINDOW,
+                long_run,
+            )
+        }
+        None if !crate::noise::motion_dominated(first, robust.alpha, tolerance) => {
+            let e = crate::noise::estimate(first)?;
+            (e, first.len(), e)
+        }
+        None => return None,
+    };
+    if !crate::noise::exceeds(&shown, frames, &given, usize::MAX / 8, robust.alpha) {
+        return None;
+    }
+    let noise = NoiseModel {
+        sigma_position: given.sigma_position.max(noise.sigma_position),
+        sigma_rotation: given.sigma_rotation.max(noise.sigma_rotation),
+    };
+    let span = (
+        first.first().map_or(0.0, |s| s.0),
+        all.last().map_or(0.0, |s| s.0),
+    );
+    // The palm's noise, where not given, as without a noise given: its long-run noise where
+    // correlated (`correlated_noise`), else its own first frames' estimate.
+    let palm = (robust.palm_noise.is_none() && recording.palm_stride == 1)
+        .then(|| {
+            let palm: Vec<crate::noise::PoseSample> = recording
+                .palm
+                .iter()
+                .map(|p| (p.t, p.pose.rotation, p.pose.translation.vector))
+                .collect();
+            crate::noise_correlation::measure(&palm)
+        })
+        .flatten()
+        .filter(|k| k.matters(tolerance))
+        .map(|k| k.long_run);
+    Some(RestNoise {
+        noise,
+        first: given,
+        measured: span,
+        given: true,
+        palm,
+    })
 }
 
 /// The long-run noise of a tracker whose noise is correlated from frame to frame
@@ -163,12 +244,19 @@ pub(super) enum NoiseCheck {
     Unmeasurable,
 }
 
-/// The tracking noise measured on a rest, in place of the first frames' estimate.
+/// The tracking noise measured on a rest, in place of the first frames' estimate or of a
+/// noise given smaller than the rest shows ([`given_check`]).
 pub(super) struct RestNoise {
     noise: NoiseModel,
+    /// The first frames' estimate, or the noise given.
     first: NoiseModel,
     /// The span \[s\] of the frames it was measured on.
     measured: (f64, f64),
+    /// Whether `first` is the noise the user gave (and `noise` the larger of it and what the
+    /// frames show, each).
+    given: bool,
+    /// The palm's long-run noise, where its noise is correlated and not given.
+    palm: Option<NoiseModel>,
 }
 
 impl RestNoise {
@@ -176,6 +264,9 @@ impl RestNoise {
     pub(super) fn config(&self, config: &Config) -> Config {
         let mut config = *config;
         config.robust.noise = Some(self.noise);
+        if self.palm.is_some() {
+            config.robust.palm_noise = self.palm;
+        }
         config
     }
 
@@ -183,6 +274,25 @@ impl RestNoise {
     pub(super) fn reclassified(&self, c: &mut Classification) {
         let mm = |n: &NoiseModel| n.sigma_position * 1e3;
         let deg = |n: &NoiseModel| n.sigma_rotation.to_degrees();
+        if self.given {
+            c.warnings.insert(
+                0,
+                format!(
+                    "the tracking noise given ({:.2} mm, {:.2} deg) is smaller than the frames \
+                     at {:.2}-{:.2} s show: the tests use {:.2} mm, {:.2} deg, the larger of \
+                     each (a noise given too small makes every test too strict and every σ too \
+                     small)",
+                    mm(&self.first),
+                    deg(&self.first),
+                    self.measured.0,
+                    self.measured.1,
+                    mm(&self.noise),
+                    deg(&self.noise)
+                ),
+            );
+            c.noise_given = false;
+            return;
+        }
         c.warnings.insert(
             0,
             format!(
