@@ -69,11 +69,12 @@ pub(super) fn noise_check(
 }
 
 /// Whether the noise the user gave is smaller than the demonstration shows, beyond sampling
-/// error (one-sided at `alpha`, [`crate::noise::exceeds`]), in position or rotation: the
-/// estimate the robust method makes without a noise given (from the first frames, where
-/// their motion does not dominate it: [`crate::noise::motion_dominated`]). Then the noise to
-/// classify with is the larger of each, and of the long-run noise where the tracker's noise
-/// is correlated from frame to frame ([`crate::noise_correlation`]). A noise given too small
+/// error (one-sided at `alpha`, [`crate::noise::exceeds`]), in position or rotation: the white
+/// noise of its quiet windows ([`crate::noise_correlation::measure`]) or, where they measure
+/// none, the first frames' estimate where their motion does not dominate it
+/// ([`crate::noise::motion_dominated`]). Then the noise to classify with is the larger of
+/// each, and of the long-run noise where the tracker's noise is correlated from frame to frame
+/// (and the palm's long-run noise where its noise is not given). A noise given too small
 /// makes every test too strict and every σ too small, and rests look like motion, so that a
 /// rest cannot be the check: on the standard set's camera scenes (0.7 mm, 0.3° per frame,
 /// three times that along the line of sight, correlated from frame to frame), the per-frame
@@ -126,18 +127,7 @@ pub(super) fn given_check(config: &Config, recording: &Recording) -> Option<Rest
     );
     // The palm's noise, where not given, as without a noise given: its long-run noise where
     // correlated (`correlated_noise`), else its own first frames' estimate.
-    let palm = (robust.palm_noise.is_none() && recording.palm_stride == 1)
-        .then(|| {
-            let palm: Vec<crate::noise::PoseSample> = recording
-                .palm
-                .iter()
-                .map(|p| (p.t, p.pose.rotation, p.pose.translation.vector))
-                .collect();
-            crate::noise_correlation::measure(&palm)
-        })
-        .flatten()
-        .filter(|k| k.matters(tolerance))
-        .map(|k| k.long_run);
+    let palm = palm_correlation(config, recording).map(|k| k.long_run);
     Some(RestNoise {
         noise,
         first: given,
@@ -177,18 +167,28 @@ pub(super) fn correlated_noise(
     if !object.matters(tolerance) {
         return None;
     }
-    let palm = (robust.palm_noise.is_none() && recording.palm_stride == 1)
-        .then(|| {
-            let palm: Vec<crate::noise::PoseSample> = recording
-                .palm
-                .iter()
-                .map(|p| (p.t, p.pose.rotation, p.pose.translation.vector))
-                .collect();
-            crate::noise_correlation::measure(&palm)
-        })
-        .flatten()
-        .filter(|c| c.matters(tolerance));
+    let palm = palm_correlation(config, recording);
     Some(TrackerCorrelations { object, palm })
+}
+
+/// The palm's noise correlation, where its noise is not given, the record kept every palm
+/// frame, and the correlation matters beyond the model tolerance
+/// ([`crate::noise_correlation::Correlation::matters`]).
+fn palm_correlation(
+    config: &Config,
+    recording: &Recording,
+) -> Option<crate::noise_correlation::Correlation> {
+    let robust = &config.robust;
+    if robust.palm_noise.is_some() || recording.palm_stride != 1 {
+        return None;
+    }
+    let palm: Vec<crate::noise::PoseSample> = recording
+        .palm
+        .iter()
+        .map(|p| (p.t, p.pose.rotation, p.pose.translation.vector))
+        .collect();
+    let tolerance = (robust.edge_tolerance_m, robust.edge_tolerance_rad);
+    crate::noise_correlation::measure(&palm).filter(|k| k.matters(tolerance))
 }
 
 /// The recorded object frames that measure the tracker: every one, or, where the config takes
@@ -244,8 +244,8 @@ pub(super) enum NoiseCheck {
     Unmeasurable,
 }
 
-/// The tracking noise measured on a rest, in place of the first frames' estimate or of a
-/// noise given smaller than the rest shows ([`given_check`]).
+/// The tracking noise measured on a rest, in place of the first frames' estimate, or on all the
+/// frames, in place of a noise given smaller than they show ([`given_check`]).
 pub(super) struct RestNoise {
     noise: NoiseModel,
     /// The first frames' estimate, or the noise given.
