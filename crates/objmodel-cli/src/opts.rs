@@ -37,7 +37,9 @@ pub struct ClassifyOpts {
     pub min_rest: f64,
     /// Tracking position noise [m] per axis; estimated from the data if not given (robust).
     /// Where the frames show more noise than given (beyond sampling error), the larger is
-    /// used, with a warning.
+    /// used, with a warning. Not given, a demonstration whose frames cannot measure it (a
+    /// fast toss at 30 Hz) is learnt with the noise that the rests of the demonstrations
+    /// learnt with it at its frame rate measure together (`learn`), taken as one tracker's.
     #[arg(long)]
     pub noise_position: Option<f64>,
     /// Tracking orientation noise [rad] per axis; estimated if not given (robust).

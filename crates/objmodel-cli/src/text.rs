@@ -47,10 +47,11 @@ pub fn classification(c: &Classification, frames: bool) -> String {
             } else {
                 ""
             },
-            match (c.noise_given, c.instrumented) {
-                (true, true) => "from the noise given",
-                (true, false) => "given",
-                (false, _) => "estimated",
+            match (c.noise_given, c.instrumented, c.noise_shared) {
+                (true, true, _) => "from the noise given",
+                (true, false, _) => "given",
+                (false, _, Some(_)) => "measured on the rests of the demonstrations learnt with it",
+                (false, _, None) => "estimated",
             },
             n.sigma_position * 1e3,
             n.sigma_rotation.to_degrees()

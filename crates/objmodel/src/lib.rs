@@ -17,7 +17,8 @@
 //! * [`format`](mod@format): TUM and CSV pose files, with errors that name file, line and problem.
 //! * [`trajectory`]: time-stamped poses, demonstrations (optionally with a palm).
 //! * [`clean`]: quaternion sign continuity and rejection of single-frame tag flips.
-//! * [`noise`]: tracking-noise estimation from the data itself.
+//! * [`noise`]: tracking-noise estimation from the data itself; [`shared_noise`]: the noise
+//!   of a demonstration that cannot measure its own, from those learnt with it.
 //! * [`stats`]: the few distributions the tests need (chi-square quantiles).
 //! * [`classify`]: Algorithm 1, the paper-literal version and the robust one.
 //! * [`edge`], [`face`]: Algorithm 2 and eq. 5 estimates with covariances.
@@ -84,6 +85,7 @@ pub mod roll;
 pub mod screw;
 pub mod se3;
 pub mod shape;
+pub mod shared_noise;
 pub mod skill;
 pub mod start_rest;
 pub mod stats;

@@ -29,6 +29,11 @@ pub struct Observation {
     /// ([`crate::learn::Learner::learn`]). `None` when it was added, or teaches nothing.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub not_learnt: Option<String>,
+    /// The windows of its frames that measure the tracker's noise, where it is direct, every
+    /// frame was kept and the noise was not given: what it lends to a demonstration learnt
+    /// with it that cannot measure its own ([`crate::shared_noise`]). Not serialised.
+    #[serde(skip)]
+    pub noise_windows: Option<crate::noise_correlation::NoiseWindows>,
 }
 
 impl Observation {
@@ -53,6 +58,7 @@ impl Observation {
             fingerprint: None,
             palm_slide: None,
             not_learnt: None,
+            noise_windows: None,
         }
     }
 }

@@ -274,6 +274,21 @@ pub struct Classification {
     /// `noise` is then from the long-run noise ([`crate::noise_correlation`]).
     #[serde(default)]
     pub noise_correlation: Option<crate::noise_correlation::TrackerCorrelations>,
+    /// Whether the tracking noise could not be measured on the demonstration's frames (its
+    /// motion between frames exceeds the noise, and no rest is long enough to measure it)
+    /// and none was given: then it teaches nothing (see [`Self::withheld`]).
+    #[serde(default)]
+    pub noise_unmeasurable: bool,
+    /// Where the noise could not be measured on the demonstration's frames, the noise that
+    /// other demonstrations learnt with it measured at its frame rate
+    /// ([`crate::shared_noise`]), which `noise` follows from (or the larger of it and what
+    /// its frames show, which a warning says).
+    #[serde(default)]
+    pub noise_shared: Option<crate::shared_noise::SharedNoise>,
+    /// The median time between the object's frames \[s\] (as learnt; `None` before the
+    /// frames are checked, or with fewer than two).
+    #[serde(default)]
+    pub frame_interval_s: Option<f64>,
     /// Motion segments.
     pub segments: Vec<Segment>,
     /// The topples (segments grouped by edge), with their edges.

@@ -280,6 +280,9 @@ impl PaperMethod {
             noise: None,
             noise_given: false,
             noise_correlation: None,
+            noise_unmeasurable: false,
+            noise_shared: None,
+            frame_interval_s: None,
             topples: edge
                 .clone()
                 .map(|e| super::Topple {

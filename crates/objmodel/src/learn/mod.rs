@@ -17,7 +17,9 @@
 //! fingerprint, not its name). A file is read a second time only where its first frames
 //! measured the motion rather than the noise and a rest measures the noise
 //! (`tracker_noise::noise_check`), or where the tracker's noise is correlated from frame to frame
-//! (`tracker_noise::correlated_noise`): it is classified again with that noise. Gravity comes from the
+//! (`tracker_noise::correlated_noise`): it is classified again with that noise; and where no
+//! rest measures it, learnt with others at its frame rate, it is read again with the noise that
+//! their rests measure together ([`crate::shared_noise`]). Gravity comes from the
 //! [`Config`]: without it the topples'
 //! dynamics cannot be measured (their angles are from the vertical), which the report says.
 //! A demonstration without motion teaches nothing and is not added.
@@ -58,6 +60,7 @@ use crate::format::{
 };
 use crate::observation::Observation;
 use crate::recording::{Recorder, Recording, DEFAULT_CAPACITY};
+use crate::shared_noise::{shared_noise, SharedNoise};
 use crate::trajectory::Demonstration;
 use crate::tree::Tree;
 use crate::Result;
@@ -152,6 +155,9 @@ pub struct Learner {
     gravity_checked: bool,
     /// The support's height the user gave, if any ([`Learner::with_support`]).
     support: Option<crate::support::SupportObservation>,
+    /// Where the config's noise is shared by other demonstrations ([`crate::shared_noise`]):
+    /// what they measured.
+    shared: Option<SharedNoise>,
 }
 
 impl Learner {
@@ -162,6 +168,7 @@ impl Learner {
             capacity: DEFAULT_CAPACITY,
             gravity_checked: true,
             support: None,
+            shared: None,
         }
     }
 
@@ -301,7 +308,13 @@ impl Learner {
         let correlated = tracker_noise::correlated_noise(&self.config, recording);
         let rest = match tracker_noise::noise_check(&self.config, &first, recording) {
             NoiseCheck::OnRest(rest) => Some(rest),
-            NoiseCheck::Measured => tracker_noise::given_check(&self.config, recording),
+            NoiseCheck::Measured => {
+                let given_as = match self.shared {
+                    Some(_) => "the noise that the demonstrations learnt with it measure",
+                    None => "the tracking noise given",
+                };
+                tracker_noise::given_check(&self.config, recording, given_as)
+            }
             // Correlated noise grows with the lag as a motion does: first frames whose noise
             // is correlated look like motion to `noise::motion_dominated`, and the long-run
             // noise, measured on the quiet windows of every frame, is the noise to test with.
@@ -352,6 +365,8 @@ impl Learner {
         recording: &Recording,
         unmeasurable: bool,
     ) {
+        classification.frame_interval_s = recording.median_frame_interval();
+        classification.noise_unmeasurable = unmeasurable;
         if unmeasurable {
             classification.withhold_all(
                 "the tracking noise cannot be estimated from this demonstration: the motion \
@@ -503,6 +518,7 @@ impl Learner {
     ) -> Observation {
         let gravity = self.config.gravity;
         let fingerprint = Some(recording.fingerprint(classification.frames));
+        let noise_windows = tracker_noise::noise_windows(&self.config, &recording, &classification);
         let mut dynamics = Vec::new();
         let unknown_vertical = classification
             .segments
@@ -554,6 +570,7 @@ impl Learner {
             fingerprint,
             palm_slide,
             not_learnt: None,
+            noise_windows,
         }
     }
 
@@ -592,6 +609,7 @@ impl Learner {
             analysed(k);
         }
         let observed = &sources[..per_source.len()];
+        self.share_noise(observed, &mut per_source)?;
         let contradicted = if self.gravity_checked {
             self.check_gravity(observed, &per_source)?
         } else {
@@ -623,6 +641,104 @@ impl Learner {
             None => Ok(out),
         }
     }
+}
+
+impl Learner {
+    /// Where a demonstration's frames could not measure the tracking noise (and it teaches
+    /// nothing), observe it again with the noise that the rests of the demonstrations learnt
+    /// with it at its frame rate measure together ([`crate::shared_noise`]), checked against
+    /// its frames as a noise given is (`tracker_noise::given_check`), and say so. Direct
+    /// demonstrations only (an instrumented one's noise is the motion's relative to the palm,
+    /// with the palm's noise in it); a bag's parts are observed again together.
+    fn share_noise(&self, sources: &[Source], observed: &mut [Vec<Observation>]) -> Result<()> {
+        let robust = &self.config.robust;
+        let learnt: Vec<(f64, &crate::noise_correlation::NoiseWindows)> = observed
+            .iter()
+            .flatten()
+            .filter_map(|o| {
+                Some((
+                    o.classification.frame_interval_s?,
+                    o.noise_windows.as_ref()?,
+                ))
+            })
+            .collect();
+        let unmeasured =
+            |o: &Observation| !o.classification.instrumented && o.classification.noise_unmeasurable;
+        let shares: Vec<Option<SharedNoise>> = observed
+            .iter()
+            .map(|parts| {
+                let interval = parts
+                    .iter()
+                    .filter(|o| unmeasured(o))
+                    .find_map(|o| o.classification.frame_interval_s)?;
+                shared_noise(
+                    interval,
+                    learnt.iter().copied(),
+                    (robust.edge_tolerance_m, robust.edge_tolerance_rad),
+                    robust.alpha,
+                )
+            })
+            .collect();
+        for ((source, parts), shared) in sources.iter().zip(observed.iter_mut()).zip(shares) {
+            let Some(shared) = shared else {
+                continue;
+            };
+            let mut config = self.config;
+            config.robust.noise = Some(shared.noise);
+            let learner = Learner {
+                config,
+                shared: Some(shared),
+                ..self.clone()
+            };
+            let again = learner.observe_all(source)?;
+            if again.len() != parts.len() {
+                continue;
+            }
+            for (part, mut o) in parts.iter_mut().zip(again) {
+                if unmeasured(part) {
+                    say_shared(&mut o.classification, &shared);
+                    *part = o;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Say in a classification made with the noise that other demonstrations measured where it
+/// came from.
+fn say_shared(c: &mut Classification, shared: &SharedNoise) {
+    let k = &shared.measured;
+    c.warnings.insert(
+        0,
+        format!(
+            "the tracking noise cannot be measured on this demonstration's frames (the motion \
+             between them exceeds the noise, and no rest is long enough): it was learnt with \
+             the noise that the quiet windows of the {} demonstrations at its frame rate{} \
+             measure together, {:.2} mm, {:.2} deg{} (demonstrations learnt together at one \
+             frame rate are taken to be one tracker's: give --noise-position and \
+             --noise-rotation otherwise)",
+            shared.demonstrations,
+            c.frame_interval_s
+                .map_or(String::new(), |dt| format!(" ({:.0} Hz)", 1.0 / dt)),
+            shared.noise.sigma_position * 1e3,
+            shared.noise.sigma_rotation.to_degrees(),
+            if shared.noise == k.white {
+                format!(" over {} windows", k.windows)
+            } else {
+                format!(
+                    ", long-run (lag-one correlation {:.2} over {} windows; {:.2} mm, {:.2} deg \
+                     as independent)",
+                    k.rho,
+                    k.windows,
+                    k.white.sigma_position * 1e3,
+                    k.white.sigma_rotation.to_degrees()
+                )
+            }
+        ),
+    );
+    c.noise_given = false;
+    c.noise_shared = Some(*shared);
 }
 
 /// What a demonstration without motion is told.
