@@ -90,11 +90,7 @@ impl Recording {
             .filter(|w| w[1].index > w[0].index && w[1].t > w[0].t)
             .map(|w| (w[1].t - w[0].t) / (w[1].index - w[0].index) as f64)
             .collect();
-        if gaps.is_empty() {
-            return None;
-        }
-        gaps.sort_by(f64::total_cmp);
-        Some(gaps[gaps.len() / 2])
+        crate::stats::median(&mut gaps)
     }
 
     /// A 64-bit FNV-1a hash (over words), in hex, of `frames` (the object stream's length) and the bits of

@@ -705,8 +705,8 @@ impl Learner {
     }
 }
 
-/// Say in a classification made with the noise that other demonstrations measured where it
-/// came from.
+/// Say in a classification made with the noise that the rests of the demonstrations learnt
+/// with it measure together where it came from.
 fn say_shared(c: &mut Classification, shared: &SharedNoise) {
     let k = &shared.measured;
     c.warnings.insert(
@@ -714,8 +714,8 @@ fn say_shared(c: &mut Classification, shared: &SharedNoise) {
         format!(
             "the tracking noise cannot be measured on this demonstration's frames (the motion \
              between them exceeds the noise, and no rest is long enough): it was learnt with \
-             the noise that the quiet windows of the {} demonstrations at its frame rate{} \
-             measure together, {:.2} mm, {:.2} deg{} (demonstrations learnt together at one \
+             the noise that the rests of the {} demonstrations at its frame rate{} measure \
+             together, {:.2} mm, {:.2} deg{} (demonstrations learnt together at one \
              frame rate are taken to be one tracker's: give --noise-position and \
              --noise-rotation otherwise)",
             shared.demonstrations,
