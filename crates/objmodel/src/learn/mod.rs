@@ -60,7 +60,7 @@ use crate::format::{
 };
 use crate::observation::Observation;
 use crate::recording::{Recorder, Recording, DEFAULT_CAPACITY};
-use crate::shared_noise::{shared_noise, SharedNoise};
+use crate::shared_noise::SharedNoise;
 use crate::trajectory::Demonstration;
 use crate::tree::Tree;
 use crate::Result;
@@ -646,39 +646,11 @@ impl Learner {
 impl Learner {
     /// Where a demonstration's frames could not measure the tracking noise (and it teaches
     /// nothing), observe it again with the noise that the rests of the demonstrations learnt
-    /// with it at its frame rate measure together ([`crate::shared_noise`]), checked against
-    /// its frames as a noise given is (`tracker_noise::given_check`), and say so. Direct
-    /// demonstrations only (an instrumented one's noise is the motion's relative to the palm,
-    /// with the palm's noise in it); a bag's parts are observed again together.
+    /// with it at its frame rate measure together (`tracker_noise::shared_noises`), checked
+    /// against its frames as a noise given is (`tracker_noise::given_check`), and say so. A
+    /// bag's parts are observed again together.
     fn share_noise(&self, sources: &[Source], observed: &mut [Vec<Observation>]) -> Result<()> {
-        let robust = &self.config.robust;
-        let learnt: Vec<(f64, &crate::noise_correlation::NoiseWindows)> = observed
-            .iter()
-            .flatten()
-            .filter_map(|o| {
-                Some((
-                    o.classification.frame_interval_s?,
-                    o.noise_windows.as_ref()?,
-                ))
-            })
-            .collect();
-        let unmeasured =
-            |o: &Observation| !o.classification.instrumented && o.classification.noise_unmeasurable;
-        let shares: Vec<Option<SharedNoise>> = observed
-            .iter()
-            .map(|parts| {
-                let interval = parts
-                    .iter()
-                    .filter(|o| unmeasured(o))
-                    .find_map(|o| o.classification.frame_interval_s)?;
-                shared_noise(
-                    interval,
-                    learnt.iter().copied(),
-                    (robust.edge_tolerance_m, robust.edge_tolerance_rad),
-                    robust.alpha,
-                )
-            })
-            .collect();
+        let shares = tracker_noise::shared_noises(&self.config, observed);
         for ((source, parts), shared) in sources.iter().zip(observed.iter_mut()).zip(shares) {
             let Some(shared) = shared else {
                 continue;
@@ -695,50 +667,14 @@ impl Learner {
                 continue;
             }
             for (part, mut o) in parts.iter_mut().zip(again) {
-                if unmeasured(part) {
-                    say_shared(&mut o.classification, &shared);
+                if tracker_noise::borrows_noise(part) {
+                    tracker_noise::say_shared(&mut o.classification, &shared);
                     *part = o;
                 }
             }
         }
         Ok(())
     }
-}
-
-/// Say in a classification made with the noise that the rests of the demonstrations learnt
-/// with it measure together where it came from.
-fn say_shared(c: &mut Classification, shared: &SharedNoise) {
-    let k = &shared.measured;
-    c.warnings.insert(
-        0,
-        format!(
-            "the tracking noise cannot be measured on this demonstration's frames (the motion \
-             between them exceeds the noise, and no rest is long enough): it was learnt with \
-             the noise that the rests of the {} demonstrations at its frame rate{} measure \
-             together, {:.2} mm, {:.2} deg{} (demonstrations learnt together at one \
-             frame rate are taken to be one tracker's: give --noise-position and \
-             --noise-rotation otherwise)",
-            shared.demonstrations,
-            c.frame_interval_s
-                .map_or(String::new(), |dt| format!(" ({:.0} Hz)", 1.0 / dt)),
-            shared.noise.sigma_position * 1e3,
-            shared.noise.sigma_rotation.to_degrees(),
-            if shared.noise == k.white {
-                format!(" over {} windows", k.windows)
-            } else {
-                format!(
-                    ", long-run (lag-one correlation {:.2} over {} windows; {:.2} mm, {:.2} deg \
-                     as independent)",
-                    k.rho,
-                    k.windows,
-                    k.white.sigma_position * 1e3,
-                    k.white.sigma_rotation.to_degrees()
-                )
-            }
-        ),
-    );
-    c.noise_given = false;
-    c.noise_shared = Some(*shared);
 }
 
 /// What a demonstration without motion is told.

@@ -1,13 +1,17 @@
 //! Whether the noise a classification used measures the tracker, and what to classify with
 //! where it does not: the noise of a rest where the first frames measured the motion, the
 //! long-run noise where the tracker's noise is correlated from frame to frame
-//! ([`crate::noise_correlation`]). `Learner::checked` (the parent module) classifies again with
-//! what these find.
+//! ([`crate::noise_correlation`]), and, where no frame of a demonstration measures it, the noise
+//! that the demonstrations learnt with it measure together ([`crate::shared_noise`]).
+//! `Learner::checked` and `Learner::share_noise` (the parent module) classify again with what
+//! these find.
 
 use crate::classify::{Classification, Config};
 use crate::noise::NoiseModel;
 use crate::noise_correlation::TrackerCorrelations;
+use crate::observation::Observation;
 use crate::recording::{RecordedFrame, Recording};
+use crate::shared_noise::{shared_noise, SharedNoise};
 
 /// Whether the noise the classification `c` used measures the tracker: estimated (none
 /// given) from first frames whose motion dominates their second differences
@@ -230,6 +234,84 @@ pub(super) fn noise_windows(
         crate::noise_correlation::NoiseWindows::of_rests(runs.iter().map(Vec::as_slice))
             .thinned(crate::shared_noise::MAX_WINDOWS),
     )
+}
+
+/// Whether a demonstration takes the noise of those learnt with it: direct (an instrumented
+/// one's noise is the motion's relative to the palm, with the palm's noise in it), and its
+/// frames could not measure its own.
+pub(super) fn borrows_noise(o: &Observation) -> bool {
+    !o.classification.instrumented && o.classification.noise_unmeasurable
+}
+
+/// For each source's demonstrations (a bag's parts), the noise that the rests of all the
+/// demonstrations `observed` at its frame rate measure together ([`shared_noise`]), where one
+/// of them borrows it ([`borrows_noise`]); `None` where none does or nothing is shared.
+pub(super) fn shared_noises(
+    config: &Config,
+    observed: &[Vec<Observation>],
+) -> Vec<Option<SharedNoise>> {
+    let robust = &config.robust;
+    let learnt: Vec<(f64, &crate::noise_correlation::NoiseWindows)> = observed
+        .iter()
+        .flatten()
+        .filter_map(|o| {
+            Some((
+                o.classification.frame_interval_s?,
+                o.noise_windows.as_ref()?,
+            ))
+        })
+        .collect();
+    observed
+        .iter()
+        .map(|parts| {
+            let interval = parts
+                .iter()
+                .filter(|o| borrows_noise(o))
+                .find_map(|o| o.classification.frame_interval_s)?;
+            shared_noise(
+                interval,
+                learnt.iter().copied(),
+                (robust.edge_tolerance_m, robust.edge_tolerance_rad),
+                robust.alpha,
+            )
+        })
+        .collect()
+}
+
+/// Say in a classification made with the noise that the rests of the demonstrations learnt
+/// with it measure together where it came from.
+pub(super) fn say_shared(c: &mut Classification, shared: &SharedNoise) {
+    let k = &shared.measured;
+    c.warnings.insert(
+        0,
+        format!(
+            "the tracking noise cannot be measured on this demonstration's frames (the motion \
+             between them exceeds the noise, and no rest is long enough): it was learnt with \
+             the noise that the rests of the {} demonstrations at its frame rate{} measure \
+             together, {:.2} mm, {:.2} deg{} (demonstrations learnt together at one \
+             frame rate are taken to be one tracker's: give --noise-position and \
+             --noise-rotation otherwise)",
+            shared.demonstrations,
+            c.frame_interval_s
+                .map_or(String::new(), |dt| format!(" ({:.0} Hz)", 1.0 / dt)),
+            shared.noise.sigma_position * 1e3,
+            shared.noise.sigma_rotation.to_degrees(),
+            if shared.noise == k.white {
+                format!(" over {} windows", k.windows)
+            } else {
+                format!(
+                    ", long-run (lag-one correlation {:.2} over {} windows; {:.2} mm, {:.2} deg \
+                     as independent)",
+                    k.rho,
+                    k.windows,
+                    k.white.sigma_position * 1e3,
+                    k.white.sigma_rotation.to_degrees()
+                )
+            }
+        ),
+    );
+    c.noise_given = false;
+    c.noise_shared = Some(*shared);
 }
 
 /// The recorded object frames that measure the tracker: every one, or, where the config takes
