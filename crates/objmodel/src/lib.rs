@@ -24,7 +24,9 @@
 //! * [`edge`], [`face`]: Algorithm 2 and eq. 5 estimates with covariances.
 //! * [`recording`]: the frames the dynamics need, kept in bounded memory during the one pass.
 //! * [`flight`]: free flights (the centre of mass falls with gravity) and their impacts, found
-//!   on the kept frames and put into the parts list; they teach no feature.
+//!   on the kept frames and put into the parts list; they teach no feature. [`shared_com`]:
+//!   the centre of mass the flights of all the demonstrations learnt together agree on,
+//!   which tells a tossed object's roll from its flight.
 //! * [`landing`]: the rests reached after a flight, which teach the face rested on once a
 //!   landing of another demonstration agrees in down and place; [`support`]: the height of
 //!   the plane the object rests on, from the edges it turned about on it, which gives the
@@ -85,6 +87,7 @@ pub mod roll;
 pub mod screw;
 pub mod se3;
 pub mod shape;
+pub mod shared_com;
 pub mod shared_noise;
 pub mod skill;
 pub mod start_rest;

@@ -155,6 +155,16 @@ impl SupportHeight {
         })
     }
 
+    /// Whether the height `o` measured is this support's: their difference within their noise,
+    /// and, for a measured support, its flatness and its tilt between their places (χ²₁ at
+    /// `alpha`; a given height's σ holds those).
+    pub fn holds(&self, o: &SupportObservation, alpha: f64) -> bool {
+        let apart = (o.across - self.across).norm();
+        let between = if self.given { 0.0 } else { support_var(apart) };
+        let var = o.sigma_m.powi(2) + self.sigma_m.powi(2) + between;
+        (o.height - self.height).powi(2) <= var * crate::stats::chi2_threshold(1.0, alpha)
+    }
+
     /// The offset \[m\] of the face a landing rests on, and its variance: the landing's
     /// height above the support, with both their noise and the support's flatness and tilt
     /// between the landing's place and the observations' (a given height's σ holds them).
@@ -202,6 +212,21 @@ mod tests {
         assert!((s.across.x - 0.1).abs() < 1e-12);
         // Two tables 5 cm apart in height are no one support.
         assert!(SupportHeight::fuse(&[obs("a", 0.0, 0.0), obs("b", 0.05, 0.1)], 1e-4).is_none());
+    }
+
+    /// A height within the noise, flatness and level of a measured support holds; 19 mm above
+    /// it (a brick spinning on a corner, its line taken for an edge on the table) does not; a
+    /// given height's σ is all there is.
+    #[test]
+    fn a_height_holds_within_the_supports_uncertainty_only() {
+        let s = SupportHeight::fuse(&[obs("a", 0.0005, 0.0), obs("b", -0.0005, 0.2)], 1e-4)
+            .expect("agree");
+        assert!(s.holds(&obs("c", 0.002, 0.1), 1e-4));
+        assert!(!s.holds(&obs("c", 0.019, 0.1), 1e-4));
+        let given =
+            SupportHeight::fuse(&[SupportObservation::given(0.0, 1e-4).unwrap()], 1e-4).unwrap();
+        assert!(given.holds(&obs("c", 0.0003, 0.0), 1e-4));
+        assert!(!given.holds(&obs("c", 0.002, 0.0), 1e-4));
     }
 
     /// A 16-frame landing on its −z face at `height`, at `across`, under 1 mm of noise.

@@ -322,6 +322,15 @@ pub struct Classification {
     /// where metres were assumed (and checked: [`crate::length_check`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub length_unit: Option<crate::format::LengthUnit>,
+    /// Where its rolls were told from flights by the centre of mass that the flights of the
+    /// demonstrations learnt with it measured together ([`crate::shared_com`]), that point.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub com_shared: Option<crate::shared_com::SharedCom>,
+    /// The centre of mass each flight of the demonstration measured, where it determined one,
+    /// before the flights are checked against each other (pooled over the demonstrations
+    /// learnt together: [`crate::shared_com`]).
+    #[serde(skip)]
+    pub flight_coms: Vec<crate::flight::ComEstimate>,
 }
 
 impl Classification {

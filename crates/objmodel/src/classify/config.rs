@@ -103,6 +103,12 @@ pub struct RobustConfig {
     /// at rest, and its repeats are kept.
     #[serde(skip)]
     pub repeats_are_held: bool,
+    /// The object's centre of mass that the flights of the demonstrations learnt together
+    /// measured ([`crate::shared_com`]), set by the learner: a roll in a demonstration with a
+    /// flight is told from a flight by it where the demonstration's own flights do not
+    /// determine the point ([`crate::roll`]).
+    #[serde(skip)]
+    pub com: Option<crate::shared_com::SharedCom>,
 }
 
 impl Default for RobustConfig {
@@ -121,6 +127,7 @@ impl Default for RobustConfig {
             max_axis_tilt_rad: 45f64.to_radians(),
             held_rest_frames: None,
             repeats_are_held: false,
+            com: None,
         }
     }
 }

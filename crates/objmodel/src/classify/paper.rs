@@ -329,6 +329,8 @@ impl PaperMethod {
             rolls: Vec::new(),
             withheld: None,
             length_unit: None,
+            com_shared: None,
+            flight_coms: Vec::new(),
             held_frames: 0,
         };
         c.fill_parts();

@@ -121,6 +121,7 @@ pub fn mark_flights(c: &mut Classification, recording: &Recording, config: &Conf
             }
         }
     }
+    c.flight_coms = spans.iter().filter_map(|s| s.com.clone()).collect();
     withhold_disagreeing_coms(&mut spans);
     split_parts(c, recording, &spans, splittable);
 }

@@ -19,7 +19,10 @@
 //! (`tracker_noise::noise_check`), or where the tracker's noise is correlated from frame to frame
 //! (`tracker_noise::correlated_noise`): it is classified again with that noise; and where no
 //! rest measures it, learnt with others at its frame rate, it is read again with the noise that
-//! their rests measure together ([`crate::shared_noise`]). Gravity comes from the
+//! their rests measure together ([`crate::shared_noise`]); and where a thrown object's own
+//! flights do not determine its centre of mass, it is read again with the one that the flights
+//! of all the demonstrations agree on, which tells its rolls from flights
+//! ([`crate::shared_com`]). Gravity comes from the
 //! [`Config`]: without it the topples'
 //! dynamics cannot be measured (their angles are from the vertical), which the report says.
 //! A demonstration without motion teaches nothing and is not added.
@@ -67,6 +70,7 @@ use crate::Result;
 use std::borrow::Cow;
 use std::path::Path;
 
+mod com_sharing;
 mod gravity_check;
 mod held_poses;
 mod tracker_noise;
@@ -610,6 +614,7 @@ impl Learner {
         }
         let observed = &sources[..per_source.len()];
         self.share_noise(observed, &mut per_source)?;
+        self.share_com(observed, &mut per_source)?;
         let contradicted = if self.gravity_checked {
             self.check_gravity(observed, &per_source)?
         } else {

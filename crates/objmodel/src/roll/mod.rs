@@ -30,7 +30,8 @@
 //!    `FlightTest::falls_at`, the flight model without its rotation test), or explains only
 //!    with a point that the object cannot have: farther from its origin than a flight's centre
 //!    of mass may be (`flight::MAX_COM_M`, beyond its σ), or other than the centre of mass the
-//!    demonstration's flights determined. A spinning object in flight turns about a moving
+//!    demonstration's flights determined (for a demonstration that flew, else the one the
+//!    flights of the demonstrations learnt with it agree on: [`crate::shared_com`]). A spinning object in flight turns about a moving
 //!    axis, which over a short window can pass for a fixed one; and a roll's frames pass for a
 //!    flight of the point that accelerates with gravity, its centre of acceleration, about
 //!    0.3 m from the edge. The flight's rotation test is not asked: a window whose translation
@@ -92,7 +93,8 @@ pub struct RollTest<'a> {
     /// ([`crate::classify::PaperThresholds::r_palm`], as for a topple's edge).
     pub r_max: f64,
     /// The object's centre of mass (object frame) and its covariance, when the
-    /// demonstration's flights determined it.
+    /// demonstration's flights determined it, or, for a demonstration that flew, the flights
+    /// of those learnt with it ([`crate::shared_com`]).
     pub com: Option<(Vector3<f64>, nalgebra::Matrix3<f64>)>,
 }
 

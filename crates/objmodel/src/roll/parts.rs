@@ -59,7 +59,7 @@ pub fn mark_rolls(c: &mut Classification, recording: &Recording, config: &Config
         tolerance_m: robust.edge_tolerance_m,
         contact_depth_m: robust.contact_depth_m,
         r_max: config.paper.r_palm,
-        com: known_com(&c.parts),
+        com: known_com(&c.parts).or_else(|| shared_com(c, config)),
     };
     let outlier = c.is_outlier();
     let mut runs: Vec<(usize, usize, Option<usize>)> = Vec::new();
@@ -173,6 +173,17 @@ fn off_support(
         robust.alpha,
     )
     .err()
+}
+
+/// The centre of mass that the flights of the demonstrations learnt with `c` measured together
+/// (`config.robust.com`, [`crate::shared_com`]), where `c` has a flight: a thrown object's
+/// roll is told from its flight by it. A demonstration without a flight keeps the fall of any
+/// point as the roll's alternative (a finger that drives a fall about an edge is not a flight,
+/// and the point that explains it need not be the centre of mass).
+fn shared_com(c: &Classification, config: &Config) -> Option<(Vector3<f64>, Matrix3<f64>)> {
+    let flew = c.parts.iter().any(|p| p.kind == Label::Flight);
+    let s = config.robust.com.filter(|_| flew)?;
+    Some((s.point, s.covariance))
 }
 
 /// The centre of mass that the flights among `parts` determined (their estimates fused by
