@@ -11,38 +11,10 @@
 
 mod common;
 
-use objmodel::learn::{Config, Learner, Source};
 use objmodel::observation::Observation;
-use objmodel::tree::Tree;
 use std::path::PathBuf;
 
 const DIR: &str = "rapier_tosses/shared_com";
-
-fn tosses(bx: &str) -> Vec<PathBuf> {
-    let mut all: Vec<PathBuf> = std::fs::read_dir(common::data(&format!("{DIR}/{bx}")))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "tum"))
-        .collect();
-    all.sort();
-    all
-}
-
-fn learn(paths: &[PathBuf]) -> (Tree, Vec<Observation>) {
-    let sources: Vec<Source> = paths.iter().map(Source::file).collect();
-    let mut tree = Tree::default();
-    let reports = Learner::new(Config::default())
-        .learn(&mut tree, &sources)
-        .unwrap();
-    (tree, reports)
-}
-
-fn report<'a>(reports: &'a [Observation], name: &str) -> &'a Observation {
-    reports
-        .iter()
-        .find(|o| o.classification.name == name)
-        .unwrap()
-}
 
 fn taught_rolls(o: &Observation) -> usize {
     o.classification.rolls.iter().filter(|r| r.taught).count()
@@ -50,7 +22,7 @@ fn taught_rolls(o: &Observation) -> usize {
 
 #[test]
 fn a_tosss_roll_is_told_from_a_flight_by_the_centre_of_mass_of_the_others_flights() {
-    let all = tosses("weighted");
+    let all = common::tum_files(&format!("{DIR}/weighted"));
     let truth = common::box_truth(&format!("{DIR}/weighted.truth.json"));
     let com = common::vec3(
         &serde_json::from_str::<serde_json::Value>(
@@ -64,7 +36,7 @@ fn a_tosss_roll_is_told_from_a_flight_by_the_centre_of_mass_of_the_others_flight
     ] {
         // Alone: a point falling with gravity explains the roll's frames as well.
         let alone: Vec<PathBuf> = all.iter().filter(|p| p.ends_with(roll)).cloned().collect();
-        let (tree, reports) = learn(&alone);
+        let (tree, reports) = common::learn_files(&alone);
         assert_eq!(taught_rolls(&reports[0]), 0, "{roll}");
         assert!(reports[0].classification.com_shared.is_none());
         assert!(!tree
@@ -74,13 +46,13 @@ fn a_tosss_roll_is_told_from_a_flight_by_the_centre_of_mass_of_the_others_flight
     }
     // Learnt with the other ten: the centre of mass their flights agree on, within 3 σ of
     // the simulator's (and within 1 mm); each roll teaches its edge, and nothing is off the box.
-    let (tree, reports) = learn(&all);
+    let (tree, reports) = common::learn_files(&all);
     common::assert_tree_on_box(&tree, &truth, DIR);
     for roll in [
         "weighted_toss_mocap_s24.tum",
         "weighted_toss_mocap_s234.tum",
     ] {
-        let o = report(&reports, roll);
+        let o = common::report(&reports, roll);
         let shared = o
             .classification
             .com_shared
@@ -120,9 +92,9 @@ fn a_tosss_roll_is_told_from_a_flight_by_the_centre_of_mass_of_the_others_flight
 #[test]
 fn a_corner_spin_off_the_support_teaches_nothing_though_the_centre_of_mass_is_shared() {
     const SPIN: &str = "brick_toss_mocap_s117.tum";
-    let all = tosses("brick");
+    let all = common::tum_files(&format!("{DIR}/brick"));
     let truth = common::box_truth(&format!("{DIR}/brick.truth.json"));
-    let (tree, reports) = learn(&all);
+    let (tree, reports) = common::learn_files(&all);
     common::assert_tree_on_box(&tree, &truth, DIR);
     // The centre of mass was shared (another toss's roll took it) ...
     assert!(reports
@@ -130,7 +102,7 @@ fn a_corner_spin_off_the_support_teaches_nothing_though_the_centre_of_mass_is_sh
         .any(|o| o.classification.com_shared.is_some() && taught_rolls(o) > 0));
     // ... but the corner spin, which it would tell from a flight, is 19 mm above the support
     // the others measured: it teaches nothing.
-    let o = report(&reports, SPIN);
+    let o = common::report(&reports, SPIN);
     assert!(
         o.classification.com_shared.is_none(),
         "{:?}",

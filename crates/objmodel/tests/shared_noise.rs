@@ -7,52 +7,23 @@
 
 mod common;
 
-use objmodel::learn::{Config, Learner, Source};
-use objmodel::observation::Observation;
-use objmodel::tree::Tree;
 use std::path::{Path, PathBuf};
 
 const DIR: &str = "rapier_tosses/shared_noise";
 const ROLL: &str = "brick_toss_real_s317.tum";
 
-fn tosses() -> Vec<PathBuf> {
-    let mut all: Vec<PathBuf> = std::fs::read_dir(common::data(DIR))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "tum"))
-        .collect();
-    all.sort();
-    all
-}
-
-fn learn(paths: &[PathBuf]) -> (Tree, Vec<Observation>) {
-    let sources: Vec<Source> = paths.iter().map(Source::file).collect();
-    let mut tree = Tree::default();
-    let reports = Learner::new(Config::default())
-        .learn(&mut tree, &sources)
-        .unwrap();
-    (tree, reports)
-}
-
-fn report<'a>(reports: &'a [Observation], name: &str) -> &'a Observation {
-    reports
-        .iter()
-        .find(|o| o.classification.name == name)
-        .unwrap()
-}
-
 #[test]
 fn a_toss_that_cannot_measure_its_noise_learns_with_the_noise_of_the_others() {
-    let all = tosses();
+    let all = common::tum_files(DIR);
     let roll: Vec<PathBuf> = all.iter().filter(|p| p.ends_with(ROLL)).cloned().collect();
     // Alone: nothing.
-    let (tree, reports) = learn(&roll);
+    let (tree, reports) = common::learn_files(&roll);
     let c = &reports[0].classification;
     assert!(c.noise_unmeasurable && c.noise_shared.is_none(), "{c:?}");
     assert!(tree.edges.is_empty() && tree.faces.is_empty());
 
     // With the other twenty: the noise that their rests measure, near the simulator's.
-    let (tree, reports) = learn(&all);
+    let (tree, reports) = common::learn_files(&all);
     let truth = common::box_truth(&format!("{DIR}/brick.truth.json"));
     common::assert_tree_on_box(&tree, &truth, DIR);
     let c = &reports
@@ -111,14 +82,14 @@ fn at_half_rate(from: &Path, dir: &Path) -> PathBuf {
 #[test]
 fn demonstrations_at_another_frame_rate_lend_no_noise() {
     let dir = tempfile::tempdir().unwrap();
-    let mut paths: Vec<PathBuf> = tosses()
+    let mut paths: Vec<PathBuf> = common::tum_files(DIR)
         .iter()
         .filter(|p| !p.ends_with(ROLL))
         .map(|p| at_half_rate(p, dir.path()))
         .collect();
     paths.push(common::data(&format!("{DIR}/{ROLL}")));
-    let (_, reports) = learn(&paths);
-    let c = &report(&reports, ROLL).classification;
+    let (_, reports) = common::learn_files(&paths);
+    let c = &common::report(&reports, ROLL).classification;
     assert!(
         c.noise_unmeasurable && c.noise_shared.is_none(),
         "{:?}",

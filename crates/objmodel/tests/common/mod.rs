@@ -132,3 +132,44 @@ pub fn learn_alone_on_box(stem: &str) -> objmodel::classify::Classification {
     assert_tree_on_box(&tree, &truth, stem);
     reports.remove(0).classification
 }
+
+/// The `.tum` files in `tests/data/{dir}`, sorted by name.
+#[allow(dead_code)]
+pub fn tum_files(dir: &str) -> Vec<PathBuf> {
+    let mut all: Vec<PathBuf> = std::fs::read_dir(data(dir))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "tum"))
+        .collect();
+    all.sort();
+    all
+}
+
+/// `paths` learnt together (default configuration, no palm): the tree and each file's report.
+#[allow(dead_code)]
+pub fn learn_files(
+    paths: &[PathBuf],
+) -> (
+    objmodel::tree::Tree,
+    Vec<objmodel::observation::Observation>,
+) {
+    use objmodel::learn::{Config, Learner, Source};
+    let sources: Vec<Source> = paths.iter().map(Source::file).collect();
+    let mut tree = objmodel::tree::Tree::default();
+    let reports = Learner::new(Config::default())
+        .learn(&mut tree, &sources)
+        .unwrap();
+    (tree, reports)
+}
+
+/// The report of the demonstration named `name` among `reports`.
+#[allow(dead_code)]
+pub fn report<'a>(
+    reports: &'a [objmodel::observation::Observation],
+    name: &str,
+) -> &'a objmodel::observation::Observation {
+    reports
+        .iter()
+        .find(|o| o.classification.name == name)
+        .unwrap()
+}
