@@ -17,7 +17,8 @@ impl Learner {
     /// ([`shared_com`]), and keep that observation where it teaches more rolls, each of them
     /// on the support that the demonstrations measured without it, saying so. Nothing is
     /// shared where the centre of mass is given already, where the flights do not agree, or
-    /// where the demonstrations do not agree on a support (or the user gave none).
+    /// where no support is known (none given, and the demonstrations' measurements of it are
+    /// fewer than two or disagree).
     ///
     /// Why the support: a rotation about a fixed point (a box spinning on one corner) passes
     /// for a rotation about a fixed line over a few frames, and where the centre of mass rules
