@@ -334,6 +334,13 @@ pub struct Classification {
 }
 
 impl Classification {
+    /// Whether the object flew in the demonstration (a part of it is a flight,
+    /// [`crate::flight`]): its rolls are then told from flights by a centre of mass
+    /// ([`crate::roll`], [`crate::shared_com`]).
+    pub fn flew(&self) -> bool {
+        self.parts.iter().any(|p| p.kind == Label::Flight)
+    }
+
     /// Whether the object frame of index `i` (in the stream) was rejected as an outlier: a
     /// binary search of the outlier label runs.
     pub fn is_outlier(&self) -> impl Fn(u64) -> bool {

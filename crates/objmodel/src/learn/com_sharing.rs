@@ -2,7 +2,7 @@
 //! of all the demonstrations learnt with it measure together ([`crate::shared_com`]).
 
 use super::{tracker_noise, Learner, Source};
-use crate::classify::{Classification, Label};
+use crate::classify::Classification;
 use crate::flight::ComEstimate;
 use crate::observation::Observation;
 use crate::shared_com::{shared_com, SharedCom};
@@ -106,9 +106,7 @@ impl Learner {
 /// Whether a demonstration's rolls would be told from its flights by a shared centre of mass:
 /// direct, it flew, and its own flights determined no centre of mass.
 fn needs_com(c: &Classification) -> bool {
-    !c.instrumented
-        && c.parts.iter().any(|p| p.kind == Label::Flight)
-        && c.parts.iter().all(|p| p.com_estimate.is_none())
+    !c.instrumented && c.flew() && c.parts.iter().all(|p| p.com_estimate.is_none())
 }
 
 /// How many of a classification's rolls taught their edge.

@@ -59,7 +59,7 @@ pub fn mark_rolls(c: &mut Classification, recording: &Recording, config: &Config
         tolerance_m: robust.edge_tolerance_m,
         contact_depth_m: robust.contact_depth_m,
         r_max: config.paper.r_palm,
-        com: known_com(&c.parts).or_else(|| shared_com(c, config)),
+        com: known_com(&c.parts).or_else(|| com_learnt_together(c, config)),
     };
     let outlier = c.is_outlier();
     let mut runs: Vec<(usize, usize, Option<usize>)> = Vec::new();
@@ -180,9 +180,11 @@ fn off_support(
 /// roll is told from its flight by it. A demonstration without a flight keeps the fall of any
 /// point as the roll's alternative (a finger that drives a fall about an edge is not a flight,
 /// and the point that explains it need not be the centre of mass).
-fn shared_com(c: &Classification, config: &Config) -> Option<(Vector3<f64>, Matrix3<f64>)> {
-    let flew = c.parts.iter().any(|p| p.kind == Label::Flight);
-    let s = config.robust.com.filter(|_| flew)?;
+fn com_learnt_together(
+    c: &Classification,
+    config: &Config,
+) -> Option<(Vector3<f64>, Matrix3<f64>)> {
+    let s = config.robust.com.filter(|_| c.flew())?;
     Some((s.point, s.covariance))
 }
 
