@@ -234,11 +234,15 @@ pub fn tree(tree: &Tree) -> String {
         let sigma = com.sigma_m.map_or(String::new(), |x| {
             format!("±{:.1} mm (worst axis), ", x * 1e3)
         });
+        let rms = if com.pendulums > 0 {
+            format!(", planes' rms {:.1} mm", com.rms_residual_m * 1e3)
+        } else {
+            String::new()
+        };
         s += &format!(
-            "  centre of mass: {} m {sigma}(from {} pendulums, rms {:.1} mm)\n",
+            "  centre of mass: {} m {sigma}(from {}{rms})\n",
             v3(&com.point),
-            com.pendulums,
-            com.rms_residual_m * 1e3
+            com.learnt_from(),
         );
     }
     for f in &tree.faces {

@@ -144,7 +144,7 @@ pub(crate) fn legend(c: &mut Canvas, d: &ModelDrawing) {
         },
         Tag::default(),
     );
-    line(c, y, "      centre of mass (from the pendulums)", INK);
+    line(c, y, "      centre of mass (pendulums, flights)", INK);
     y += 22.0;
     c.push(
         Shape2::Circle {

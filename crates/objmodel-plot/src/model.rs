@@ -162,17 +162,26 @@ impl ModelDrawing {
                 known: status("com"),
                 points: vec![arr(&com.point)],
                 support: Some(com.pendulums),
-                sigma_m: Some(com.rms_residual_m),
-                info: format!(
-                    "centre of mass: {}\nfrom {} pendulum(s); their planes pass within {} (rms) of it",
-                    v3(&com.point),
-                    com.pendulums,
-                    mm(com.rms_residual_m)
-                ),
+                sigma_m: com.sigma_m.or(Some(com.rms_residual_m)),
+                info: if com.pendulums > 0 {
+                    format!(
+                        "centre of mass: {}\nfrom {}; the pendulums' planes pass within {} (rms) \
+                         of it",
+                        v3(&com.point),
+                        com.learnt_from(),
+                        mm(com.rms_residual_m)
+                    )
+                } else {
+                    format!(
+                        "centre of mass: {}\nfrom {}",
+                        v3(&com.point),
+                        com.learnt_from()
+                    )
+                },
             }),
             None => notes.push(
                 "centre of mass: unknown (it needs the pendulums of topples about at least two \
-                 non-parallel edges)"
+                 non-parallel edges, or tosses that spin in flight)"
                     .into(),
             ),
         }

@@ -174,7 +174,8 @@ impl PyTree {
         array2(py, rows, 11)
     }
 
-    /// The centre of mass [m], a (3,) array, or None when the pendulums do not determine it.
+    /// The centre of mass [m], a (3,) array, or None when neither the pendulums nor the flights
+    /// determine it.
     #[getter]
     fn com<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
         self.tree

@@ -11,6 +11,7 @@
 
 mod common;
 
+use objmodel::learn::{Config, Learner, Source};
 use objmodel::observation::Observation;
 use std::path::PathBuf;
 
@@ -87,6 +88,35 @@ fn a_tosss_roll_is_told_from_a_flight_by_the_centre_of_mass_of_the_others_flight
             .iter()
             .any(|p| p.com_estimate.is_some()))
         .all(|o| o.classification.com_shared.is_none()));
+}
+
+/// The same rolls learnt into a model that holds the other tosses already (a later session):
+/// the model's flights and support serve as the other demonstrations' did, and each roll
+/// teaches its edge.
+#[test]
+fn a_later_tosss_roll_takes_the_centre_of_mass_of_the_models_flights() {
+    const ROLLS: [&str; 2] = [
+        "weighted_toss_mocap_s24.tum",
+        "weighted_toss_mocap_s234.tum",
+    ];
+    let all = common::tum_files(&format!("{DIR}/weighted"));
+    let (earlier, later): (Vec<PathBuf>, Vec<PathBuf>) = all
+        .iter()
+        .cloned()
+        .partition(|p| !ROLLS.iter().any(|r| p.ends_with(r)));
+    let (mut tree, _) = common::learn_files(&earlier);
+    assert!(tree.com.as_ref().is_some_and(|c| c.flights > 0));
+    let sources: Vec<Source> = later.iter().map(Source::file).collect();
+    let reports = Learner::new(Config::default())
+        .learn(&mut tree, &sources)
+        .unwrap();
+    for roll in ROLLS {
+        let o = common::report(&reports, roll);
+        assert!(o.classification.com_shared.is_some(), "{roll}");
+        assert_eq!(taught_rolls(o), 1, "{roll}: {:?}", o.classification.rolls);
+    }
+    let truth = common::box_truth(&format!("{DIR}/weighted.truth.json"));
+    common::assert_tree_on_box(&tree, &truth, DIR);
 }
 
 #[test]

@@ -94,6 +94,7 @@ pub fn analytic_box(offsets: bool) -> Tree {
         covariance: None,
         sigma_m: None,
         chi2_per_dof: None,
+        ..Default::default()
     });
     tree.shape = reconstruct(&tree.learnt_faces()).ok();
     tree.contradictions = tree.contradictions();

@@ -412,7 +412,7 @@ pub struct Part {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub withheld: Option<String>,
     /// A flight's centre of mass, when the flight turned enough to determine it (object frame;
-    /// not fused into the tree).
+    /// the tree pools those of all its demonstrations: `tree/flights.rs`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub com_estimate: Option<crate::flight::ComEstimate>,
 }

@@ -77,27 +77,24 @@ impl Body {
         let outside = |c: &Vector3<f64>| shape.outside(c).map_or(0.0, |(d, _)| d);
         let com = match &tree.com {
             Some(c) if outside(&c.point) <= 0.0 => {
-                notes.push(format!(
-                    "centre of mass: learnt from {} pendulums",
-                    c.pendulums
-                ));
+                notes.push(format!("centre of mass: learnt from {}", c.learnt_from()));
                 c.point
             }
             Some(c) => {
                 notes.push(format!(
                     "centre of mass: the shape's centroid at uniform density; the one learnt \
-                     from {} pendulums lies {:.1} mm outside the shape, so they contradict \
-                     each other and it is not used",
-                    c.pendulums,
+                     from {} lies {:.1} mm outside the shape, so they contradict each other \
+                     and it is not used",
+                    c.learnt_from(),
                     outside(&c.point) * 1e3
                 ));
                 uniform.centroid
             }
             None => {
                 notes.push(
-                    "centre of mass: the shape's centroid at uniform density (the pendulums do \
-                     not determine it: toppling demonstrations about three edges of different \
-                     directions would)"
+                    "centre of mass: the shape's centroid at uniform density (neither \
+                     pendulums nor flights determine it: toppling demonstrations about three \
+                     edges of different directions would, or tosses that spin in flight)"
                         .to_string(),
                 );
                 uniform.centroid
@@ -246,6 +243,7 @@ mod tests {
                 covariance: None,
                 sigma_m: None,
                 chi2_per_dof: None,
+                ..Default::default()
             });
             let body = Body::from_tree(&tree, 1.0, None).unwrap();
             assert_eq!(body.com == point, used);

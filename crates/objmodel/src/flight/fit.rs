@@ -65,6 +65,11 @@ pub struct FlightFit {
     pub com: Vector3<f64>,
     /// Its covariance \[m²\].
     pub com_cov: Matrix3<f64>,
+    /// How `com` moves with the gravity the fit was given: `∂c/∂g` \[m / (m/s²)\], column `k`
+    /// the change of `c` (object frame) per unit change of gravity's world component `k`.
+    /// A gravity whose direction is off by 1° moves a slowly turning flight's `c` by
+    /// millimetres ([`crate::shared_com`] takes it into account).
+    pub com_gravity_sensitivity: Matrix3<f64>,
     /// Whether the data determine `c`: the prior's weight is below 1% of the data's in every
     /// direction, and its standard deviation is at most [`COM_SD_MAX_M`] (the object turned
     /// enough over the window, about more than one axis).
@@ -144,6 +149,8 @@ fn fit_with(
                 .unwrap_or_else(|| Matrix3::identity() / var_p)
         };
         let (mut n, mut rhs) = (M9::zeros(), V9::zeros());
+        // ∂rhs/∂g: the right-hand side's derivative with respect to gravity.
+        let mut rhs_g = SMatrix::<f64, 9, 3>::zeros();
         for f in frames {
             let (r, w) = (&f.rotation, weight(&f.rotation));
             let tau = f.t - t_mid;
@@ -154,6 +161,8 @@ fn fit_with(
                 let bw = ba.transpose() * w;
                 let mut r = rhs.fixed_rows_mut::<3>(3 * a);
                 r += bw * y;
+                let mut rg = rhs_g.fixed_rows_mut::<3>(3 * a);
+                rg += bw * (0.5 * tau * tau);
                 for (b, bb) in blocks.iter().enumerate().skip(a) {
                     let m = bw * bb;
                     let mut ab = n.fixed_view_mut::<3, 3>(3 * a, 3 * b);
@@ -192,6 +201,7 @@ fn fit_with(
         out = Some(FlightFit {
             com,
             com_cov: cov_c,
+            com_gravity_sensitivity: (inv * rhs_g).fixed_rows::<3>(0).into_owned(),
             com_determined: determined,
             x0,
             v0,

@@ -66,6 +66,10 @@ pub struct ComEstimate {
     pub point: Vector3<f64>,
     /// Its covariance \[m²\].
     pub covariance: Matrix3<f64>,
+    /// How the point moves with the gravity it was measured under: `∂point/∂g` (see
+    /// [`FlightFit::com_gravity_sensitivity`]).
+    #[serde(default = "Matrix3::zeros")]
+    pub gravity_sensitivity: Matrix3<f64>,
     /// Frames of the flight it was fitted to.
     pub frames: usize,
 }

@@ -91,6 +91,7 @@ pub fn mark_flights(c: &mut Classification, recording: &Recording, config: &Conf
                 com: f.fit.com_determined.then(|| ComEstimate {
                     point: f.fit.com,
                     covariance: f.fit.com_cov,
+                    gravity_sensitivity: f.fit.com_gravity_sensitivity,
                     frames: f.last + 1 - f.first,
                 }),
                 taught: Vec::new(),
@@ -321,6 +322,7 @@ mod com_agreement_tests {
             com: Some(ComEstimate {
                 point: Vector3::new(x, 0.01, -0.02),
                 covariance: Matrix3::identity() * sigma * sigma,
+                gravity_sensitivity: Matrix3::zeros(),
                 frames: 40,
             }),
             taught: Vec::new(),

@@ -7,18 +7,19 @@ use crate::flight::ComEstimate;
 use crate::observation::Observation;
 use crate::shared_com::{shared_com, SharedCom};
 use crate::support::{SupportHeight, SupportObservation};
-use crate::tree::MATCH_ALPHA;
+use crate::tree::{Tree, MATCH_ALPHA};
 use crate::Result;
 
 impl Learner {
     /// Where a direct demonstration flew and its own flights do not determine the centre of
     /// mass (a roll of it is then not told from a flight: `crate::roll`), observe it again
     /// with the centre of mass that the flights of all the demonstrations `observed` agree on
-    /// ([`shared_com`]), and keep that observation where it teaches more rolls, each of them
-    /// on the support that the demonstrations measured without it, saying so. Nothing is
-    /// shared where the centre of mass is given already, where the flights do not agree, or
-    /// where no support is known (none given, and the demonstrations' measurements of it are
-    /// fewer than two or disagree).
+    /// ([`shared_com`]), with those of the demonstrations in `tree` already (but for any the
+    /// same poses replace), and keep that observation where it teaches more rolls, each of them
+    /// on the support that the demonstrations (and those in `tree`) measured without it, saying
+    /// so. Nothing is shared where the centre of mass is given already, where the flights do
+    /// not agree, or where no support is known (none given, and the demonstrations'
+    /// measurements of it are fewer than two or disagree).
     ///
     /// Why the support: a rotation about a fixed point (a box spinning on one corner) passes
     /// for a rotation about a fixed line over a few frames, and where the centre of mass rules
@@ -33,11 +34,12 @@ impl Learner {
         &self,
         sources: &[Source],
         observed: &mut [Vec<Observation>],
+        tree: &Tree,
     ) -> Result<()> {
         if self.config.robust.com.is_some() {
             return Ok(());
         }
-        let flights: Vec<(usize, ComEstimate)> = observed
+        let mut flights: Vec<(usize, ComEstimate)> = observed
             .iter()
             .flatten()
             .enumerate()
@@ -49,14 +51,22 @@ impl Learner {
                     .map(move |e| (k, e.clone()))
             })
             .collect();
+        flights.extend(earlier_flights(tree, observed));
         let Some(shared) = shared_com(&flights) else {
             return Ok(());
         };
+        let replaced = replaced_in(tree, observed);
         let measured: Vec<SupportObservation> = observed
             .iter()
             .flatten()
             .flat_map(|o| o.classification.support_observations())
             .chain(self.support.clone())
+            .chain(
+                tree.supports
+                    .iter()
+                    .filter(|o| !replaced.contains(&o.demo))
+                    .cloned(),
+            )
             .collect();
         let Some(support) = SupportHeight::fuse(&measured, MATCH_ALPHA) else {
             return Ok(());
@@ -101,6 +111,36 @@ impl Learner {
         }
         Ok(())
     }
+}
+
+/// The names of the demonstrations in `tree` whose poses are `observed` again (they will be
+/// replaced).
+fn replaced_in(tree: &Tree, observed: &[Vec<Observation>]) -> Vec<String> {
+    let again: Vec<&String> = observed
+        .iter()
+        .flatten()
+        .filter_map(|o| o.fingerprint.as_ref())
+        .collect();
+    tree.demos
+        .iter()
+        .filter(|d| d.fingerprint.as_ref().is_some_and(|f| again.contains(&f)))
+        .map(|d| d.name.clone())
+        .collect()
+}
+
+/// The flights of the demonstrations learnt into `tree` before, but for those `observed` again
+/// (the same poses replace them), each with an index of its demonstration past `observed`'s.
+fn earlier_flights(tree: &Tree, observed: &[Vec<Observation>]) -> Vec<(usize, ComEstimate)> {
+    let replaced = replaced_in(tree, observed);
+    let first = observed.iter().map(Vec::len).sum::<usize>();
+    tree.flights
+        .iter()
+        .filter(|f| !replaced.contains(&f.demo))
+        .map(|f| {
+            let k = tree.demos.iter().position(|d| d.name == f.demo);
+            (first + k.unwrap_or(tree.demos.len()), f.estimate())
+        })
+        .collect()
 }
 
 /// Whether a demonstration's rolls would be told from its flights by a shared centre of mass:

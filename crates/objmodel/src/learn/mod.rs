@@ -614,7 +614,7 @@ impl Learner {
         }
         let observed = &sources[..per_source.len()];
         self.share_noise(observed, &mut per_source)?;
-        self.share_com(observed, &mut per_source)?;
+        self.share_com(observed, &mut per_source, tree)?;
         let contradicted = if self.gravity_checked {
             self.check_gravity(observed, &per_source)?
         } else {

@@ -1,5 +1,12 @@
 //! A face never seen, inferred opposite a seen one (see the [parent module](super)): parallel
 //! to it, with the centre of mass halfway between them.
+//!
+//! Halfway holds for uniform density; a box with a weight inside has its centre of mass
+//! anywhere between its faces (the simulator's `weighted` box: 20 mm off the middle of 80 mm).
+//! The inferred face's σ holds that: the centre of mass is taken to lie at a fraction `u` of
+//! the thickness `T` from the seen face, `u = ½ ± `[`COM_FRACTION_SIGMA`] (uniformly anywhere
+//! in the middle half), so that `T = h / u` (`h` its height above the seen face) is known to
+//! `4 h σ_u` (0.58 `h`), besides the seen face's offset and the centre of mass's own σ.
 
 use super::{reconstruct, Incomplete, LearntFace, Shape};
 use nalgebra::Vector3;
@@ -13,6 +20,10 @@ pub fn opposite_id(id: &str) -> String {
 /// for opposite faces, and an open direction this close to a missing face's normal is that
 /// face's.
 pub const OPPOSITE_RAD: f64 = 0.349_065_850_398_865_9;
+
+/// Standard deviation of where, as a fraction of the thickness between two opposite faces, an
+/// object's centre of mass lies: uniformly anywhere in the middle half (`0.5 / √12`).
+pub const COM_FRACTION_SIGMA: f64 = 0.144_337_567_297_406_43;
 
 /// The shape of [`reconstruct`], closed where it is open by inferring each unseen face whose
 /// opposite was seen, from the centre of mass `com` (object frame \[m\], with its standard
@@ -55,7 +66,10 @@ pub fn reconstruct_inferring(
             normal: -opposite.normal,
             outward: true,
             offset: Some(2.0 * height - d),
-            offset_sigma_m: (opposite.offset_sigma_m.powi(2) + 4.0 * sigma_c * sigma_c).sqrt(),
+            offset_sigma_m: (opposite.offset_sigma_m.powi(2)
+                + 4.0 * sigma_c * sigma_c
+                + (4.0 * height * COM_FRACTION_SIGMA).powi(2))
+            .sqrt(),
             normal_sigma_rad: opposite.normal_sigma_rad,
         });
     }
@@ -73,8 +87,9 @@ pub fn reconstruct_inferring(
             let of = f.id.trim_end_matches("-opposite");
             let why = format!(
                 "face {} was never seen: inferred parallel to its opposite face {of}, with the \
-                 centre of mass halfway between them (uniform density along their normal), \
-                 offset {:.4} m ± {:.1} mm",
+                 centre of mass halfway between them (uniform density along their normal; \
+                 its σ lets the centre of mass lie anywhere in the middle half), offset {:.4} \
+                 m ± {:.1} mm",
                 f.id,
                 f.offset,
                 i.offset_sigma_m * 1e3
@@ -98,8 +113,10 @@ mod tests {
     }
 
     /// A box missing its +x face, with its centre of mass: the face is inferred where the
-    /// uniform box has it, marked so with its assumption and a sigma above the seen faces'.
-    /// Without a CoM, or missing both x faces, it stays open.
+    /// uniform box has it, marked so with its assumption and a sigma above the seen faces':
+    /// the centre of mass's and the density's (a quarter of the box's thickness, 0.2 m, in 1 σ
+    /// where the centre of mass lies halfway). Without a CoM, or missing both x faces, it
+    /// stays open.
     #[test]
     fn an_unseen_face_is_inferred_opposite_a_seen_one() {
         let c = Vector3::new(0.02, -0.03, 0.1);
@@ -115,7 +132,15 @@ mod tests {
         assert_eq!(inferred.len(), 1);
         assert_eq!(inferred[0].id, opposite_id("f1"));
         assert!(inferred[0].normal.x > 0.999);
-        assert!(inferred[0].offset_sigma_m > 4e-3 && inferred[0].offset_sigma_m < 5e-3);
+        let density = 4.0 * 0.1 * COM_FRACTION_SIGMA;
+        let expected = (0.0f64.powi(2) + 4.0 * 2e-3 * 2e-3 + density * density).sqrt();
+        let own = faces[0].offset_sigma_m;
+        assert!(
+            (inferred[0].offset_sigma_m - (expected * expected + own * own).sqrt()).abs() < 1e-12,
+            "{} vs {expected}",
+            inferred[0].offset_sigma_m
+        );
+        assert!(inferred[0].offset_sigma_m > 0.05 && inferred[0].offset_sigma_m < 0.06);
         assert_eq!(s.assumptions.len(), 1);
         assert!(s.assumptions[0].contains("uniform density"));
         // The seen faces keep their own sigma and no mark.

@@ -81,17 +81,7 @@ impl Tree {
                 let chi2 = c * dof as f64;
                 let limit = crate::stats::chi2_threshold(dof as f64, MATCH_ALPHA);
                 if chi2 > limit {
-                    let mut features: Vec<String> = self
-                        .edges
-                        .iter()
-                        .filter(|e| {
-                            e.pendulums
-                                .iter()
-                                .any(|p| p.phi.is_some() && p.com_conflict.is_none())
-                        })
-                        .map(|e| e.id.clone())
-                        .collect();
-                    features.push("com".into());
+                    let features = self.com_features();
                     out.push(Contradiction {
                         features,
                         what: format!(
@@ -104,6 +94,28 @@ impl Tree {
                         ),
                     });
                 }
+            }
+        }
+        // The flights' point and the pendulums' CoM disagree (`tree/com.rs`): the CoM holds
+        // both, its covariance widened.
+        if let Some(com) = &self.com {
+            let limit = crate::stats::chi2_threshold(3.0, MATCH_ALPHA);
+            if let Some(chi2) = com.flights_chi2.filter(|c| *c > limit) {
+                let features = self.com_features();
+                out.push(Contradiction {
+                    features,
+                    what: format!(
+                        "the centre of mass that {} flights of {} demonstrations agree on and \
+                         the one of the {} pendulums disagree beyond their uncertainty (χ² \
+                         {chi2:.1} over 3 degrees of freedom > {limit:.1}): the centre of mass \
+                         holds both, its covariance widened by {:.1}; a gravity off by more \
+                         than a degree, or falls a pusher drove, would do this",
+                        com.flights,
+                        com.flight_demonstrations,
+                        com.pendulums,
+                        chi2 / 3.0
+                    ),
+                });
             }
         }
         if let (Some(com), Some(shape)) = (&self.com, &self.shape) {
@@ -119,6 +131,21 @@ impl Tree {
             }
         }
         out
+    }
+
+    /// The features the CoM rests on, as a contradiction names them: the edges whose pendulums
+    /// are in it, and "com".
+    fn com_features(&self) -> Vec<String> {
+        self.edges
+            .iter()
+            .filter(|e| {
+                e.pendulums
+                    .iter()
+                    .any(|p| p.phi.is_some() && p.com_conflict.is_none())
+            })
+            .map(|e| e.id.clone())
+            .chain(["com".to_string()])
+            .collect()
     }
 
     /// The contradictions between the edge `e` and the object: with a shape, those of

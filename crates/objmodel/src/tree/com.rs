@@ -1,12 +1,22 @@
 //! The tree's centre of mass: from the planes of its pendulums ([`super::com_planes`]), without
-//! those the others contradict.
+//! those the others contradict, and from the point its flights agree on
+//! ([`Tree::flights_com`]).
 //!
-//! The tree's CoM is that of the planes the others do not contradict
+//! The pendulums' CoM is that of the planes the others do not contradict
 //! ([`super::com_without_conflicts`]): a plane beyond its uncertainty from the CoM of the
-//! others is left out, not averaged in.
+//! others is left out, not averaged in. The flights' point is tested against it (χ²₃ at
+//! [`MATCH_ALPHA`], both covariances): where they agree, the planes are tested again with the
+//! point among the others and the CoM holds both. Where they disagree, a minority of wrong
+//! pendulums may be to blame: tested one at a time against the point and the other planes, the
+//! planes left out must be fewer than half, and the rest must agree with the point; else
+//! neither can be singled out (a pusher's drive biases falls, a gravity off biases flights), so
+//! the CoM holds both with its covariance widened by their χ² over its 3 degrees of freedom,
+//! and the tree says so (`tree/checks.rs`). Where the pendulums fix no CoM, the flights' point does, with the
+//! planes there are tested against it.
 
-use super::com_planes::{CentreOfMass, ComPlane, UNKNOWN_PHI_SIGMA_RAD};
-use super::{com_without_conflicts, matrix, ComConflict, Tree, SAME_FACE_RAD};
+use super::com_planes::{com_from, CentreOfMass, ComPlane, ComPoint, UNKNOWN_PHI_SIGMA_RAD};
+use super::{com_without_conflicts, matrix, ComConflict, Tree, MATCH_ALPHA, SAME_FACE_RAD};
+use crate::shared_com::SharedCom;
 
 /// A pendulum left out of the CoM: its place (edge index, pendulum index in that edge) and
 /// what the others say of it.
@@ -59,13 +69,13 @@ impl Tree {
         planes
     }
 
-    /// The CoM from the pendulums that agree (see [`CentreOfMass`] and
-    /// [`super::com_without_conflicts`]), and the places of those left out, with what the
-    /// others say of them; `None` with fewer than three independent planes.
+    /// The CoM from the pendulums that agree and the flights (`com_of`), and the places of
+    /// the pendulums left out, with what the others say of them; `None` where neither fixes
+    /// one.
     pub fn centre_of_mass(&self) -> Option<(CentreOfMass, Vec<LeftOutPendulum>)> {
         let owned = self.com_planes_owned();
         let planes: Vec<ComPlane> = owned.iter().map(|(p, _)| p.clone()).collect();
-        let (com, left_out) = com_without_conflicts(&planes)?;
+        let (com, left_out) = com_of(&planes, self.flights_com().as_ref())?;
         Some((
             com,
             left_out.into_iter().map(|(i, c)| (owned[i].1, c)).collect(),
@@ -84,6 +94,88 @@ impl Tree {
             com
         });
     }
+}
+
+/// χ²₃ of the pendulums' CoM `p` against the flights' point, under both covariances.
+fn agreement(p: &CentreOfMass, f: &SharedCom) -> Option<f64> {
+    let d = p.point - f.point;
+    (p.covariance_matrix()? + f.covariance)
+        .try_inverse()
+        .map(|w| d.dot(&(w * d)))
+}
+
+/// Where the pendulums' CoM and the flights' point disagree: the planes tested one at a time
+/// against the point and the other planes, if that leaves out fewer than half of them and the
+/// planes kept, where they fix a CoM on their own, agree with the point (a wrong pendulum, or
+/// a few, that the point singles out; a wrong point would take most of the planes with it).
+/// The CoM, the planes left out and the kept planes' χ²₃ against the point, if they fix one.
+#[allow(clippy::type_complexity)]
+fn singled_out(
+    planes: &[ComPlane],
+    f: &SharedCom,
+    point: &ComPoint,
+    limit: f64,
+) -> Option<(CentreOfMass, Vec<(usize, ComConflict)>, Option<f64>)> {
+    let (com, left_out) = com_without_conflicts(planes, Some(point))?;
+    if 2 * left_out.len() >= planes.len() {
+        return None;
+    }
+    let kept: Vec<ComPlane> = (0..planes.len())
+        .filter(|i| left_out.iter().all(|(k, _)| k != i))
+        .map(|i| planes[i].clone())
+        .collect();
+    let chi2 = match com_without_conflicts(&kept, None) {
+        Some((p, _)) => Some(agreement(&p, f)?).filter(|c| *c <= limit),
+        None => return Some((com, left_out, None)),
+    };
+    chi2.map(|c| (com, left_out, Some(c)))
+}
+
+/// The CoM of the pendulums' `planes` and the `flights`' point (see the module documentation),
+/// and the planes left out (their indices, with what the others said of them).
+pub(super) fn com_of(
+    planes: &[ComPlane],
+    flights: Option<&SharedCom>,
+) -> Option<(CentreOfMass, Vec<(usize, ComConflict)>)> {
+    let pendulums = com_without_conflicts(planes, None);
+    let Some(f) = flights else {
+        return pendulums;
+    };
+    let point = ComPoint {
+        point: f.point,
+        covariance: f.covariance,
+    };
+    let (mut com, left_out, chi2) = match pendulums {
+        None => {
+            let (com, left_out) = com_without_conflicts(planes, Some(&point))?;
+            (com, left_out, None)
+        }
+        Some((p, left_out)) => {
+            let limit = crate::stats::chi2_threshold(3.0, MATCH_ALPHA);
+            let chi2 = agreement(&p, f)?;
+            if chi2 <= limit {
+                let (com, left_out) = com_without_conflicts(planes, Some(&point))?;
+                (com, left_out, Some(chi2))
+            } else if let Some((com, left_out, chi2)) = singled_out(planes, f, &point, limit) {
+                (com, left_out, chi2)
+            } else {
+                let kept: Vec<ComPlane> = (0..planes.len())
+                    .filter(|i| left_out.iter().all(|(k, _)| k != i))
+                    .map(|i| planes[i].clone())
+                    .collect();
+                let mut com = com_from(&kept, Some(&point))?;
+                let widen = chi2 / 3.0;
+                com.covariance = com.covariance_matrix().map(|c| super::rows(&(c * widen)));
+                com.sigma_m = com.sigma_m.map(|s| s * widen.sqrt());
+                (com, left_out, Some(chi2))
+            }
+        }
+    };
+    com.flights = f.flights;
+    com.flight_demonstrations = f.demonstrations;
+    com.flights_chi2 = chi2;
+    com.flights_gravity_error = Some(f.gravity_error);
+    Some((com, left_out))
 }
 
 #[cfg(test)]

@@ -13,11 +13,15 @@
 //! would have about the others' CoM, with that φ's σ (`√(mᵀ C₋ᵢ m) / l`, `l` the CoM's
 //! distance from the edge), and `z`.
 //!
+//! With the flights' point ([`ComPoint`]), every plane is tested against it and the other
+//! planes together (the point alone fixes a CoM); the point itself is not left out here (it
+//! is tested against the pendulums by the tree, `tree/com.rs`).
+//!
 //! What this catches (measured on the standard data set, `docs/calibration.md`): a fall a
 //! pusher drove through its balance point fits a free pendulum with φ far too low, and such a
 //! pendulum, alone with the others, pulled the CoM by its weight.
 
-use super::com_planes::{com_from_planes, CentreOfMass, ComPlane};
+use super::com_planes::{com_from, CentreOfMass, ComPlane, ComPoint};
 use super::MATCH_ALPHA;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -33,11 +37,12 @@ pub struct ComConflict {
     pub z: f64,
 }
 
-/// The CoM of the planes that agree, and the planes left out (their indices in `planes`, in
-/// the order they were left out, with what the others said); `None` where
-/// [`com_from_planes`] of all the planes is.
+/// The CoM of the planes that agree (with the flights' `point`, if given), and the planes left
+/// out (their indices in `planes`, in the order they were left out, with what the others
+/// said); `None` where [`com_from`] of all the planes is.
 pub fn com_without_conflicts(
     planes: &[ComPlane],
+    point: Option<&ComPoint>,
 ) -> Option<(CentreOfMass, Vec<(usize, ComConflict)>)> {
     let limit = crate::stats::chi2_threshold(1.0, MATCH_ALPHA);
     let mut kept: Vec<usize> = (0..planes.len()).collect();
@@ -49,10 +54,10 @@ pub fn com_without_conflicts(
                 .map(|&i| planes[i].clone())
                 .collect()
         };
-        let com = com_from_planes(&subset(None))?;
+        let com = com_from(&subset(None), point)?;
         let mut worst: Option<(usize, f64, ComConflict)> = None;
         for &i in &kept {
-            let Some(others) = com_from_planes(&subset(Some(i))) else {
+            let Some(others) = com_from(&subset(Some(i)), point) else {
                 continue;
             };
             let Some(cov) = others.covariance_matrix() else {
@@ -151,7 +156,7 @@ mod tests {
     fn planes_that_agree_are_all_kept_and_give_the_com() {
         let (h, com) = test_box();
         let planes = exact_planes(&h, &com, &EDGES, 0.5f64.to_radians());
-        let (c, left_out) = com_without_conflicts(&planes).unwrap();
+        let (c, left_out) = com_without_conflicts(&planes, None).unwrap();
         assert!(left_out.is_empty(), "{left_out:?}");
         assert!((c.point - com).norm() < 1e-9, "{:?}", c.point);
         assert_eq!(c.pendulums, EDGES.len());
@@ -168,7 +173,7 @@ mod tests {
             let mut planes = exact_planes(&h, &com, &EDGES, s);
             let truth = planes[bad].phi;
             planes[bad].phi -= 15f64.to_radians();
-            let (c, left_out) = com_without_conflicts(&planes).unwrap();
+            let (c, left_out) = com_without_conflicts(&planes, None).unwrap();
             assert_eq!(left_out.len(), 1, "plane {bad}: {left_out:?}");
             let (i, conflict) = &left_out[0];
             assert_eq!(*i, bad);
@@ -186,7 +191,7 @@ mod tests {
         let s = 0.5f64.to_radians();
         let mut planes = exact_planes(&h, &com, &EDGES, s);
         planes[0].phi += 2.0 * s;
-        let (c, left_out) = com_without_conflicts(&planes).unwrap();
+        let (c, left_out) = com_without_conflicts(&planes, None).unwrap();
         assert!(left_out.is_empty(), "{left_out:?}");
         assert_eq!(c.pendulums, EDGES.len());
     }
@@ -197,7 +202,7 @@ mod tests {
         let (h, com) = test_box();
         let mut planes = exact_planes(&h, &com, &[EDGES[0], EDGES[2], EDGES[5]], 1e-3);
         planes[0].phi -= 0.3;
-        let (c, left_out) = com_without_conflicts(&planes).unwrap();
+        let (c, left_out) = com_without_conflicts(&planes, None).unwrap();
         assert!(left_out.is_empty());
         assert_eq!(c.pendulums, 3);
     }

@@ -21,6 +21,10 @@
 //! exceeds 1 (the planes disagree more than their sigmas say; it is never shrunk below the
 //! propagated one). Three planes always meet in a point (χ² is 0): their covariance is the
 //! propagated one alone.
+//!
+//! The flights measure the CoM directly ([`crate::shared_com`]): that point, with its
+//! covariance, enters the same least squares as three more equations ([`com_from`]); with it,
+//! any number of planes fixes a point.
 
 use super::{matrix, CONDITION_MIN};
 use crate::geometry::normal_axes;
@@ -30,8 +34,8 @@ use serde::{Deserialize, Serialize};
 /// σ_φ \[rad\] (2°) taken for a pendulum that has no `phi_sigma`.
 pub const UNKNOWN_PHI_SIGMA_RAD: f64 = 0.034_906_585_039_886_59;
 
-/// Where the centre of mass is, from the pendulums (see [`com_from_planes`]).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// Where the centre of mass is, from the pendulums and the flights (see [`com_from`]).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct CentreOfMass {
     /// The CoM in the object frame \[m\].
     pub point: Vector3<f64>,
@@ -49,9 +53,59 @@ pub struct CentreOfMass {
     /// χ² of the planes' residuals per degree of freedom (`N - 3`); absent with three planes.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub chi2_per_dof: Option<f64>,
+    /// Flights whose centres of mass it holds, pooled ([`crate::shared_com`]); 0 where none.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub flights: usize,
+    /// The demonstrations those flights came from.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub flight_demonstrations: usize,
+    /// χ² (3 degrees of freedom) of the flights' point against the pendulums' CoM, where
+    /// both are known (`tree/com.rs`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flights_chi2: Option<f64>,
+    /// What the flights say the gravity the learner was given is off by (given less the one
+    /// they fell with) \[m/s²\], in the poses' frame (`SharedCom::gravity_error`), where
+    /// flights are pooled.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flights_gravity_error: Option<Vector3<f64>>,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
+}
+
+/// A direct measurement of the centre of mass: the point the flights agree on.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ComPoint {
+    /// The point, object frame \[m\].
+    pub point: Vector3<f64>,
+    /// Its covariance \[m²\].
+    pub covariance: Matrix3<f64>,
 }
 
 impl CentreOfMass {
+    /// What it was learnt from, in words: "3 pendulums", "12 flights of 8 demonstrations",
+    /// or both.
+    pub fn learnt_from(&self) -> String {
+        let pendulums = (self.pendulums > 0).then(|| {
+            format!(
+                "{} pendulum{}",
+                self.pendulums,
+                if self.pendulums == 1 { "" } else { "s" }
+            )
+        });
+        let flights = (self.flights > 0).then(|| {
+            format!(
+                "{} flights of {} demonstrations",
+                self.flights, self.flight_demonstrations
+            )
+        });
+        match (pendulums, flights) {
+            (Some(p), Some(f)) => format!("{p} and {f}"),
+            (p, f) => p.or(f).unwrap_or_else(|| "nothing".to_string()),
+        }
+    }
+
     /// The covariance as a matrix, if known.
     pub fn covariance_matrix(&self) -> Option<Matrix3<f64>> {
         self.covariance.as_ref().map(matrix)
@@ -145,27 +199,48 @@ impl ComPlane {
 /// are too close to parallel to fix a point ([`CONDITION_MIN`] on `Σ m mᵀ`: the geometry decides
 /// whether the planes meet in a point, the weights only how well each is known).
 pub fn com_from_planes(planes: &[ComPlane]) -> Option<CentreOfMass> {
-    if planes.len() < 3 {
-        return None;
-    }
+    com_from(planes, None)
+}
+
+/// [`com_from_planes`] with the flights' `point` among the equations, if given: then any
+/// number of planes (none too) gives a point. `chi2_per_dof` stays the planes' own (about the
+/// joint point, over `N - 3`); the point's own agreement with the planes is
+/// [`CentreOfMass::flights_chi2`], which the caller fills.
+pub fn com_from(planes: &[ComPlane], point: Option<&ComPoint>) -> Option<CentreOfMass> {
     let eq: Vec<(Vector3<f64>, f64)> = planes.iter().map(ComPlane::plane).collect();
-    let geometry: Matrix3<f64> = eq.iter().map(|(m, _)| m * m.transpose()).sum();
-    let eig = geometry.symmetric_eigenvalues();
-    if eig.min() < CONDITION_MIN * eig.max() {
-        return None;
-    }
+    let point_info = match point {
+        Some(p) => Some((p.covariance.try_inverse()?, p.point)),
+        None => {
+            if planes.len() < 3 {
+                return None;
+            }
+            let geometry: Matrix3<f64> = eq.iter().map(|(m, _)| m * m.transpose()).sum();
+            let eig = geometry.symmetric_eigenvalues();
+            if eig.min() < CONDITION_MIN * eig.max() {
+                return None;
+            }
+            None
+        }
+    };
     let solve = |var: &[f64]| {
         let (mut a, mut b) = (Matrix3::zeros(), Vector3::zeros());
         for ((m, d), v) in eq.iter().zip(var) {
             a += m * m.transpose() / *v;
             b += m * (d / v);
         }
+        if let Some((w, x)) = &point_info {
+            a += w;
+            b += w * x;
+        }
         let inv = a.try_inverse()?;
         Some((inv * b, inv))
     };
     // The residuals' variances depend on where the CoM is (its distance from each edge):
-    // start from the unweighted point, then re-weight.
-    let (mut x, _) = solve(&vec![1.0; eq.len()])?;
+    // start from the flights' point or the unweighted planes' one, then re-weight.
+    let (mut x, _) = match point {
+        Some(p) => (p.point, Matrix3::zeros()),
+        None => solve(&vec![1.0; eq.len()])?,
+    };
     let mut var = Vec::new();
     let mut cov = Matrix3::zeros();
     for _ in 0..4 {
@@ -176,7 +251,11 @@ pub fn com_from_planes(planes: &[ComPlane]) -> Option<CentreOfMass> {
         (x, cov) = solve(&var)?;
     }
     let resid: Vec<f64> = eq.iter().map(|(m, d)| m.dot(&x) - d).collect();
-    let rms = (resid.iter().map(|r| r * r).sum::<f64>() / eq.len() as f64).sqrt();
+    let rms = if eq.is_empty() {
+        0.0
+    } else {
+        (resid.iter().map(|r| r * r).sum::<f64>() / eq.len() as f64).sqrt()
+    };
     let chi2_per_dof = (eq.len() > 3).then(|| {
         resid.iter().zip(&var).map(|(r, v)| r * r / v).sum::<f64>() / (eq.len() - 3) as f64
     });
@@ -191,5 +270,9 @@ pub fn com_from_planes(planes: &[ComPlane]) -> Option<CentreOfMass> {
         covariance: Some(super::rows(&cov)),
         sigma_m: Some(cov.symmetric_eigenvalues().max().max(0.0).sqrt()),
         chi2_per_dof,
+        flights: 0,
+        flight_demonstrations: 0,
+        flights_chi2: None,
+        flights_gravity_error: None,
     })
 }

@@ -1,5 +1,6 @@
 use super::*;
 use crate::tree::com_from_planes;
+use crate::tree::MATCH_ALPHA;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use rand::{rngs::StdRng, Rng, SeedableRng};
 use rand_distr::StandardNormal;
@@ -179,4 +180,102 @@ fn planes_through_one_line_fix_no_point() {
     // Three edges along the box's y axis.
     let edges = [(2, -1.0, 0, 1.0), (2, -1.0, 0, -1.0), (0, 1.0, 2, 1.0)];
     assert!(com_from_planes(&planes(&h, &rot, &com, &edges, zero, &mut rng)).is_none());
+}
+
+/// Pendulums known well: 0.3°, 0.3 mm.
+const PRECISE: Sigmas = Sigmas {
+    phi: 0.005,
+    point: 3e-4,
+    axis: 0.005,
+    normal: 0.005,
+};
+
+/// The flights' point as the pooling gives it: `point` with covariance `sigma² I`.
+fn flights_at(point: Vector3<f64>, sigma: f64) -> crate::shared_com::SharedCom {
+    crate::shared_com::SharedCom {
+        point,
+        covariance: Matrix3::identity() * sigma * sigma,
+        flights: 12,
+        flights_seen: 15,
+        demonstrations: 9,
+        gravity_error: Vector3::zeros(),
+    }
+}
+
+/// With the flights' point, any number of pendulums gives a CoM (none, one, two: too few
+/// alone), and the covariance stays honest: the error along each eigen-axis, in its sigmas,
+/// has median |z| near 0.674 and none beyond 5, for points known better and worse than the
+/// planes.
+#[test]
+fn the_flights_point_with_any_pendulums_gives_an_honest_centre_of_mass() {
+    let s = Sigmas {
+        phi: 0.01,
+        point: 1e-3,
+        axis: 0.01,
+        normal: 0.01,
+    };
+    for (n, sigma_f) in [(0, 1e-3), (1, 1e-3), (2, 3e-3), (3, 0.3e-3), (5, 2e-3)] {
+        let mut rng = StdRng::seed_from_u64(40 + n as u64);
+        let mut z = Vec::new();
+        for _ in 0..1000 {
+            let (h, rot, com) = random_box(&mut rng);
+            let p = planes(&h, &rot, &com, &EDGES[..n], s, &mut rng);
+            let noise: Vector3<f64> =
+                Vector3::from_fn(|_, _| rng.sample::<f64, _>(StandardNormal) * sigma_f);
+            let (c, left_out) = com_of(&p, Some(&flights_at(com + noise, sigma_f))).unwrap();
+            assert_eq!((c.pendulums + left_out.len(), c.flights), (n, 12));
+            z.extend(c.standardised_error(&com).unwrap().iter().map(|x| x.abs()));
+        }
+        z.sort_by(f64::total_cmp);
+        let median = z[z.len() / 2];
+        // With more than three planes the covariance is inflated by χ²/dof when above 1.
+        let lo = if n > 3 { 0.55 } else { 0.6 };
+        assert!(median > lo && median < 0.75, "{n} planes: median {median}");
+        assert!(z.last().unwrap() < &5.0, "{n}: max {}", z.last().unwrap());
+    }
+}
+
+/// A flights' point 20 mm from five pendulums that agree with each other: neither is dropped,
+/// the CoM's covariance is widened by their χ² over 3, which the CoM says (`flights_chi2`, the
+/// tree's contradiction), and both the pendulums' CoM and the point are within 5 of its σ.
+#[test]
+fn a_flights_point_that_disagrees_with_the_pendulums_widens_the_centre_of_mass() {
+    let mut rng = StdRng::seed_from_u64(11);
+    let s = PRECISE;
+    let (h, rot, com) = random_box(&mut rng);
+    let p = planes(&h, &rot, &com, &EDGES, s, &mut rng);
+    let off = com + Vector3::new(0.02, 0.0, 0.0);
+    let (c, left_out) = com_of(&p, Some(&flights_at(off, 5e-4))).unwrap();
+    assert!(left_out.is_empty(), "{left_out:?}");
+    let chi2 = c.flights_chi2.unwrap();
+    assert!(
+        chi2 > crate::stats::chi2_threshold(3.0, MATCH_ALPHA),
+        "{chi2}"
+    );
+    assert_eq!(c.pendulums, EDGES.len());
+    for x in [com, off] {
+        let z = c.standardised_error(&x).unwrap();
+        assert!(z.amax() < 5.0, "{x:?}: {z:?}");
+    }
+    // Agreeing, the same point is not widened.
+    let (agree, _) = com_of(&p, Some(&flights_at(com, 5e-4))).unwrap();
+    assert!(agree.flights_chi2.unwrap() < 16.0);
+    assert!(agree.sigma_m.unwrap() < 0.5 * c.sigma_m.unwrap());
+}
+
+/// Three pendulums always meet and cannot contradict each other; with the flights' point they
+/// can: one φ 15° off is left out, and the CoM is the others' with the point.
+#[test]
+fn with_the_flights_point_a_wrong_pendulum_among_three_is_left_out() {
+    let mut rng = StdRng::seed_from_u64(5);
+    let s = PRECISE;
+    let (h, rot, com) = random_box(&mut rng);
+    let mut p = planes(&h, &rot, &com, &EDGES[..3], s, &mut rng);
+    p[1].phi -= 15f64.to_radians();
+    let (alone, none) = com_of(&p, None).unwrap();
+    assert!(none.is_empty() && (alone.point - com).norm() > 2e-3);
+    let (c, left_out) = com_of(&p, Some(&flights_at(com, 5e-4))).unwrap();
+    assert_eq!(left_out.len(), 1, "{left_out:?}");
+    assert_eq!(left_out[0].0, 1);
+    assert!((c.point - com).norm() < 2e-3, "{:?}", c.point);
 }

@@ -42,6 +42,8 @@ mod edge;
 mod edge_faces;
 mod face;
 mod file;
+mod flight_com;
+mod flights;
 mod landing;
 mod landing_edges;
 mod pendulum_fusion;
@@ -52,10 +54,13 @@ mod tolerances;
 mod unconfirmed;
 mod withheld_edge;
 pub use com_conflicts::{com_without_conflicts, ComConflict};
-pub use com_planes::{com_from_planes, CentreOfMass, ComPlane, UNKNOWN_PHI_SIGMA_RAD};
+pub use com_planes::{
+    com_from, com_from_planes, CentreOfMass, ComPlane, ComPoint, UNKNOWN_PHI_SIGMA_RAD,
+};
 pub use contradiction::Contradiction;
 pub use edge::{Edge, EdgeEstimate};
 pub use face::{Evidence, Face};
+pub use flight_com::FlightCom;
 pub use pendulums::{Pendulum, PendulumObservation};
 use serde::{Deserialize, Serialize};
 pub(crate) use tolerances::{angle, matrix, rows};
@@ -136,7 +141,7 @@ pub struct Tree {
     pub faces: Vec<Face>,
     /// Demonstrations learnt from, in order.
     pub demos: Vec<DemoRecord>,
-    /// The centre of mass, when the pendulums determine it.
+    /// The centre of mass, when the pendulums or the flights determine it (`tree/com.rs`).
     #[serde(default)]
     pub com: Option<CentreOfMass>,
     /// The object's shape, when the faces with known offsets close one ([`crate::shape`]).
@@ -170,6 +175,10 @@ pub struct Tree {
     /// on the support).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub support: Option<crate::support::SupportHeight>,
+    /// The centres of mass the demonstrations' flights measured, each under its demonstration
+    /// (`tree/flights.rs`); pooled into `com`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub flights: Vec<FlightCom>,
     /// Edges held back: the faces the landings show contradict them
     /// (`tree/landing_edges.rs`). They are not in `edges`, the shape or the plans.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -194,6 +203,7 @@ impl Default for Tree {
             landings: Vec::new(),
             supports: Vec::new(),
             support: None,
+            flights: Vec::new(),
             withheld_edges: Vec::new(),
         }
     }
@@ -263,6 +273,7 @@ impl Tree {
                     ..o
                 }
             }));
+        self.add_flights(&name, c);
         self.add_landings(
             c.landings()
                 .into_iter()
@@ -390,6 +401,7 @@ impl Tree {
         self.landings = kept;
         self.refit_landings(&gone);
         self.supports.retain(|o| o.demo != name);
+        self.flights.retain(|o| o.demo != name);
         self.faces
             .iter_mut()
             .for_each(|f| f.observations.retain(|o| o.demo != name));

@@ -219,6 +219,7 @@ mod tests {
             covariance: None,
             sigma_m: None,
             chi2_per_dof: None,
+            ..Default::default()
         });
         let shape = tree.reconstruct_shape().unwrap();
         assert_eq!(shape.faces.len(), 6);
