@@ -11,8 +11,8 @@
 //! planes left out must be fewer than half, and the rest must agree with the point; else
 //! neither can be singled out (a pusher's drive biases falls, a gravity off biases flights), so
 //! the CoM holds both with its covariance widened by their χ² over its 3 degrees of freedom,
-//! and the tree says so (`tree/checks.rs`). Where the pendulums fix no CoM, the flights' point does, with the
-//! planes there are tested against it.
+//! and the tree says so (`tree/checks.rs`). Where the pendulums fix no CoM, the flights' point
+//! does, and the planes there are tested against it.
 
 use super::com_planes::{com_from, CentreOfMass, ComPlane, ComPoint, UNKNOWN_PHI_SIGMA_RAD};
 use super::{com_without_conflicts, matrix, ComConflict, Tree, MATCH_ALPHA, SAME_FACE_RAD};
