@@ -133,7 +133,7 @@ mod tests {
         assert_eq!(inferred[0].id, opposite_id("f1"));
         assert!(inferred[0].normal.x > 0.999);
         let density = 4.0 * 0.1 * COM_FRACTION_SIGMA;
-        let expected = (0.0f64.powi(2) + 4.0 * 2e-3 * 2e-3 + density * density).sqrt();
+        let expected = (4.0 * 2e-3 * 2e-3 + density * density).sqrt();
         let own = faces[0].offset_sigma_m;
         assert!(
             (inferred[0].offset_sigma_m - (expected * expected + own * own).sqrt()).abs() < 1e-12,
