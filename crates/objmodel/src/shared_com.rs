@@ -156,14 +156,20 @@ impl Pooled {
         (crate::pendulum::G * GRAVITY_SIGMA_RAD).powi(2)
     }
 
-    /// Flight `e`'s residual `cᵢ − c − Sᵢ δg` and its covariance (its own and the estimate's).
-    fn residual(&self, e: &ComEstimate) -> (Vector3<f64>, Matrix3<f64>) {
-        let s = &e.gravity_sensitivity;
-        let d = e.point - self.point - s * self.gravity_error;
+    /// `∂cᵢ/∂(c, δg) = [I, Sᵢ]` of flight `e`.
+    fn jacobian(e: &ComEstimate) -> SMatrix<f64, 3, 6> {
         let mut j = SMatrix::<f64, 3, 6>::zeros();
         j.fixed_view_mut::<3, 3>(0, 0)
             .copy_from(&Matrix3::identity());
-        j.fixed_view_mut::<3, 3>(0, 3).copy_from(s);
+        j.fixed_view_mut::<3, 3>(0, 3)
+            .copy_from(&e.gravity_sensitivity);
+        j
+    }
+
+    /// Flight `e`'s residual `cᵢ − c − Sᵢ δg` and its covariance (its own and the estimate's).
+    fn residual(&self, e: &ComEstimate) -> (Vector3<f64>, Matrix3<f64>) {
+        let d = e.point - self.point - e.gravity_sensitivity * self.gravity_error;
+        let j = Self::jacobian(e);
         (d, e.covariance + j * self.covariance * j.transpose())
     }
 
@@ -182,11 +188,7 @@ impl Pooled {
         let (mut n, mut b) = (SMatrix::<f64, 6, 6>::zeros(), SVector::<f64, 6>::zeros());
         for e in flights {
             let w = e.covariance.try_inverse()?;
-            let mut j = SMatrix::<f64, 3, 6>::zeros();
-            j.fixed_view_mut::<3, 3>(0, 0)
-                .copy_from(&Matrix3::identity());
-            j.fixed_view_mut::<3, 3>(0, 3)
-                .copy_from(&e.gravity_sensitivity);
+            let j = Self::jacobian(e);
             n += j.transpose() * w * j;
             b += j.transpose() * (w * e.point);
         }

@@ -6,9 +6,8 @@
 mod common;
 
 use nalgebra::Vector3;
-use objmodel::learn::{Config, Learner, Source};
+use objmodel::learn::Config;
 use objmodel::tree::Tree;
-use std::path::PathBuf;
 
 const DIR: &str = "rapier_tosses/shared_com";
 
@@ -21,11 +20,6 @@ fn true_com(b: &str) -> Vector3<f64> {
     )
     .unwrap();
     common::vec3(&truth["com"])
-}
-
-fn learn_with(config: Config, tree: &mut Tree, paths: &[PathBuf]) {
-    let sources: Vec<Source> = paths.iter().map(Source::file).collect();
-    Learner::new(config).learn(tree, &sources).unwrap();
 }
 
 /// The tree's CoM against the truth: its error and χ²₃ under its covariance.
@@ -66,8 +60,8 @@ fn flights_learnt_in_two_sessions_pool_and_two_demonstrations_are_too_few() {
     let (at_once, _) = common::learn_files(&all);
     let mut tree = Tree::default();
     let (first, second) = all.split_at(all.len() / 2);
-    learn_with(Config::default(), &mut tree, first);
-    learn_with(Config::default(), &mut tree, second);
+    common::learn_into(Config::default(), &mut tree, first);
+    common::learn_into(Config::default(), &mut tree, second);
     let (a, b) = (at_once.com.unwrap(), tree.com.clone().unwrap());
     assert_eq!(a.flights, b.flights);
     assert!((a.point - b.point).norm() < 1e-9, "{a:?} {b:?}");
@@ -98,7 +92,7 @@ fn a_gravity_off_by_two_degrees_is_estimated_with_the_centre_of_mass() {
         gravity: Some(given),
         ..Config::default()
     };
-    learn_with(config, &mut tree, &all);
+    common::learn_into(config, &mut tree, &all);
     let (err, chi2) = error(&tree, &true_com("brick"));
     assert!(err < 1e-3 && chi2 < CHI2_3, "{err} m, χ²₃ {chi2}");
     let said = tree.com.unwrap().flights_gravity_error.unwrap();

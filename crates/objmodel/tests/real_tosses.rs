@@ -14,14 +14,9 @@ use std::path::PathBuf;
 
 const DIR: &str = "contactnets_tosses";
 
+/// The tosses' files, sorted by name.
 fn tosses() -> Vec<PathBuf> {
-    let mut paths: Vec<PathBuf> = std::fs::read_dir(common::data(DIR))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "tum"))
-        .collect();
-    paths.sort();
-    paths
+    common::tum_files(DIR)
 }
 
 /// The 58 tosses learnt together by `learner`: the tree and each toss's report, in the order

@@ -11,7 +11,7 @@
 
 mod common;
 
-use objmodel::learn::{Config, Learner, Source};
+use objmodel::learn::Config;
 use objmodel::observation::Observation;
 use std::path::PathBuf;
 
@@ -106,10 +106,7 @@ fn a_later_tosss_roll_takes_the_centre_of_mass_of_the_models_flights() {
         .partition(|p| !ROLLS.iter().any(|r| p.ends_with(r)));
     let (mut tree, _) = common::learn_files(&earlier);
     assert!(tree.com.as_ref().is_some_and(|c| c.flights > 0));
-    let sources: Vec<Source> = later.iter().map(Source::file).collect();
-    let reports = Learner::new(Config::default())
-        .learn(&mut tree, &sources)
-        .unwrap();
+    let reports = common::learn_into(Config::default(), &mut tree, &later);
     for roll in ROLLS {
         let o = common::report(&reports, roll);
         assert!(o.classification.com_shared.is_some(), "{roll}");

@@ -51,11 +51,11 @@ impl Learner {
                     .map(move |e| (k, e.clone()))
             })
             .collect();
-        flights.extend(earlier_flights(tree, observed));
+        let replaced = replaced_in(tree, observed);
+        flights.extend(earlier_flights(tree, &replaced, observed));
         let Some(shared) = shared_com(&flights) else {
             return Ok(());
         };
-        let replaced = replaced_in(tree, observed);
         let measured: Vec<SupportObservation> = observed
             .iter()
             .flatten()
@@ -128,10 +128,14 @@ fn replaced_in(tree: &Tree, observed: &[Vec<Observation>]) -> Vec<String> {
         .collect()
 }
 
-/// The flights of the demonstrations learnt into `tree` before, but for those `observed` again
-/// (the same poses replace them), each with an index of its demonstration past `observed`'s.
-fn earlier_flights(tree: &Tree, observed: &[Vec<Observation>]) -> Vec<(usize, ComEstimate)> {
-    let replaced = replaced_in(tree, observed);
+/// The flights of the demonstrations learnt into `tree` before, but for the `replaced` ones
+/// (observed again: the same poses replace them), each with an index of its demonstration past
+/// `observed`'s.
+fn earlier_flights(
+    tree: &Tree,
+    replaced: &[String],
+    observed: &[Vec<Observation>],
+) -> Vec<(usize, ComEstimate)> {
     let first = observed.iter().map(Vec::len).sum::<usize>();
     tree.flights
         .iter()

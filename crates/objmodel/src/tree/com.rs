@@ -96,6 +96,14 @@ impl Tree {
     }
 }
 
+/// The `planes` but those `left_out`.
+fn without(planes: &[ComPlane], left_out: &[(usize, ComConflict)]) -> Vec<ComPlane> {
+    (0..planes.len())
+        .filter(|i| left_out.iter().all(|(k, _)| k != i))
+        .map(|i| planes[i].clone())
+        .collect()
+}
+
 /// χ²₃ of the pendulums' CoM `p` against the flights' point, under both covariances.
 fn agreement(p: &CentreOfMass, f: &SharedCom) -> Option<f64> {
     let d = p.point - f.point;
@@ -120,10 +128,7 @@ fn singled_out(
     if 2 * left_out.len() >= planes.len() {
         return None;
     }
-    let kept: Vec<ComPlane> = (0..planes.len())
-        .filter(|i| left_out.iter().all(|(k, _)| k != i))
-        .map(|i| planes[i].clone())
-        .collect();
+    let kept = without(planes, &left_out);
     let chi2 = match com_without_conflicts(&kept, None) {
         Some((p, _)) => Some(agreement(&p, f)?).filter(|c| *c <= limit),
         None => return Some((com, left_out, None)),
@@ -159,10 +164,7 @@ pub(super) fn com_of(
             } else if let Some((com, left_out, chi2)) = singled_out(planes, f, &point, limit) {
                 (com, left_out, chi2)
             } else {
-                let kept: Vec<ComPlane> = (0..planes.len())
-                    .filter(|i| left_out.iter().all(|(k, _)| k != i))
-                    .map(|i| planes[i].clone())
-                    .collect();
+                let kept = without(planes, &left_out);
                 let mut com = com_from(&kept, Some(&point))?;
                 let widen = chi2 / 3.0;
                 com.covariance = com.covariance_matrix().map(|c| super::rows(&(c * widen)));

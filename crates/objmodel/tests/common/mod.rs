@@ -153,13 +153,21 @@ pub fn learn_files(
     objmodel::tree::Tree,
     Vec<objmodel::observation::Observation>,
 ) {
-    use objmodel::learn::{Config, Learner, Source};
-    let sources: Vec<Source> = paths.iter().map(Source::file).collect();
     let mut tree = objmodel::tree::Tree::default();
-    let reports = Learner::new(Config::default())
-        .learn(&mut tree, &sources)
-        .unwrap();
+    let reports = learn_into(objmodel::learn::Config::default(), &mut tree, paths);
     (tree, reports)
+}
+
+/// `paths` learnt together under `config` (no palm) into `tree`: each file's report.
+#[allow(dead_code)]
+pub fn learn_into(
+    config: objmodel::learn::Config,
+    tree: &mut objmodel::tree::Tree,
+    paths: &[PathBuf],
+) -> Vec<objmodel::observation::Observation> {
+    use objmodel::learn::{Learner, Source};
+    let sources: Vec<Source> = paths.iter().map(Source::file).collect();
+    Learner::new(config).learn(tree, &sources).unwrap()
 }
 
 /// The report of the demonstration named `name` among `reports`.
