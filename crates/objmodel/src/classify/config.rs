@@ -106,7 +106,8 @@ pub struct RobustConfig {
     /// The object's centre of mass that the flights of the demonstrations learnt together
     /// measured ([`crate::shared_com`]), set by the learner: a roll in a demonstration with a
     /// flight is told from a flight by it where the demonstration's own flights do not
-    /// determine the point ([`crate::roll`]).
+    /// determine the point ([`crate::roll`]), and the flights are flights of it
+    /// ([`crate::flight`]).
     #[serde(skip)]
     pub com: Option<crate::shared_com::SharedCom>,
 }

@@ -86,6 +86,22 @@ pub struct FlightFit {
     pub dof: f64,
 }
 
+/// A centre of mass known before a window is fitted: the point the flights of the
+/// demonstrations learnt together agree on ([`crate::shared_com`]), with its covariance, and
+/// the acceleration those flights fell with (the gravity given less the error they measured in
+/// it). With it, a window is a flight of *that* point: over a short window a flight's own
+/// point can absorb frames that are no flight (a box that lands on an edge and rolls over it
+/// in a few hundredths of a second), which the known point cannot.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KnownCom {
+    /// The point, object frame \[m\].
+    pub point: Vector3<f64>,
+    /// Its covariance \[m²\].
+    pub covariance: Matrix3<f64>,
+    /// The acceleration the flights fell with, world frame \[m/s²\].
+    pub fall: Vector3<f64>,
+}
+
 /// Weighted least-squares fit of `p + R c = x0 + v0 τ + ½ a τ²` to `frames` (at least 4), with
 /// the prior `c ~ N(0, r_max²)`. `None` if degenerate.
 ///
@@ -98,7 +114,19 @@ pub fn fit(
     r_max: f64,
     with_com: bool,
 ) -> Option<FlightFit> {
-    fit_with(frames, accel, noise, r_max, with_com, false)
+    fit_with(frames, accel, noise, r_max, with_com, false, None)
+}
+
+/// [`fit`] of a flight of the point `known` (its prior `c ~ N(point, covariance)` in place of
+/// the weak one, its acceleration `known.fall`): the prior's residual counts in the χ², as
+/// three more measurements, so the degrees of freedom are `3n + 3 − 9`.
+pub fn fit_known(
+    frames: &[FlightFrame],
+    known: &KnownCom,
+    noise: &NoiseModel,
+    r_max: f64,
+) -> Option<FlightFit> {
+    fit_with(frames, &known.fall, noise, r_max, false, false, Some(known))
 }
 
 /// [`fit`] with the point `c` on the object: at most `r_max` from its origin, the bound a
@@ -113,7 +141,7 @@ pub fn fit_on_object(
     noise: &NoiseModel,
     r_max: f64,
 ) -> Option<FlightFit> {
-    fit_with(frames, accel, noise, r_max, false, true)
+    fit_with(frames, accel, noise, r_max, false, true, None)
 }
 
 fn fit_with(
@@ -123,15 +151,21 @@ fn fit_with(
     r_max: f64,
     with_com: bool,
     bounded: bool,
+    known: Option<&KnownCom>,
 ) -> Option<FlightFit> {
     if frames.len() < 4 {
         return None;
     }
+    // The prior on c: its information and mean.
+    let (prior_info, prior_mean) = match known {
+        Some(k) => (k.covariance.try_inverse()?, k.point),
+        None => (Matrix3::identity() / (r_max * r_max), Vector3::zeros()),
+    };
     let t_mid = 0.5 * (frames[0].t + frames[frames.len() - 1].t);
     let var_p = noise.sigma_position.powi(2) + FLIGHT_TOLERANCE_M.powi(2);
     let var_r = noise.sigma_rotation.powi(2);
     let prior = 1.0 / (r_max * r_max);
-    let mut com = Vector3::zeros();
+    let mut com = prior_mean;
     let mut out = None;
     for _pass in 0..2 {
         // The weights' c, at most r_max from the origin: a window the model does not explain
@@ -175,13 +209,15 @@ fn fit_with(
             }
         }
         let mut np = n;
-        for k in 0..3 {
-            np[(k, k)] += prior;
-        }
+        let mut np_cc = np.fixed_view_mut::<3, 3>(0, 0);
+        np_cc += prior_info;
+        let mut rhs_prior = rhs;
+        let mut rhs_c = rhs_prior.fixed_rows_mut::<3>(0);
+        rhs_c += prior_info * prior_mean;
         let inv = np.try_inverse()?;
-        let mut x = inv * rhs;
+        let mut x = inv * rhs_prior;
         if bounded && x.fixed_rows::<3>(0).norm() > r_max {
-            x = on_ball(&np, &rhs, r_max)?;
+            x = on_ball(&np, &rhs_prior, r_max)?;
         }
         com = x.fixed_rows::<3>(0).into_owned();
         let (x0, v0) = (
@@ -195,7 +231,17 @@ fn fit_with(
             let e = f.position + r * com - x0 - v0 * tau - 0.5 * accel * tau * tau;
             chi2 += e.dot(&(w * e));
         }
-        let used = (inv * n).trace();
+        // A known point's prior is three more measurements: its residual counts, and the
+        // degrees of freedom are 3n + 3 − 9 (the data's 3n less the 6 that the nine unknowns
+        // take beyond the prior's 3).
+        let (prior_chi2, used) = match known {
+            Some(_) => {
+                let d = com - prior_mean;
+                (d.dot(&(prior_info * d)), 6.0)
+            }
+            None => (0.0, (inv * n).trace()),
+        };
+        chi2 += prior_chi2;
         let cov_c = inv.fixed_view::<3, 3>(0, 0).into_owned();
         let determined = with_com && determines_com(&n, &cov_c, prior);
         out = Some(FlightFit {

@@ -14,6 +14,15 @@
 //! to the longest that the model explains, kept if it is a flight, else the scan moves on by
 //! one frame.
 //!
+//! Where the centre of mass is known (the point that the flights of the demonstrations learnt
+//! together agree on, [`crate::shared_com`], as `learn` observes a toss again with it), the
+//! model is the fall of that point ([`FlightTest::with_known_com`], [`fit::fit_known`]): over
+//! a few frames a flight's own point can take in frames that are no flight (a box that lands
+//! on an edge and rolls over it), which the known point cannot, so the flight ends where the
+//! roll starts and the roll can be found ([`crate::roll`]). A flight's reported centre of mass
+//! is still its own frames' (fitted without the known point: a measurement of its own, for the
+//! pooling).
+//!
 //! Flights and impacts teach no contact feature: they only split the parts that taught
 //! nothing ([`mark`](parts::mark_flights)), and a flight reports its fitted centre of mass.
 
@@ -24,7 +33,7 @@ mod parts;
 pub mod torque_free;
 
 pub use after_topple::withhold_topples_that_fly;
-pub use fit::{FlightFit, FlightFrame, FLIGHT_TOLERANCE_M};
+pub use fit::{FlightFit, FlightFrame, KnownCom, FLIGHT_TOLERANCE_M};
 pub use off_palm::withhold_after_leaving_the_palm;
 pub use parts::mark_flights;
 pub(crate) use parts::{split_parts, Span};
@@ -97,6 +106,9 @@ pub struct FlightTest {
     /// Farthest \[m\] the centre of mass may lie from the object's origin (and the prior's
     /// scale).
     pub r_max: f64,
+    /// The centre of mass, where it is known ([`Self::with_known_com`]): a window is then a
+    /// flight of that point.
+    pub known_com: Option<KnownCom>,
     /// χ² quantiles computed so far, by (α's bits, degrees of freedom rounded to an integer):
     /// the scan tests thousands of windows of a few hundred distinct sizes.
     pub thresholds: std::cell::RefCell<std::collections::HashMap<(u64, u32), f64>>,
@@ -110,12 +122,30 @@ impl FlightTest {
             noise,
             alpha,
             r_max,
+            known_com: None,
             thresholds: Default::default(),
         }
     }
 
-    fn fit(&self, frames: &[FlightFrame], accel: &Vector3<f64>) -> Option<FlightFit> {
-        fit::fit(frames, accel, &self.noise, self.r_max, false)
+    /// This test with the centre of mass known: the flight model's point is then `known`'s,
+    /// and its acceleration the one `known`'s flights fell with ([`fit::fit_known`]). A
+    /// flight's reported centre of mass is still its own frames' ([`find_flights`]).
+    pub fn with_known_com(mut self, known: KnownCom) -> Self {
+        self.known_com = Some(known);
+        self
+    }
+
+    /// The acceleration a flight's point falls with: gravity, or the known point's.
+    fn fall(&self) -> Vector3<f64> {
+        self.known_com.map_or(self.gravity, |k| k.fall)
+    }
+
+    /// The flight model fitted to `frames`: of any point of the object, or of the known one.
+    fn fit(&self, frames: &[FlightFrame]) -> Option<FlightFit> {
+        match &self.known_com {
+            Some(k) => fit::fit_known(frames, k, &self.noise, self.r_max),
+            None => fit::fit(frames, &self.gravity, &self.noise, self.r_max, false),
+        }
     }
 
     /// The χ² quantile at `alpha` for `dof` degrees of freedom rounded to an integer (at
@@ -157,8 +187,7 @@ impl FlightTest {
     /// push at motion-capture noise taught two edges 7 mm off at σ 1 mm from two rolls in the
     /// fall of the pushed box).
     pub(crate) fn falls_at(&self, frames: &[FlightFrame], alpha: f64) -> Option<FlightFit> {
-        self.fit(frames, &self.gravity)
-            .filter(|f| self.passes(f, alpha))
+        self.fit(frames).filter(|f| self.passes(f, alpha))
     }
 
     /// Whether the flight model explains `frames`, at [`FLIGHT_FIT_ALPHA`] or the tests'
@@ -251,10 +280,10 @@ fn trim(
     let limit = test.threshold(3.0, test.alpha);
     while end - start > MIN_FLIGHT_FRAMES {
         let (head, tail) = (
-            test.fit(&frames[start + 1..end], &test.gravity),
-            test.fit(&frames[start..end - 1], &test.gravity),
+            test.fit(&frames[start + 1..end]),
+            test.fit(&frames[start..end - 1]),
         );
-        let g = test.gravity;
+        let g = test.fall();
         let bad_head = head.filter(|f| fit::frame_chi2(f, &frames[start], &g, &test.noise) > limit);
         let bad_tail =
             tail.filter(|f| fit::frame_chi2(f, &frames[end - 1], &g, &test.noise) > limit);

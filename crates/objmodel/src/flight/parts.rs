@@ -6,7 +6,9 @@
 //! falls with gravity) stay whole. Each flight is followed by its impact: the frames after its last one up to the next
 //! flight, up to [`MAX_IMPACT_S`], and up to a part that stays whole.
 
-use super::{find_flights, ComEstimate, FlightFrame, FlightTest, MAX_COM_M, MAX_IMPACT_S};
+use super::{
+    find_flights, ComEstimate, FlightFrame, FlightTest, KnownCom, MAX_COM_M, MAX_IMPACT_S,
+};
 use crate::classify::{Classification, Config, Label, Part};
 use crate::recording::{RecordedFrame, Recording};
 
@@ -31,12 +33,16 @@ impl FlightTest {
     ) -> Option<Self> {
         let (g, noise) = (config.gravity?, c.noise.or(config.robust.noise)?);
         (g.norm() > 0.0).then(|| {
-            Self::new(
-                g.normalize() * crate::pendulum::G,
-                noise,
-                config.robust.alpha,
-                MAX_COM_M,
-            )
+            let gravity = g.normalize() * crate::pendulum::G;
+            let test = Self::new(gravity, noise, config.robust.alpha, MAX_COM_M);
+            match config.robust.com {
+                Some(s) => test.with_known_com(KnownCom {
+                    point: s.point,
+                    covariance: s.covariance,
+                    fall: gravity - s.gravity_error,
+                }),
+                None => test,
+            }
         })
     }
 }

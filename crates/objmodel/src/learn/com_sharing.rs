@@ -15,7 +15,10 @@ impl Learner {
     /// mass (a roll of it is then not told from a flight: `crate::roll`), observe it again
     /// with the centre of mass that the flights of all the demonstrations `observed` agree on
     /// ([`shared_com`]), with those of the demonstrations in `tree` already (but for any the
-    /// same poses replace), and keep that observation where it teaches more rolls, each of them
+    /// same poses replace): its flights are then flights of that point
+    /// ([`crate::flight::FlightTest::with_known_com`]: a flight's own point can take in the
+    /// frames of a roll right after it), and its rolls' alternative is the fall of that point.
+    /// Keep that observation where it teaches more rolls, each of them
     /// on the support that the demonstrations (and those in `tree`) measured without it, saying
     /// so. Nothing is shared where the centre of mass is given already, where the flights do
     /// not agree, or where no support is known (none given, and the demonstrations'
