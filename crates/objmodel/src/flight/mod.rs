@@ -179,8 +179,9 @@ impl FlightTest {
             .filter(|_| self.turns_freely(frames, alpha))
     }
 
-    /// The fit of a point of the object falling with gravity to `frames` if it explains them
-    /// at the significance level `alpha`, whatever the rotation: half of the flight model.
+    /// The fit of a point of the object (the known one, where it is known) falling with gravity
+    /// to `frames` if it explains them at the significance level `alpha`, whatever the
+    /// rotation: half of the flight model.
     /// A roll is tested against it (`roll::judge`): where the fall of a point explains a
     /// roll's frames, the roll's line is too weakly shown to teach an edge, even when the
     /// rotation says the object was not flying (with the whole flight model there, a Drake
