@@ -156,15 +156,15 @@ fn fit_with(
     if frames.len() < 4 {
         return None;
     }
-    // The prior on c: its information and mean.
+    // The prior on c: its information and mean (the weak one's information per axis `prior`).
+    let prior = 1.0 / (r_max * r_max);
     let (prior_info, prior_mean) = match known {
         Some(k) => (k.covariance.try_inverse()?, k.point),
-        None => (Matrix3::identity() / (r_max * r_max), Vector3::zeros()),
+        None => (Matrix3::identity() * prior, Vector3::zeros()),
     };
     let t_mid = 0.5 * (frames[0].t + frames[frames.len() - 1].t);
     let var_p = noise.sigma_position.powi(2) + FLIGHT_TOLERANCE_M.powi(2);
     let var_r = noise.sigma_rotation.powi(2);
-    let prior = 1.0 / (r_max * r_max);
     let mut com = prior_mean;
     let mut out = None;
     for _pass in 0..2 {

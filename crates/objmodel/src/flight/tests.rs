@@ -413,13 +413,12 @@ fn a_known_points_flight_has_the_chi2_of_its_degrees_of_freedom() {
     for _ in 0..runs {
         let flying = rng.random_range(12..40);
         let frames = flight_then_roll(&com, (flying, 0, 200.0, 0.0), &noise, Some(&mut rng));
-        let known = |point: Vector3<f64>| KnownCom {
-            point,
+        let known = KnownCom {
+            point: com + Vector3::from_fn(|_, _| normal.sample(&mut rng)) * sigma_known,
             covariance: Matrix3::identity() * sigma_known * sigma_known,
             fall: g,
         };
-        let drawn = com + Vector3::from_fn(|_, _| normal.sample(&mut rng)) * sigma_known;
-        let f = fit::fit_known(&frames, &known(drawn), &noise, MAX_COM_M).unwrap();
+        let f = fit::fit_known(&frames, &known, &noise, MAX_COM_M).unwrap();
         assert_eq!(f.dof, 3.0 * flying as f64 - 6.0);
         ratio += f.chi2 / f.dof / runs as f64;
         passed += usize::from(fit::passes(&f, 0.01));
