@@ -238,7 +238,8 @@ fn face_samples(f: &Face, truth: &BoxFeatures, out: &mut Vec<(Quantity, f64, f64
         Quantity::RestFaceNormal
     };
     out.push((quantity, angle, z1(angle, f.sigma_normal_rad)));
-    if let (Some(offset), Some(sigma)) = (f.offset, f.offset_sigma_m) {
+    let unlocated = f.offset_unlocated.as_ref().map(|u| (u.offset, u.sigma_m));
+    if let Some((offset, sigma)) = f.offset.zip(f.offset_sigma_m).or(unlocated) {
         // The same plane with the normal's sign as learnt.
         let true_offset = if f.normal.dot(&v(t.normal)) < 0.0 {
             -t.offset
@@ -267,7 +268,8 @@ pub fn true_phi(edge: &Edge, rest: &Vector3<f64>, truth: &Truth) -> Option<f64> 
 
 /// The samples of `tree`; with `per_demo`, also each pendulum observation's φ at the onset.
 fn tree_samples(tree: &Tree, truth: &Truth, per_demo: bool, out: &mut Vec<(Quantity, f64, f64)>) {
-    for e in &tree.edges {
+    // The estimates withheld as too loose to be taught are estimates still, with their σ.
+    for e in tree.edge_estimates() {
         edge_samples(e, &truth.features, out);
         for p in &e.pendulums {
             if per_demo {

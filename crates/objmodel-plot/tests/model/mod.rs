@@ -34,6 +34,7 @@ fn face(id: usize, normal: Vector3<f64>, offset: Option<f64>) -> Face {
             landing: 0,
         },
         observations: Vec::new(),
+        offset_unlocated: None,
     }
 }
 

@@ -194,6 +194,7 @@ mod tests {
                 n_support: 1,
                 evidence: Default::default(),
                 observations: vec![],
+                offset_unlocated: None,
             })
             .collect();
         Tree {

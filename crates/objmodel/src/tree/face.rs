@@ -1,6 +1,7 @@
 //! A face of the object in the tree: the weighted mean of its observations' normals and of
 //! the offsets that are known (see the [tree documentation](super)).
 
+use super::unlocated_offset::UnlocatedOffset;
 use super::{angle, SYSTEMATIC_DIRECTION_RAD, SYSTEMATIC_POINT_M};
 use crate::face::{FaceObservation, FaceSource, SUPPORT_LEVEL_SIGMA_RAD};
 use nalgebra::Vector3;
@@ -29,6 +30,10 @@ pub struct Face {
     pub evidence: Evidence,
     /// The per-demonstration observations.
     pub observations: Vec<FaceObservation>,
+    /// The offset's estimate where its σ does not locate it well enough to be the face's
+    /// (`offset` and `offset_sigma_m` are then null; `tree/unlocated.rs`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub offset_unlocated: Option<UnlocatedOffset>,
 }
 
 /// Counts of face observations by source.
@@ -56,6 +61,7 @@ impl Face {
             n_support: 0,
             evidence: Evidence::default(),
             observations: vec![obs],
+            offset_unlocated: None,
         };
         f.refit();
         f
@@ -126,6 +132,7 @@ impl Face {
             ((scatter / 2.0) / n_eff + 1.0 / wsum + self.common_level_var(wsum)).sqrt();
         self.sign_known = self.observations.iter().any(|o| o.sign_known);
         let off_w: f64 = offsets.iter().map(|(_, w)| w).sum();
+        self.offset_unlocated = None;
         self.offset =
             (off_w > 0.0).then(|| offsets.iter().map(|(d, w)| d * w).sum::<f64>() / off_w);
         let common = self.offset_common_var();

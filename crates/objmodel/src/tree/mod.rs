@@ -52,6 +52,8 @@ mod rolls_off_shape;
 mod support;
 mod tolerances;
 mod unconfirmed;
+mod unlocated;
+mod unlocated_offset;
 mod withheld_edge;
 pub use com_conflicts::{com_without_conflicts, ComConflict};
 pub use com_planes::{
@@ -67,6 +69,8 @@ pub(crate) use tolerances::{angle, matrix, rows};
 pub use tolerances::{
     CONDITION_MIN, MATCH_ALPHA, SAME_FACE_RAD, SYSTEMATIC_DIRECTION_RAD, SYSTEMATIC_POINT_M,
 };
+pub use unlocated::{max_offset_sigma, FACE_OFFSET_MATCH_M, LOCATED_ALPHA};
+pub use unlocated_offset::UnlocatedOffset;
 pub use withheld_edge::WithheldEdge;
 
 /// Schema name written into every tree file.
@@ -429,13 +433,15 @@ impl Tree {
         self.withhold_edges_off_landed_faces();
         loop {
             self.refit_support();
+            self.withhold_unlocated_offsets();
             let out_of_faces = self.withhold_edges_out_of_their_faces();
             self.condition_edges_on_faces();
+            let unlocated = self.withhold_unlocated_edges();
             self.refit_centre_of_mass();
             self.shape = self.reconstruct_shape().ok();
             // An edge withheld takes its measurement of the support's height out with it,
             // which may give the landings' faces their offsets: the shape again.
-            if !self.withhold_rolls_off_shape() && !out_of_faces {
+            if !self.withhold_rolls_off_shape() && !out_of_faces && !unlocated {
                 break;
             }
         }

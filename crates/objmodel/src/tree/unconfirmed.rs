@@ -145,6 +145,7 @@ mod tests {
             n_support,
             evidence: Default::default(),
             observations: vec![],
+            offset_unlocated: None,
         }
     }
 
