@@ -174,7 +174,6 @@ impl Tree {
                 edge: e,
                 why,
                 faces,
-                unlocated: false,
             });
         }
         if self.withheld_edges.iter().any(|w| !w.faces.is_empty()) {

@@ -43,7 +43,6 @@ impl Tree {
                 edge,
                 why: why.clone(),
                 faces: Vec::new(),
-                unlocated: false,
             });
         }
         !off.is_empty()
