@@ -3,9 +3,10 @@
 //! the object's) with probability at least `1 − `[`LOCATED_ALPHA`].
 //!
 //! An honest σ of 3 mm puts the truth beyond 5 mm one time in ten: such an offset is a wrong
-//! face a tenth of the time, however right its σ. (Drake's boxes, 4 per set, six sets: the only
-//! 3 wrong faces of 292 over ten sets of other simulators were offsets at ±3.0-7.2 mm, 5-11 mm
-//! off, each through one demonstration's loosely located edge.) Such an offset is kept beside
+//! face a tenth of the time, however right its σ. (Over 14 probe sets of other simulators,
+//! `bench/drake_probe.py`, `pybullet_probe.py` and `mujoco_tosses.py`, the only 3 wrong faces of
+//! 292 were Drake's offsets at ±3.0-7.2 mm, 5-11 mm off, each through one demonstration's
+//! loosely located edge.) Such an offset is kept beside
 //! its face ([`Face::offset_unlocated`]) and out of the face, the shape and the plans; the
 //! face's normal is taught as before, and the offset comes back when more demonstrations
 //! locate it.
