@@ -147,7 +147,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     // The Fig. 1 loop on the simulated arm: default policy, demonstration, learnt plan.
     if a.task_boxes > 0 {
         let task_dir = a.output.join("task");
-        println!("the task on the simulated Panda ({} boxes): default policy, one demonstration, the learnt plan", a.task_boxes);
+        println!("the task on the simulated Panda ({} boxes): default policy, a demonstration (another where one does not locate the edge), the learnt plan", a.task_boxes);
         crate::task::run(&crate::task::TaskArgs {
             boxes: a.task_boxes,
             seed: a.seed,
@@ -164,7 +164,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
             })
             .unwrap_or_default();
         pngs.sort();
-        html += "<h2>The task on the simulated arm (Fig. 1, Fig. 5)</h2><p>Each box: the default policy (a fixed 10° tilt) first, then one instrumented demonstration, learning, and the planned topple. Run <code>objmodel task --boxes 20</code> for the success rates.</p>";
+        html += "<h2>The task on the simulated arm (Fig. 1, Fig. 5)</h2><p>Each box: the default policy (a fixed 10° tilt) first, then an instrumented demonstration (another, up to three, where one does not locate the edge well enough to be taught), learning, and the planned topple. Run <code>objmodel task --boxes 20</code> for the success rates.</p>";
         for png in &pngs {
             let rel = png.strip_prefix(&a.output).unwrap_or(png);
             let _ = write!(

@@ -269,6 +269,7 @@ pub fn run(a: &TaskArgs) -> Result<()> {
         "\n{} boxes ({} draws excluded by the admissibility rule)\n\
          default policy:            {}/{} ({:.0}%)\n\
          after one demonstration:   {}/{} ({:.0}%)  [{} demonstrations, {} planned successes]\n\
+         with up to {} demonstrations: {}/{} ({:.0}%)\n\
          palm tracking error:       max {:.3} mm, {:.4} deg\n",
         rep.trials,
         rep.excluded_draws,
@@ -280,6 +281,10 @@ pub fn run(a: &TaskArgs) -> Result<()> {
         pct(rep.success_after_one_demo),
         rep.demonstrations,
         rep.success_planned,
+        objmodel_sim::task::MAX_DEMOS,
+        rep.success_default + rep.success_planned,
+        rep.trials,
+        pct(rep.success_default + rep.success_planned),
         rep.max_tracking_mm,
         rep.max_tracking_deg
     ));

@@ -268,7 +268,8 @@ pub fn true_phi(edge: &Edge, rest: &Vector3<f64>, truth: &Truth) -> Option<f64> 
 
 /// The samples of `tree`; with `per_demo`, also each pendulum observation's φ at the onset.
 fn tree_samples(tree: &Tree, truth: &Truth, per_demo: bool, out: &mut Vec<(Quantity, f64, f64)>) {
-    for e in &tree.edges {
+    // The estimates withheld as too loose to be taught are estimates still, with their σ.
+    for e in tree.edge_estimates() {
         edge_samples(e, &truth.features, out);
         for p in &e.pendulums {
             if per_demo {

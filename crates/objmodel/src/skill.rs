@@ -170,8 +170,30 @@ pub fn plan(tree: &Tree, req: &PlanRequest) -> Result<Plan> {
         None => p.tilt,
     };
     candidates.into_iter().min_by(|a, b| key(a).total_cmp(&key(b))).ok_or_else(|| {
+        // An edge of this face measured but too loosely to be taught: say so, and what helps.
+        let loose = tree
+            .withheld_edges
+            .iter()
+            .filter(|w| w.unlocated)
+            .filter(|w| {
+                w.edge
+                    .pendulums
+                    .iter()
+                    .any(|p| p.resting_face_normal.angle(&down_obj) <= SAME_FACE_RAD)
+            })
+            .map(|w| {
+                format!(
+                    "; edge {} of this face was measured, but located to ±{:.1} mm and ±{:.2}° \
+                     only, too loosely to be taught: another demonstration of toppling about it \
+                     is needed",
+                    w.edge.id,
+                    w.edge.sigma_point_m * 1e3,
+                    w.edge.sigma_direction_rad.to_degrees()
+                )
+            })
+            .collect::<String>();
         Error::Data(format!(
-            "no learnt edge with a toppling model for the face the object rests on (outward normal [{:.3}, {:.3}, {:.3}] in the object frame): a demonstration of toppling it from this face is needed",
+            "no learnt edge with a toppling model for the face the object rests on (outward normal [{:.3}, {:.3}, {:.3}] in the object frame): a demonstration of toppling it from this face is needed{loose}",
             down_obj.x, down_obj.y, down_obj.z
         ))
     })
@@ -246,6 +268,47 @@ mod tests {
         let com_after = r * (Vector3::new(0.02, 0.0, 0.1) - p.axis_point);
         let h = com_after - p.axis_direction * p.axis_direction.dot(&com_after);
         assert!(h.cross(&Vector3::z()).norm() < 1e-12, "{h:?}");
+    }
+
+    /// The face's only edge measured too loosely to be taught (`tree/unlocated.rs`): no plan,
+    /// and the error names that edge and asks for another demonstration of it; an unlocated
+    /// edge of another face is not named.
+    #[test]
+    fn a_loosely_located_edge_is_named_when_no_plan_can_be_made() {
+        let mut t = tree_with_edge(0.4);
+        let mut e = t.edges.remove(0);
+        e.sigma_point_m = 3.1e-3;
+        e.sigma_direction_rad = 0.5f64.to_radians();
+        let mut other = e.clone();
+        other.id = "e7".into();
+        other.pendulums[0].resting_face_normal = Vector3::x();
+        for edge in [e, other] {
+            t.withheld_edges.push(crate::tree::WithheldEdge {
+                edge,
+                why: "loose".into(),
+                faces: Vec::new(),
+                unlocated: true,
+            });
+        }
+        let req = PlanRequest {
+            palm_from_object: Isometry3::translation(0.0, 0.0, 0.1),
+            towards: None,
+            gravity_in_palm: -Vector3::z(),
+            margin: None,
+        };
+        let msg = plan(&t, &req).unwrap_err().to_string();
+        assert!(
+            msg.contains("edge e0 of this face was measured, but located to ±3.1 mm"),
+            "{msg}"
+        );
+        assert!(msg.contains("another demonstration"), "{msg}");
+        assert!(!msg.contains("e7"), "{msg}");
+        // Withheld for another reason (a contradiction), it is not offered as loose.
+        t.withheld_edges
+            .iter_mut()
+            .for_each(|w| w.unlocated = false);
+        let msg = plan(&t, &req).unwrap_err().to_string();
+        assert!(!msg.contains("located to"), "{msg}");
     }
 
     /// A box no one toppled, whose shape and CoM are known: the plan tilts about the edge the

@@ -85,5 +85,8 @@ fn a_noise_given_smaller_than_the_frames_show_is_not_trusted() {
         "{used:?}"
     );
     assert!(!c.noise_given);
-    assert!(!tree.edges.is_empty(), "the topple still teaches its edge");
+    assert!(
+        tree.edge_estimates().next().is_some(),
+        "the topple still measures its edge (taught, or held back as too loose)"
+    );
 }

@@ -31,7 +31,8 @@ fn errors_over_sigma(config: Config) -> Vec<(f64, f64)> {
                     }],
                 )
                 .unwrap();
-            let edge = tree.edges.first()?;
+            // Taught, or held back as too loose: its σ is what this checks.
+            let edge = tree.edge_estimates().next()?;
             let truth = common::truth_edge(&name);
             let json: serde_json::Value = serde_json::from_str(
                 &std::fs::read_to_string(common::data(&format!("{name}.truth.json"))).unwrap(),

@@ -19,7 +19,7 @@
 pub mod run;
 pub mod speed;
 
-pub use run::{run_task, BoxOutcome, TaskConfig, TaskReport};
+pub use run::{run_task, BoxOutcome, TaskConfig, TaskReport, MAX_DEMOS};
 
 use crate::arm::{ArmError, ArmSim, PlanOptions, TrackingError};
 use crate::noise::TrackerNoise;

@@ -283,6 +283,7 @@ impl Tree {
                 edge,
                 why: why.clone(),
                 faces,
+                unlocated: false,
             });
         }
         if faces_taken {
@@ -504,7 +505,7 @@ mod tests {
         let truth = Vector3::z();
         let off = 5f64.to_radians();
         let u = Vector3::new(off.sin() * 0.6, off.sin() * 0.8, off.cos());
-        let o = edge(Vector3::new(X, Y, 0.0), u, 0.003, 1.8f64.to_radians(), 0.0).observations[0]
+        let o = edge(Vector3::new(X, Y, 0.0), u, 0.001, 1.8f64.to_radians(), 0.0).observations[0]
             .clone();
         let mut tree = Tree::default();
         let eid = tree.add_edge(o.clone());

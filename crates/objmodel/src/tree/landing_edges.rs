@@ -174,6 +174,7 @@ impl Tree {
                 edge: e,
                 why,
                 faces,
+                unlocated: false,
             });
         }
         if self.withheld_edges.iter().any(|w| !w.faces.is_empty()) {

@@ -436,11 +436,12 @@ impl Tree {
             self.withhold_unlocated_offsets();
             let out_of_faces = self.withhold_edges_out_of_their_faces();
             self.condition_edges_on_faces();
+            let unlocated = self.withhold_unlocated_edges();
             self.refit_centre_of_mass();
             self.shape = self.reconstruct_shape().ok();
             // An edge withheld takes its measurement of the support's height out with it,
             // which may give the landings' faces their offsets: the shape again.
-            if !self.withhold_rolls_off_shape() && !out_of_faces {
+            if !self.withhold_rolls_off_shape() && !out_of_faces && !unlocated {
                 break;
             }
         }

@@ -43,6 +43,7 @@ impl Tree {
                 edge,
                 why: why.clone(),
                 faces: Vec::new(),
+                unlocated: false,
             });
         }
         !off.is_empty()
