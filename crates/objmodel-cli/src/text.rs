@@ -338,6 +338,9 @@ pub fn tree(tree: &Tree) -> String {
             sd(q.l_p_sigma, 1e3),
         );
     }
+    for w in tree.withheld_edges.iter().filter(|w| w.unlocated) {
+        s += &format!("  held back: {}\n", w.why);
+    }
     for c in &tree.contradictions {
         s += &format!("  contradiction: {}\n", c.what);
     }

@@ -11,9 +11,11 @@ use super::{Contradiction, Tree, MATCH_ALPHA, SYSTEMATIC_DIRECTION_RAD, SYSTEMAT
 impl Tree {
     /// Every contradiction between the tree's features (see the module documentation).
     pub fn contradictions(&self) -> Vec<Contradiction> {
+        // An edge held back as too loosely located contradicts nothing (`tree/unlocated.rs`).
         let mut out: Vec<Contradiction> = self
             .withheld_edges
             .iter()
+            .filter(|w| !w.unlocated)
             .map(|w| Contradiction {
                 features: vec![w.edge.id.clone()],
                 what: w.why.clone(),
