@@ -137,6 +137,16 @@ fn warn_reports(py: Python<'_>, prepared: &[Prepared], reports: &[Observation]) 
     Ok(())
 }
 
+/// The tree's edges held back as too loosely located to be taught (`withheld_edges` with
+/// `unlocated`), each as a warning: the edges array leaves them out, and the warning says why
+/// and that another demonstration of the edge would teach it (as `objmodel learn` prints them).
+fn warn_held_back(py: Python<'_>, tree: &Tree) -> PyResult<()> {
+    for w in tree.withheld_edges.iter().filter(|w| w.unlocated) {
+        warn(py, "held back", &w.why)?;
+    }
+    Ok(())
+}
+
 /// Learn (or update) an object description tree from demonstrations.
 ///
 /// `demos`: a list of demonstrations (or one alone), each a pose file (str or os.PathLike,
@@ -165,7 +175,8 @@ fn warn_reports(py: Python<'_>, prepared: &[Prepared], reports: &[Observation]) 
 /// `noise_position`, ...) and `length_unit` ("m", "cm" or "mm": the unit of the positions
 /// given as arrays, and of files that do not declare theirs; default metres, checked).
 ///
-/// Returns the Tree. Warnings are ObjmodelWarning; errors ObjmodelError, with the command
+/// Returns the Tree. Warnings are ObjmodelWarning (among them each edge held back as too
+/// loosely located to be taught); errors ObjmodelError, with the command
 /// line's messages. All demonstrations are learnt or, on an error, none.
 #[pyfunction]
 #[pyo3(
@@ -215,12 +226,14 @@ pub fn learn(
             let mut tree = Tree::default();
             let reports = learn_all(py, &learner, &mut tree, &prepared)?;
             warn_reports(py, &prepared, &reports)?;
+            warn_held_back(py, &tree)?;
             Py::new(py, PyTree::from(tree))
         }
         Some(t) if t.is_instance_of::<PyTree>() => {
             let t = t.cast::<PyTree>()?;
             let reports = learn_all(py, &learner, &mut t.borrow_mut().tree, &prepared)?;
             warn_reports(py, &prepared, &reports)?;
+            warn_held_back(py, &t.borrow().tree)?;
             Ok(t.clone().unbind())
         }
         Some(path) => {
@@ -238,6 +251,7 @@ pub fn learn(
                 })
                 .map_err(lib)?;
             warn_reports(py, &prepared, &reports)?;
+            warn_held_back(py, &tree)?;
             Py::new(py, PyTree::from(tree))
         }
     }
