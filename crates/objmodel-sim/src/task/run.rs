@@ -425,8 +425,7 @@ fn demonstrate_once(
 }
 
 /// Run one trial: default attempt, and if it fails, a demonstration (more where the model
-/// cannot plan yet), learning and the planned
-/// attempt.
+/// cannot plan yet), learning and the planned attempt.
 pub fn run_trial(
     arm: &Arm,
     q_up: &[f64],

@@ -14,7 +14,8 @@ pub struct Face {
     pub id: String,
     /// Unit normal (outward when `sign_known`).
     pub normal: Vector3<f64>,
-    /// Offset \[m\], or null when the data do not determine it (a slide alone does not).
+    /// Offset \[m\], or null when the data do not determine it (a slide alone does not) or
+    /// do not locate it ([`Face::offset_unlocated`]).
     pub offset: Option<f64>,
     /// Standard deviation of the offset \[m\].
     pub offset_sigma_m: Option<f64>,
