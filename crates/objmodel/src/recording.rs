@@ -97,7 +97,9 @@ impl Recording {
     /// every kept frame (index, time, orientation with its sign fixed; palm: time and pose)
     /// and of the strides:
     /// the same poses give the same fingerprint; different ones almost surely differ, unless
-    /// they differ only in frames a thinned record skipped.
+    /// they differ only in frames a thinned record skipped, or only in the object's positions
+    /// (not recorded: two streams with bitwise the same times and orientations, which a
+    /// tracker's noise never gives but a synthetic generator can, count as the same poses).
     pub fn fingerprint(&self, frames: u64) -> String {
         // FNV-1a taking a 64-bit word at a time (not a byte: a tenth of the work, and the
         // words are the data's own).
