@@ -338,7 +338,7 @@ pub fn tree(tree: &Tree) -> String {
             sd(q.l_p_sigma, 1e3),
         );
     }
-    for w in tree.withheld_edges.iter().filter(|w| w.unlocated) {
+    for w in tree.unlocated_edges() {
         s += &format!("  held back: {}\n", w.why);
     }
     for c in &tree.contradictions {

@@ -123,8 +123,16 @@ fn learn_all(
     Ok(reports)
 }
 
-/// Each report's warnings, as the command line prints them.
-fn warn_reports(py: Python<'_>, prepared: &[Prepared], reports: &[Observation]) -> PyResult<()> {
+/// Each report's warnings, as the command line prints them, then each edge of `tree` held
+/// back as too loosely located to be taught: the edges array leaves them out, and the warning
+/// says why and that another demonstration of the edge would teach it (as `objmodel learn`
+/// prints them).
+fn warn_reports(
+    py: Python<'_>,
+    prepared: &[Prepared],
+    reports: &[Observation],
+    tree: &Tree,
+) -> PyResult<()> {
     // Kept out by the gravity check: an error that says which gravity the demonstrations show.
     if let Some(why) = reports.iter().find_map(|r| r.not_learnt.as_ref()) {
         return Err(err(why.clone()));
@@ -134,14 +142,7 @@ fn warn_reports(py: Python<'_>, prepared: &[Prepared], reports: &[Observation]) 
             warn(py, &p.label(), w)?;
         }
     }
-    Ok(())
-}
-
-/// The tree's edges held back as too loosely located to be taught (`withheld_edges` with
-/// `unlocated`), each as a warning: the edges array leaves them out, and the warning says why
-/// and that another demonstration of the edge would teach it (as `objmodel learn` prints them).
-fn warn_held_back(py: Python<'_>, tree: &Tree) -> PyResult<()> {
-    for w in tree.withheld_edges.iter().filter(|w| w.unlocated) {
+    for w in tree.unlocated_edges() {
         warn(py, "held back", &w.why)?;
     }
     Ok(())
@@ -225,15 +226,13 @@ pub fn learn(
         None => {
             let mut tree = Tree::default();
             let reports = learn_all(py, &learner, &mut tree, &prepared)?;
-            warn_reports(py, &prepared, &reports)?;
-            warn_held_back(py, &tree)?;
+            warn_reports(py, &prepared, &reports, &tree)?;
             Py::new(py, PyTree::from(tree))
         }
         Some(t) if t.is_instance_of::<PyTree>() => {
             let t = t.cast::<PyTree>()?;
             let reports = learn_all(py, &learner, &mut t.borrow_mut().tree, &prepared)?;
-            warn_reports(py, &prepared, &reports)?;
-            warn_held_back(py, &t.borrow().tree)?;
+            warn_reports(py, &prepared, &reports, &t.borrow().tree)?;
             Ok(t.clone().unbind())
         }
         Some(path) => {
@@ -250,8 +249,7 @@ pub fn learn(
                     })
                 })
                 .map_err(lib)?;
-            warn_reports(py, &prepared, &reports)?;
-            warn_held_back(py, &tree)?;
+            warn_reports(py, &prepared, &reports, &tree)?;
             Py::new(py, PyTree::from(tree))
         }
     }

@@ -172,9 +172,7 @@ pub fn plan(tree: &Tree, req: &PlanRequest) -> Result<Plan> {
     candidates.into_iter().min_by(|a, b| key(a).total_cmp(&key(b))).ok_or_else(|| {
         // An edge of this face measured but too loosely to be taught: say so, and what helps.
         let loose = tree
-            .withheld_edges
-            .iter()
-            .filter(|w| w.unlocated)
+            .unlocated_edges()
             .filter(|w| {
                 w.edge
                     .pendulums

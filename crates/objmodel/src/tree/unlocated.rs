@@ -38,8 +38,14 @@ impl Tree {
     /// those withheld as too loose to be taught. (What a check of the σ against the truth
     /// counts: a withheld estimate's σ is as honest as a taught one's.)
     pub fn edge_estimates(&self) -> impl Iterator<Item = &Edge> {
-        let unlocated = self.withheld_edges.iter().filter(|w| w.unlocated);
-        self.edges.iter().chain(unlocated.map(|w| &w.edge))
+        self.edges
+            .iter()
+            .chain(self.unlocated_edges().map(|w| &w.edge))
+    }
+
+    /// The edges held back as too loosely located to be taught (not for a contradiction).
+    pub fn unlocated_edges(&self) -> impl Iterator<Item = &WithheldEdge> {
+        self.withheld_edges.iter().filter(|w| w.unlocated)
     }
 
     /// Withhold the edges whose σ (as the tree reports them: fused, conditioned on their faces)
