@@ -125,7 +125,8 @@ fn bad_input_zero_quaternion() {
     expect_bad(
         &d,
         "zero.tum",
-        Some(&format!("{GOOD}0.5 0 0 0 0 0 0 0\n")),
+        // (Every pose value zero is a frame where the tracker lost the object: a gap.)
+        Some(&format!("{GOOD}0.5 0.1 0 0 0 0 0 0\n")),
         Some(6),
         &["quaternion", "zero"],
     );

@@ -155,7 +155,9 @@ fn warn_reports(
 /// `world_from_object` poses: (N, 8) rows `t x y z qx qy qz qw` (quaternion x y z w, as TUM
 /// files and scipy's `as_quat()`; `quat_order="wxyz"` for `t x y z qw qx qy qz`, in arrays
 /// and in TUM files written w first) or (N, 4, 4)
-/// homogeneous matrices with `times`.
+/// homogeneous matrices with `times`. A row whose pose values are all NaN (or all zero), or a
+/// matrix NaN above its last row, is a frame where the tracker lost the object: left out,
+/// with a warning.
 /// `palms`: one per demonstration (None: none, or NAME.palm.* for a file), the palm's
 /// `world_from_palm` poses the same way; palm matrices take their demonstration's times.
 /// `times`: one (N,) array per demonstration given as matrices. `names`: names of

@@ -12,11 +12,15 @@
 //! finite, the quaternion's norm within 1% of 1), a matrix's rotation part must be a rotation
 //! (orthonormal within the same 1%, determinant +1) and its last row `0 0 0 1`; the times must
 //! strictly increase. Errors name the array (`demos[1]`), the row and the problem.
+//!
+//! A row whose pose values are all NaN (or all zero), or a matrix all NaN above its last row,
+//! is a frame where the tracker lost the object, as in a file (`objmodel::format::LostTracking`):
+//! left out, as a frame not recorded, with an `ObjmodelWarning` that counts them.
 
-use crate::error::err;
+use crate::error::{err, warn};
 use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion};
 use numpy::{PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
-use objmodel::format::{pose_from_values, QUAT_NORM_TOLERANCE};
+use objmodel::format::{is_lost, pose_from_values, QUAT_NORM_TOLERANCE};
 use objmodel::StampedPose;
 use pyo3::prelude::*;
 
@@ -95,7 +99,19 @@ pub fn poses(
             v.chunks_exact(16)
                 .zip(&t)
                 .enumerate()
-                .map(|(i, (m, &t))| matrix_row(m, t).map_err(|e| err(format!("{what}[{i}]: {e}"))))
+                .map(|(i, (m, &t))| match m[..12].iter().all(|x| x.is_nan()) {
+                    true => Ok([
+                        t,
+                        f64::NAN,
+                        f64::NAN,
+                        f64::NAN,
+                        f64::NAN,
+                        f64::NAN,
+                        f64::NAN,
+                        f64::NAN,
+                    ]),
+                    false => matrix_row(m, t).map_err(|e| err(format!("{what}[{i}]: {e}"))),
+                })
                 .collect::<PyResult<_>>()?
         }
         ([_, 4, 4], None) => {
@@ -123,7 +139,12 @@ pub fn poses(
         return Err(err(format!("{what}: no poses: the array is empty")));
     }
     let mut out = Vec::with_capacity(rows.len());
+    let mut lost = Vec::new();
     for (i, row) in rows.iter().enumerate() {
+        if is_lost(row) {
+            lost.push(i);
+            continue;
+        }
         let p = pose_from_values(row).map_err(|e| {
             let hint = if order == QuatOrder::Xyzw {
                 " (rows are t x y z qx qy qz qw)"
@@ -148,6 +169,24 @@ pub fn poses(
             }
         }
         out.push(p);
+    }
+    if out.is_empty() {
+        return Err(err(format!(
+            "{what}: no poses: every row is a frame where the tracker lost the object (all \
+             NaN or zero)"
+        )));
+    }
+    if let (Some(first), Some(last)) = (lost.first(), lost.last()) {
+        let s = if lost.len() == 1 { "" } else { "s" };
+        warn(
+            obj.py(),
+            what,
+            &format!(
+                "the tracker lost the object in {} row{s} (the first {first}, the last {last}): \
+                 every pose value NaN or zero; left out, as frames not recorded",
+                lost.len()
+            ),
+        )?;
     }
     Ok(out)
 }

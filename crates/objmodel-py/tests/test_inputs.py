@@ -57,6 +57,32 @@ def test_values(rows):
     raises(r"demos\[0\]\[9\]: timestamp .* goes back from timestamp", [bad])
 
 
+def test_lost_rows_are_left_out_with_a_warning(rows):
+    """Rows where the tracker lost the object (every pose value NaN, or zero; a matrix NaN
+    above its last row) are frames not recorded: the tree is the one without them."""
+    r, t, m = rows
+    lost = r.copy()
+    lost[100:111, 1:] = np.nan
+    lost[300, 1:] = 0.0
+    with pytest.warns(objmodel.ObjmodelWarning,
+                      match=r"demos\[0\]: the tracker lost the object in 12 rows \(the first 100, the last 300\)"):
+        a = objmodel.learn([lost])
+    keep = np.ones(len(r), bool)
+    keep[100:111] = keep[300] = False
+    b = objmodel.learn([r[keep]])
+    assert a.edges.shape == (1, 6)
+    np.testing.assert_array_equal(a.edges, b.edges)
+    lost_m = m.copy()
+    lost_m[100:111, :3, :] = np.nan
+    lost_m[300, :3, :] = np.nan
+    with pytest.warns(objmodel.ObjmodelWarning, match=r"lost the object in 12 rows"):
+        c = objmodel.learn([lost_m], times=[t])
+    np.testing.assert_allclose(c.edges, b.edges, atol=1e-9)
+    # Some values NaN and others not: still an error (above); all rows lost: no poses.
+    raises(r"demos\[0\]: no poses: every row is a frame where the tracker lost the object",
+           [np.column_stack([t, np.full((len(t), 7), np.nan)])])
+
+
 def test_quaternion_order_mistakes(rows):
     r, t, m = rows
     with pytest.raises(objmodel.ObjmodelError, match=r'quat_order must be "xyzw" .* or "wxyz"'):

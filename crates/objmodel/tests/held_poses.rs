@@ -214,3 +214,67 @@ fn exact_and_coarse_repeats_are_kept() {
         assert_eq!(c.held_frames, 0, "{:?}", c.warnings);
     }
 }
+
+/// A tracker that lost the box writes its frames on with every pose value NaN, empty or zero
+/// (`format/lost.rs`): the file learns what the file without those lines learns, and says
+/// which lines it skipped. (Before: the file was refused at its first such line.)
+#[test]
+fn lost_frames_written_as_nan_or_zeros_are_gaps() {
+    let b = SynthBox::new(Vector3::new(0.05, 0.04, 0.07), (0.004, -0.003), 0.6);
+    let learner = Learner::new(Config::default());
+    let dir = tempfile::tempdir().unwrap();
+    for (k, blank) in ["nan nan nan nan nan nan nan", "0 0 0 0 0 0 0"]
+        .into_iter()
+        .enumerate()
+    {
+        let d = topples(&b, &SynthNoise::REAL, 8 + k as u64).swap_remove(k);
+        let t0 = d.demo.object[0].t;
+        // Lost over the start of the fall (at 2.5-2.85 s) and once in the first rest.
+        let lost = |t: f64| (2.3..2.6).contains(&(t - t0)) || (0.9..1.0).contains(&(t - t0));
+        let whole = dir.path().join(format!("whole{k}.tum"));
+        objmodel::format::write_tum(&whole, &d.demo.object, "topple").unwrap();
+        let mut kept = d.demo.object.clone();
+        kept.retain(|p| !lost(p.t));
+        let gapped = dir.path().join(format!("gapped{k}.tum"));
+        objmodel::format::write_tum(&gapped, &kept, "topple").unwrap();
+        let (mut lines, mut at) = (Vec::new(), Vec::new());
+        for (i, line) in std::fs::read_to_string(&whole).unwrap().lines().enumerate() {
+            let t = line.split(' ').next().unwrap().parse::<f64>().ok();
+            match t.filter(|&t| lost(t)) {
+                Some(_) => {
+                    lines.push(format!("{} {blank}", line.split(' ').next().unwrap()));
+                    at.push(i + 1);
+                }
+                None => lines.push(line.to_string()),
+            }
+        }
+        let written = dir.path().join(format!("lost{k}.tum"));
+        std::fs::write(&written, lines.join("\n") + "\n").unwrap();
+        let with_lost = learner.classify(&Source::file(&written)).unwrap();
+        let without = learner.classify(&Source::file(&gapped)).unwrap();
+        assert_eq!(with_lost.topples.len(), 1, "{:?}", with_lost.warnings);
+        // The same topple, bit for bit (its demonstration's name aside).
+        let topples = |c: &objmodel::classify::Classification, name: &str| {
+            format!("{:?}", c.topples).replace(name, "demo")
+        };
+        assert_eq!(
+            topples(&with_lost, &format!("lost{k}.tum")),
+            topples(&without, &format!("gapped{k}.tum"))
+        );
+        let first_run = at.iter().take_while(|&&l| l - at[0] < at.len()).count();
+        let says = format!(
+            "the object's tracker lost it on {} lines in 2 runs (lines {}-{}, {}-{})",
+            at.len(),
+            at[0],
+            at[first_run - 1],
+            at[first_run],
+            at[at.len() - 1]
+        );
+        assert!(
+            with_lost.warnings.iter().any(|w| w.starts_with(&says)),
+            "{says:?} not in {:?}",
+            with_lost.warnings
+        );
+        assert!(!without.warnings.iter().any(|w| w.contains("lost it")));
+    }
+}

@@ -153,11 +153,13 @@ pub(crate) fn classify_files_recording(
     let mut a = Analyzer::new(&name, config, palm.is_some());
     let (object_conversion, mut warnings, mut length_unit) =
         Conversion::of(object_file, "object", 0.0, config);
+    let object_poses = object_file.open()?;
+    let mut lost = vec![("object", object_poses.lost_sink())];
     match palm {
         None if !object_conversion.is_identity() => {
             // Stamps not in seconds, positions not in metres or quaternions written w first:
             // converted on this thread (not the fast path's).
-            for (i, p) in (0u64..).zip(ThreadedPoses::spawn(object_file.open()?)) {
+            for (i, p) in (0u64..).zip(ThreadedPoses::spawn(object_poses)) {
                 let p = object_conversion.apply(p?);
                 if let Some(r) = recorder.as_deref_mut() {
                     r.object(i, p.t, &p.pose.rotation, &p.pose.translation.vector);
@@ -175,7 +177,7 @@ pub(crate) fn classify_files_recording(
             if let Some(cleaner) = a.take_object_cleaner() {
                 let front = RotatingCleaner::new(cleaner);
                 let mut index = 0;
-                CleanedFrames::spawn(object_file.open()?, front).for_each_chunk(|chunk| {
+                CleanedFrames::spawn(object_poses, front).for_each_chunk(|chunk| {
                     if let Some(r) = recorder.as_deref_mut() {
                         let (first, end) = (index as u64, (index + chunk.len()) as u64);
                         let mut i = r.next_object_index(first);
@@ -188,7 +190,7 @@ pub(crate) fn classify_files_recording(
                     push_cleaned_frames(&mut a, chunk, &mut index)
                 })?;
             } else {
-                for (i, p) in (0u64..).zip(ThreadedPoses::spawn(object_file.open()?)) {
+                for (i, p) in (0u64..).zip(ThreadedPoses::spawn(object_poses)) {
                     let p = p?;
                     if let Some(r) = recorder.as_deref_mut() {
                         r.object(i, p.t, &p.pose.rotation, &p.pose.translation.vector);
@@ -205,8 +207,10 @@ pub(crate) fn classify_files_recording(
             warnings.extend(palm_warnings);
             // Known only where both streams' units are.
             length_unit = length_unit.filter(|_| palm_length.is_some());
-            let mut objects = ThreadedPoses::spawn(object_file.open()?);
-            let mut palms = ThreadedPoses::spawn(palm.open()?);
+            let mut objects = ThreadedPoses::spawn(object_poses);
+            let palm_poses = palm.open()?;
+            lost.push(("palm", palm_poses.lost_sink()));
+            let mut palms = ThreadedPoses::spawn(palm_poses);
             // Both on the object's clock, in seconds.
             let mut next_object = || {
                 objects
@@ -255,6 +259,11 @@ pub(crate) fn classify_files_recording(
         },
         e => e,
     })?;
+    // (Each reader has returned its last pose: its count is complete.)
+    warnings.extend(lost.iter().filter_map(|(what, sink)| {
+        let counted = sink.lock().unwrap_or_else(|e| e.into_inner());
+        counted.warning(what)
+    }));
     c.warnings.splice(0..0, warnings);
     c.length_unit = length_unit;
     Ok(c)

@@ -10,7 +10,7 @@
 //! space became a field with quotes, which is no number; `""` is unescaped), and it split the
 //! 200001 lines of a CSV pose file in 43-56 ms against 12-16 ms here.
 
-use super::layout::{column_name, column_role, column_unit, HEADER_STAMP, LOG_TIME, VALUES};
+use super::layout::{column_name, column_role, column_unit, HEADER_STAMP, LOG_TIME, TIME, VALUES};
 use super::length_unit::{time_unit_from_name, DeclaredUnits, LengthUnit};
 use super::number::parse_f64;
 use super::problem::Problem;
@@ -124,8 +124,6 @@ pub(crate) struct Header {
     scale: [f64; VALUES],
     /// The units the header declares.
     declared: DeclaredUnits,
-    /// A line whose pose fields are all empty is a gap (skipped), not a problem.
-    gaps: bool,
 }
 
 impl Header {
@@ -190,17 +188,14 @@ impl Header {
             line,
             scale,
             declared,
-            gaps: false,
         })
     }
 
     /// This header with its positions in `unit` (declared elsewhere than in its columns, as a
-    /// motion-capture export's metadata does), and its lines without a pose (every position
-    /// and rotation field empty: the body unseen) skipped rather than refused.
-    pub(crate) fn with_length_and_gaps(mut self, unit: LengthUnit) -> Header {
+    /// motion-capture export's metadata does).
+    pub(crate) fn with_length(mut self, unit: LengthUnit) -> Header {
         self.declared.length = Some(unit);
         self.scale[1..4].fill(unit.metres());
-        self.gaps = true;
         self
     }
 
@@ -248,8 +243,11 @@ impl Header {
             });
         }
         if let Some((col, role, a, b)) = bad {
-            if self.gaps && self.pose_fields_empty(s) {
-                return Ok(None);
+            // Every position and rotation field empty: the tracker lost the object (`lost.rs`).
+            if let Some(t) = self.lost_frame_time(s) {
+                let mut lost = [f64::NAN; VALUES];
+                lost[TIME] = t;
+                return Ok(Some(lost));
             }
             return Err(Problem::NotANumber {
                 column: col + 1,
@@ -260,10 +258,13 @@ impl Header {
         Ok(Some(vals))
     }
 
-    /// Whether every field of data line `s` that holds a position or a rotation is empty.
+    /// The time of data line `s` if every field of it that holds a position or a rotation is
+    /// empty and its time is a number.
     #[cold]
-    fn pose_fields_empty(&self, s: &[u8]) -> bool {
-        (1..VALUES).all(|role| self.field(s, role).is_some_and(|(a, b)| a == b))
+    fn lost_frame_time(&self, s: &[u8]) -> Option<f64> {
+        let empty = (1..VALUES).all(|role| self.field(s, role).is_some_and(|(a, b)| a == b));
+        let (a, b) = self.field(s, TIME).filter(|_| empty)?;
+        parse_f64(&s[a..b]).map(|t| t * self.scale[TIME])
     }
 
     /// Span of the field of data line `s` that holds value `role`.

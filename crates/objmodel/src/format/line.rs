@@ -8,6 +8,7 @@ use super::check::Track;
 use super::csv::{looks_like_header, trim, Header};
 use super::detect::detect_format;
 use super::layout::{Format, VALUES};
+use super::lost::{is_lost, LostSink};
 use super::motive::{is_motive_start, Preamble};
 use super::problem::{Context, Problem};
 use super::tum::{is_tum_header, scan_tum, tum_field, TumScan};
@@ -48,6 +49,8 @@ pub(crate) struct State {
     pub(crate) done: bool,
     /// The rigid body to read from a Motive export that holds several, where one is named.
     pub(crate) rigid_body: Option<String>,
+    /// The lines where the tracker lost the object (`lost.rs`), skipped as gaps.
+    pub(crate) lost: LostSink,
 }
 
 impl State {
@@ -61,6 +64,7 @@ impl State {
             pending: None,
             done: false,
             rigid_body: None,
+            lost: LostSink::default(),
         }
     }
 
@@ -121,21 +125,41 @@ impl State {
         self.finish(values, line)
     }
 
-    /// The item for the values of the current line: the checked pose, or an error, which ends
-    /// the reading.
+    /// The item for the values of the current line: the checked pose, nothing for a frame
+    /// where the tracker lost the object (counted in `lost`), or an error, which ends the
+    /// reading.
     #[inline(always)]
     fn finish(&mut self, values: Values, line: &[u8]) -> Option<Result<StampedPose>> {
-        match values.and_then(|v| v.map(|v| self.track.check(&v)).transpose()) {
-            Ok(None) => None,
-            Ok(Some(p)) => {
+        let checked = match values {
+            Ok(None) => return None,
+            Ok(Some(v)) => self
+                .track
+                .check(&v)
+                .map_err(|problem| (problem, is_lost(&v))),
+            Err(problem) => Err((problem, false)),
+        };
+        match checked {
+            Ok(p) => {
                 self.pose_line = self.track.line_no;
                 Some(Ok(p))
             }
-            Err(problem) => {
+            Err((_, true)) => {
+                self.lost_line();
+                None
+            }
+            Err((problem, false)) => {
                 self.done = true;
                 Some(Err(self.error(problem, line)))
             }
         }
+    }
+
+    /// Count the current line as one where the tracker lost the object.
+    #[cold]
+    #[inline(never)]
+    fn lost_line(&mut self) {
+        let mut lost = self.lost.lock().unwrap_or_else(|e| e.into_inner());
+        lost.record(self.track.line_no);
     }
 
     /// Lines before the format (or the CSV header) is known.

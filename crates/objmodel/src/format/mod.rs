@@ -16,7 +16,9 @@
 //! In both the quaternion is in TUM order (x y z w) and a line gives `world_from_object`; a TUM
 //! file written w x y z is read so where the user says ([`QuaternionOrder`]).
 //! Values must be finite, the quaternion's norm within [`QUAT_NORM_TOLERANCE`] of 1 (it is then
-//! normalised; its sign is kept) and timestamps strictly increasing; gaps are fine.
+//! normalised; its sign is kept) and timestamps strictly increasing; gaps are fine. A line
+//! whose pose values are all `NaN`, all empty (CSV) or all zero is a frame where the tracker
+//! lost the object: skipped as a gap and counted ([`LostTracking`], [`PoseReader::lost_tracking`]).
 //!
 //! Reading streams ([`PoseReader`], [`open`]); every error names the file, the line and the
 //! problem, e.g. `demo.tum:17: expected 8 columns (timestamp tx ty tz qx qy qz qw), found 7`.
@@ -33,6 +35,7 @@
 //! * `tum.rs`, `csv.rs`: the syntax of TUM and CSV lines, and CSV headers (with their units);
 //! * `motive.rs`: OptiTrack Motive's CSV export (its preamble gives the CSV header);
 //! * `detect.rs`: [`detect_format`];
+//! * `lost.rs`: [`LostTracking`], lines where the tracker lost the object (gaps, counted);
 //! * `line.rs`: one line, given the ones before (format, header, previous pose);
 //! * the fast path of TUM reading, speed code: `fast_field.rs` (plain decimals),
 //!   `fast_line.rs` (the common line), `simd.rs` (the same with AVX2), `fast_run.rs` (groups
@@ -54,6 +57,7 @@ mod files;
 mod layout;
 mod length_unit;
 mod line;
+mod lost;
 mod mapped;
 mod motive;
 mod number;
@@ -81,6 +85,7 @@ pub use files::{
 };
 pub use layout::{Format, QUAT_NORM_TOLERANCE};
 pub use length_unit::{to_metres, DeclaredUnits, LengthUnit};
+pub use lost::{is_lost, LostTracking};
 pub use number::parse_f64;
 pub use quaternion_order::QuaternionOrder;
 pub use reader::PoseReader;

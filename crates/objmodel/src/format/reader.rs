@@ -5,6 +5,7 @@
 
 use super::layout::Format;
 use super::line::{Mode, State};
+use super::lost::{LostSink, LostTracking};
 use super::stream::Stream;
 use crate::trajectory::StampedPose;
 use crate::{Error, Result};
@@ -75,6 +76,23 @@ impl<R: BufRead> PoseReader<R> {
     /// Line number (1-based) of the last pose returned; 0 before the first.
     pub fn line(&self) -> usize {
         self.st.pose_line
+    }
+
+    /// The lines where the tracker lost the object (skipped as gaps), counted as they are read:
+    /// a handle that stays valid when the reader moves to another thread, complete once the
+    /// reader has returned its last pose.
+    pub fn lost_tracking(&self) -> LostTracking {
+        self.st
+            .lost
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clone()
+    }
+
+    /// A handle on [`PoseReader::lost_tracking`] that outlives the reader (read it after the
+    /// last pose, e.g. on the thread the reader's poses are handed to).
+    pub(crate) fn lost_sink(&self) -> LostSink {
+        self.st.lost.clone()
     }
 
     /// Number of lines read so far.

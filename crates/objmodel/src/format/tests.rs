@@ -235,6 +235,7 @@ fn imports_go_one_way() {
         ("layout", include_str!("layout.rs")),
         ("length_unit", include_str!("length_unit.rs")),
         ("line", include_str!("line.rs")),
+        ("lost", include_str!("lost.rs")),
         ("mapped", include_str!("mapped.rs")),
         ("motive", include_str!("motive.rs")),
         ("number", include_str!("number.rs")),

@@ -97,7 +97,7 @@ fn errors_name_file_line_and_problem() {
         ("demo.tum", format!("{h}2 0 nan 0 0 0 0 1\n"), 4, vec!["ty is NaN (\"nan\")"]),
         ("demo.tum", format!("{h}2 0 0 -inf 0 0 0 1\n"), 4, vec!["tz is infinite (\"-inf\")"]),
         ("demo.tum", format!("{h}2 0 0 0 0 1e999 0 1\n"), 4, vec!["qy is infinite"]),
-        ("demo.tum", format!("{h}2 0 0 0 0 0 0 0\n"), 4, vec!["is zero"]),
+        ("demo.tum", format!("{h}2 1 0 0 0 0 0 0\n"), 4, vec!["is zero"]),
         ("demo.tum", format!("{h}2 0 0 0 0 0 0 1.02\n"), 4, vec!["norm 1.02", "tolerance 0.01"]),
         ("demo.tum", format!("{h}2 0 0 0 .5 .5 .5 .5\n3 0 0 0 0 0 0 .98\n"), 5, vec!["norm 0.98"]),
         ("demo.tum", format!("{h}1 0 0 0 0 0 0 1\n"), 4,
@@ -128,6 +128,55 @@ fn errors_name_file_line_and_problem() {
     // within the tolerance, gaps in time and absurd positions are all fine
     read_str("ok.tum", "1 0 0 0 0 0 0 1.0099\n2 0 0 0 0 0 0 0.9901\n");
     read_str("gap.tum", "1 -1e6 0 0 0 0 0 1\n1000 1e9 -5 0 0 0 0 1\n");
+}
+
+/// Frames where the tracker lost the object (every pose value NaN, empty or zero) are gaps:
+/// skipped, counted with their lines, and they do not take part in the order of the times.
+/// A line with only some values missing is still an error.
+#[test]
+fn lost_tracking_lines_are_gaps_and_counted() {
+    let tum = "1 0.1 0.2 0.3 0 0 0 1\n2 nan nan nan nan nan nan nan\n\
+               3 NaN NaN NaN NaN NaN NaN NaN\n# a comment between\n0.5 0 0 0 0 0 0 0\n\
+               5 0.1 0.2 0.3 0 0 1 0\n6 nan nan nan nan nan nan nan\n\
+               7 0.1 0.2 0.3 0 0 1 0\n";
+    let csv = "t,x,y,z,qx,qy,qz,qw\n1,0.1,0.2,0.3,0,0,0,1\n2,,,,,,,\n3, , , , , , ,\n\
+               0.5,nan,nan,nan,nan,nan,nan,nan\n5,0.1,0.2,0.3,0,0,1,0\n6,0,0,0,0,0,0,0\n\
+               7,0.1,0.2,0.3,0,0,1,0\n";
+    for (name, text, spans) in [
+        ("lost.tum", tum, vec![(2, 3), (5, 5), (7, 7)]),
+        ("lost.csv", csv, vec![(3, 5), (7, 7)]),
+    ] {
+        let format = if name.ends_with("csv") {
+            Format::Csv
+        } else {
+            Format::Tum
+        };
+        let mut r = PoseReader::new(text.as_bytes(), name.into(), format);
+        let poses: Vec<StampedPose> = r.by_ref().collect::<Result<_, _>>().unwrap();
+        let times: Vec<f64> = poses.iter().map(|p| p.t).collect();
+        assert_eq!(times, [1.0, 5.0, 7.0], "{name}");
+        assert_eq!(xyz(&poses[1]), [0.1, 0.2, 0.3]);
+        let lost = r.lost_tracking();
+        assert_eq!(lost.spans, spans, "{name}");
+        assert_eq!(lost.lines, 4, "{name}");
+        let w = lost.warning("object").unwrap();
+        assert!(w.contains("lost it on 4 lines"), "{w}");
+        // The whole-file reader skips them too.
+        assert_eq!(read_str(name, text).len(), 3);
+    }
+    // Nothing lost: nothing counted.
+    let mut r = PoseReader::new("1 0 0 0 0 0 0 1\n".as_bytes(), "ok.tum".into(), Format::Tum);
+    assert!(r.next().unwrap().is_ok());
+    assert_eq!(r.lost_tracking(), format::LostTracking::default());
+    // Some values missing or NaN, others not: errors, as before.
+    let h = "t,x,y,z,qx,qy,qz,qw\n1,0,0,0,0,0,0,1\n";
+    let e = parse_error("p.csv", &format!("{h}2,0.1,,,,,,\n"), 3);
+    assert!(e.contains("column 3 (ty) is empty"), "{e}");
+    let e = parse_error("p.tum", "1 0 0 0 0 0 0 1\n2 nan nan nan 0 0 0 1\n", 2);
+    assert!(e.contains("tx is NaN"), "{e}");
+    // A lost line's time is not a pose's: the next pose may share it.
+    let text = "1 0 0 0 0 0 0 1\n2 nan nan nan nan nan nan nan\n2 0 0 0 0 0 0 1\n";
+    assert_eq!(read_str("p.tum", text).len(), 2);
 }
 
 #[test]

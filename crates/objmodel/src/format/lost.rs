@@ -1,0 +1,144 @@
+//! Lines where the tracker lost the object. A motion-capture system that cannot see a body
+//! goes on writing its frames, with every pose value `NaN` (or empty, in a CSV export:
+//! pandas' `to_csv` and OptiTrack Motive both leave the cells blank) or zero (Vicon's
+//! occluded segments). Such a line is no pose and no error: the frame is a gap, as a frame
+//! the tracker dropped, and the reader counts it ([`LostTracking`]) so that the learner can
+//! say so. A line with some values missing or `NaN` and others not is still an error: that
+//! is a broken file, not a tracker that lost sight.
+
+use super::layout::VALUES;
+use std::sync::{Arc, Mutex};
+
+/// Spans of lost lines kept for the message; lines past them are counted, not listed, so
+/// that memory stays flat in the file's length.
+const KEPT_SPANS: usize = 8;
+
+/// Whether values in TUM order (`t tx ty tz qx qy qz qw`) are a frame where the tracker lost
+/// the object: every pose value (all but the time) `NaN`, or every one exactly zero (a zero
+/// quaternion is no rotation, so no tracker writes it for a pose it has).
+pub fn is_lost(v: &[f64; VALUES]) -> bool {
+    let pose = &v[1..];
+    pose.iter().all(|x| x.is_nan()) || pose.iter().all(|&x| x == 0.0)
+}
+
+/// The lines of one file where the tracker lost the object: how many, and where (the first
+/// eight runs of consecutive lines).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct LostTracking {
+    /// Lost lines in all.
+    pub lines: usize,
+    /// Runs of consecutive lost lines, first and last (1-based): the first eight.
+    pub spans: Vec<(usize, usize)>,
+    /// Runs in all.
+    pub runs: usize,
+    /// The last lost line.
+    last: usize,
+}
+
+/// Where a reader on another thread counts its lost lines, for the thread that reads its poses.
+pub(crate) type LostSink = Arc<Mutex<LostTracking>>;
+
+impl LostTracking {
+    /// Count line `line` (1-based, after every line counted before) as lost.
+    pub(crate) fn record(&mut self, line: usize) {
+        let continues = self.lines > 0 && self.last + 1 == line;
+        self.lines += 1;
+        self.last = line;
+        if !continues {
+            self.runs += 1;
+            if self.spans.len() < KEPT_SPANS {
+                self.spans.push((line, line));
+            }
+        } else if self.runs <= KEPT_SPANS {
+            self.spans[self.runs - 1].1 = line;
+        }
+    }
+
+    /// What a learner says of the lost lines of the `what` ("object", "palm") stream of
+    /// `file`, if there are any.
+    pub fn warning(&self, what: &str) -> Option<String> {
+        if self.lines == 0 {
+            return None;
+        }
+        let mut at: Vec<String> = self
+            .spans
+            .iter()
+            .map(|&(a, b)| {
+                if a == b {
+                    format!("{a}")
+                } else {
+                    format!("{a}-{b}")
+                }
+            })
+            .collect();
+        if self.runs > self.spans.len() {
+            at.push(format!("and {} more runs", self.runs - self.spans.len()));
+        }
+        let (lines, runs) = (self.lines, self.runs);
+        let s = |n: usize| if n == 1 { "" } else { "s" };
+        Some(format!(
+            "the {what}'s tracker lost it on {lines} line{} in {runs} run{} (line{} {}): every \
+             pose value there is NaN, empty or zero; those frames are gaps, as frames not \
+             recorded",
+            s(lines),
+            s(runs),
+            s(lines),
+            at.join(", ")
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lost_values_are_all_nan_or_all_zero_and_only_those() {
+        let n = f64::NAN;
+        assert!(is_lost(&[1.0, n, n, n, n, n, n, n]));
+        assert!(is_lost(&[1.0, 0.0, 0.0, -0.0, 0.0, 0.0, 0.0, 0.0]));
+        // Some values missing and others not: a broken line, not a lost frame.
+        assert!(!is_lost(&[1.0, 0.1, n, n, n, n, n, n]));
+        assert!(!is_lost(&[1.0, n, n, n, 0.0, 0.0, 0.0, 1.0]));
+        // A null pose is a pose (an identity rotation); held poses catch a tracker that
+        // writes it while blind.
+        assert!(!is_lost(&[1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]));
+        assert!(!is_lost(&[1.0, 0.0, 0.0, 0.0, n, 0.0, 0.0, 0.0]));
+    }
+
+    #[test]
+    fn runs_are_merged_counted_and_kept_bounded() {
+        let mut lost = LostTracking::default();
+        assert_eq!(lost.warning("object"), None);
+        // Runs: 3-5, 9, then 20 single lines two apart.
+        let lines: Vec<usize> = [3, 4, 5, 9]
+            .into_iter()
+            .chain((0..20).map(|k| 20 + 2 * k))
+            .collect();
+        for &l in &lines {
+            lost.record(l);
+        }
+        assert_eq!(lost.lines, lines.len());
+        assert_eq!(lost.runs, 22);
+        assert_eq!(lost.spans.len(), KEPT_SPANS);
+        assert_eq!(&lost.spans[..3], &[(3, 5), (9, 9), (20, 20)]);
+        let w = lost.warning("palm").unwrap();
+        assert!(
+            w.starts_with("the palm's tracker lost it on 24 lines in 22 runs"),
+            "{w}"
+        );
+        assert!(
+            w.contains("(lines 3-5, 9, 20, 22, 24, 26, 28, 30, and 14 more runs)"),
+            "{w}"
+        );
+        // A run past the kept ones does not stretch the last kept span.
+        let mut lost = LostTracking::default();
+        for k in 0..KEPT_SPANS {
+            lost.record(10 * k + 1);
+        }
+        lost.record(500);
+        lost.record(501);
+        assert_eq!(lost.spans[KEPT_SPANS - 1], (71, 71));
+        assert_eq!((lost.lines, lost.runs), (KEPT_SPANS + 2, KEPT_SPANS + 1));
+    }
+}
