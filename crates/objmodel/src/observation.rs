@@ -16,10 +16,16 @@ pub struct Observation {
     /// (empty when gravity is unknown).
     pub dynamics: Vec<ToppleDynamics>,
     /// What identifies the demonstration's poses whatever its name: a 64-bit FNV-1a hash, in
-    /// hex, of its frame count and the bits of every frame the pipeline kept (time and
-    /// orientation; every frame up to [`crate::recording::DEFAULT_CAPACITY`] per stream, an
-    /// even subset beyond: see [`crate::recording::Recording::fingerprint`]). `None` if unknown.
+    /// hex, of its frame count and the bits of every frame the pipeline kept (time,
+    /// orientation and position; every frame up to [`crate::recording::DEFAULT_CAPACITY`] per
+    /// stream, an even subset beyond: see [`crate::recording::Recording::fingerprint`]).
+    /// `None` if unknown.
     pub fingerprint: Option<String>,
+    /// The fingerprint as trees written before 2026-12-08 hold it, without the object's
+    /// positions ([`crate::recording::Recording::fingerprint_without_positions`]): a stored
+    /// demonstration that has it is these poses too.
+    #[serde(skip)]
+    pub fingerprint_without_positions: Option<String>,
     /// The friction a slide on the tilting palm showed (instrumented demonstrations whose
     /// object slid instead of toppling; [`crate::dynamics::palm_slide`]).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -56,6 +62,7 @@ impl Observation {
             classification,
             dynamics: Vec::new(),
             fingerprint: None,
+            fingerprint_without_positions: None,
             palm_slide: None,
             not_learnt: None,
             noise_windows: None,

@@ -93,14 +93,25 @@ impl Recording {
         crate::stats::median(&mut gaps)
     }
 
-    /// A 64-bit FNV-1a hash (over words), in hex, of `frames` (the object stream's length) and the bits of
-    /// every kept frame (index, time, orientation with its sign fixed; palm: time and pose)
-    /// and of the strides:
-    /// the same poses give the same fingerprint; different ones almost surely differ, unless
-    /// they differ only in frames a thinned record skipped, or only in the object's positions
-    /// (not recorded: two streams with bitwise the same times and orientations, which a
-    /// tracker's noise never gives but a synthetic generator can, count as the same poses).
+    /// A 64-bit FNV-1a hash (over words), in hex, of `frames` (the object stream's length) and
+    /// the bits of every kept frame (index, time, orientation with its sign fixed, position;
+    /// palm: time and pose) and of the strides: the same poses give the same fingerprint;
+    /// different ones almost surely differ, unless they differ only in frames a thinned
+    /// record skipped.
     pub fn fingerprint(&self, frames: u64) -> String {
+        self.hash(frames, true)
+    }
+
+    /// [`Recording::fingerprint`] as trees written before 2026-12-08 hold it: the object's
+    /// positions left out (two streams with bitwise the same times and orientations, which a
+    /// tracker's noise never gives but a synthetic generator can, had one fingerprint).
+    /// [`crate::tree::Tree::add`] matches a stored demonstration by either.
+    pub fn fingerprint_without_positions(&self, frames: u64) -> String {
+        self.hash(frames, false)
+    }
+
+    /// The hash of [`Recording::fingerprint`], with or without the object's `positions`.
+    fn hash(&self, frames: u64, positions: bool) -> String {
         // FNV-1a taking a 64-bit word at a time (not a byte: a tenth of the work, and the
         // words are the data's own).
         let mut h: u64 = 0xcbf2_9ce4_8422_2325;
@@ -122,6 +133,9 @@ impl Recording {
             eat(f.index);
             eat(f.t.to_bits());
             canonical(&f.rotation).iter().for_each(|c| eat(c.to_bits()));
+            if positions {
+                f.position.iter().for_each(|c| eat(c.to_bits()));
+            }
         }
         for p in &self.palm {
             eat(p.t.to_bits());

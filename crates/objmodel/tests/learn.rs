@@ -317,6 +317,42 @@ fn demonstrations_are_identified_by_their_poses() {
     );
 }
 
+/// Two demonstrations that share their times and orientations bit for bit but not their
+/// positions are two (before 2026-12-08 the fingerprint left positions out and the second
+/// replaced the first); a tree written then, whose demonstration holds the fingerprint
+/// without positions, still knows those poses again.
+#[test]
+fn positions_are_part_of_a_demonstrations_poses() {
+    let b = the_box();
+    let learner = Learner::new(Config::default());
+    let mut d = topple(&b, 0, 90).demo;
+    d.name = "a".into();
+    let mut moved = d.clone();
+    moved.name = "b".into();
+    for p in &mut moved.object {
+        p.pose.translation.vector.x += 1e-3;
+    }
+    let (a, shifted) = (observe(&learner, &d), observe(&learner, &moved));
+    assert_eq!(
+        a.fingerprint_without_positions,
+        shifted.fingerprint_without_positions
+    );
+    assert_ne!(a.fingerprint, shifted.fingerprint);
+    let mut tree = Tree::default();
+    assert_eq!(tree.add(&a).replaced, None);
+    let added = tree.add(&shifted);
+    assert_eq!((added.name.as_str(), added.replaced), ("b", None));
+    assert_eq!(tree.demos.len(), 2);
+    // An older tree's record of `a`: the fingerprint without positions.
+    let mut old = Tree::default();
+    old.add(&a);
+    old.demos[0].fingerprint = a.fingerprint_without_positions.clone();
+    let again = old.add(&a);
+    assert_eq!(again.replaced.as_deref(), Some("a"));
+    assert_eq!(old.demos.len(), 1);
+    assert_eq!(old.demos[0].fingerprint, a.fingerprint);
+}
+
 /// The features of one box's topples agree with each other (no contradiction at real noise);
 /// an edge moved 2 cm off its faces, or a centre of mass outside the shape, is reported, with
 /// the features named.

@@ -522,6 +522,8 @@ impl Learner {
     ) -> Observation {
         let gravity = self.config.gravity;
         let fingerprint = Some(recording.fingerprint(classification.frames));
+        let fingerprint_without_positions =
+            Some(recording.fingerprint_without_positions(classification.frames));
         let noise_windows = tracker_noise::noise_windows(&self.config, &recording, &classification);
         let mut dynamics = Vec::new();
         let unknown_vertical = classification
@@ -572,6 +574,7 @@ impl Learner {
             classification,
             dynamics,
             fingerprint,
+            fingerprint_without_positions,
             palm_slide,
             not_learnt: None,
             noise_windows,

@@ -227,12 +227,20 @@ impl Tree {
     pub fn add(&mut self, observation: &Observation) -> Added {
         self.restore_withheld_edges();
         let c = &observation.classification;
-        let same_poses = observation.fingerprint.as_ref().and_then(|f| {
-            self.demos
-                .iter()
-                .find(|d| d.fingerprint.as_ref() == Some(f))
-                .map(|d| d.name.clone())
-        });
+        // (A tree written before 2026-12-08 holds the fingerprint without the positions.)
+        let fingerprints = [
+            &observation.fingerprint,
+            &observation.fingerprint_without_positions,
+        ];
+        let same_poses = self
+            .demos
+            .iter()
+            .find(|d| {
+                d.fingerprint
+                    .as_ref()
+                    .is_some_and(|f| fingerprints.iter().any(|o| o.as_ref() == Some(f)))
+            })
+            .map(|d| d.name.clone());
         // A name is taken by a demonstration that stays (not the one these poses replace).
         let taken = |n: &str| {
             self.demos
