@@ -14,7 +14,7 @@
 //! strictly increase. Errors name the array (`demos[1]`), the row and the problem.
 //!
 //! A row whose pose values are all NaN (or all zero), or a matrix all NaN above its last row,
-//! is a frame where the tracker lost the object, as in a file (`objmodel::format::LostTracking`):
+//! is a frame where the tracker lost the object, as in a file (`objmodel::format::SkippedLines`):
 //! left out, as a frame not recorded, with an `ObjmodelWarning` that counts them.
 
 use crate::error::{err, warn};

@@ -216,7 +216,7 @@ fn exact_and_coarse_repeats_are_kept() {
 }
 
 /// A tracker that lost the box writes its frames on with every pose value NaN, empty or zero
-/// (`format/lost.rs`): the file learns what the file without those lines learns, and says
+/// (`format/skipped.rs`): the file learns what the file without those lines learns, and says
 /// which lines it skipped. (Before: the file was refused at its first such line.)
 #[test]
 fn lost_frames_written_as_nan_or_zeros_are_gaps() {

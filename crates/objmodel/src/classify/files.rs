@@ -154,7 +154,7 @@ pub(crate) fn classify_files_recording(
     let (object_conversion, mut warnings, mut length_unit) =
         Conversion::of(object_file, "object", 0.0, config);
     let object_poses = object_file.open()?;
-    let mut lost = vec![("object", object_poses.lost_sink())];
+    let mut skipped = vec![("object", object_poses.skipped_sink())];
     match palm {
         None if !object_conversion.is_identity() => {
             // Stamps not in seconds, positions not in metres or quaternions written w first:
@@ -209,7 +209,7 @@ pub(crate) fn classify_files_recording(
             length_unit = length_unit.filter(|_| palm_length.is_some());
             let mut objects = ThreadedPoses::spawn(object_poses);
             let palm_poses = palm.open()?;
-            lost.push(("palm", palm_poses.lost_sink()));
+            skipped.push(("palm", palm_poses.skipped_sink()));
             let mut palms = ThreadedPoses::spawn(palm_poses);
             // Both on the object's clock, in seconds.
             let mut next_object = || {
@@ -260,10 +260,10 @@ pub(crate) fn classify_files_recording(
         e => e,
     })?;
     // (Each reader has returned its last pose: its count is complete.)
-    warnings.extend(lost.iter().filter_map(|(what, sink)| {
-        let counted = sink.lock().unwrap_or_else(|e| e.into_inner());
-        counted.warning(what)
-    }));
+    for (what, sink) in &skipped {
+        let lines = sink.lock().unwrap_or_else(|e| e.into_inner());
+        warnings.extend(lines.warnings(what));
+    }
     c.warnings.splice(0..0, warnings);
     c.length_unit = length_unit;
     Ok(c)

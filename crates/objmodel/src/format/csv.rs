@@ -243,7 +243,7 @@ impl Header {
             });
         }
         if let Some((col, role, a, b)) = bad {
-            // Every position and rotation field empty: the tracker lost the object (`lost.rs`).
+            // Every position and rotation field empty: the tracker lost the object (`skipped.rs`).
             if let Some(t) = self.lost_frame_time(s) {
                 let mut lost = [f64::NAN; VALUES];
                 lost[TIME] = t;

@@ -8,9 +8,9 @@ use super::check::Track;
 use super::csv::{looks_like_header, trim, Header};
 use super::detect::detect_format;
 use super::layout::{Format, VALUES};
-use super::lost::{is_lost, LostSink};
 use super::motive::{is_motive_start, Preamble};
 use super::problem::{Context, Problem};
+use super::skipped::{is_lost, SkippedSink};
 use super::tum::{is_tum_header, scan_tum, tum_field, TumScan};
 use crate::trajectory::StampedPose;
 use crate::{Error, Result};
@@ -49,8 +49,9 @@ pub(crate) struct State {
     pub(crate) done: bool,
     /// The rigid body to read from a Motive export that holds several, where one is named.
     pub(crate) rigid_body: Option<String>,
-    /// The lines where the tracker lost the object (`lost.rs`), skipped as gaps.
-    pub(crate) lost: LostSink,
+    /// The lines skipped (`skipped.rs`): where the tracker lost the object, a last line cut
+    /// short.
+    pub(crate) skipped: SkippedSink,
 }
 
 impl State {
@@ -64,7 +65,7 @@ impl State {
             pending: None,
             done: false,
             rigid_body: None,
-            lost: LostSink::default(),
+            skipped: SkippedSink::default(),
         }
     }
 
@@ -126,7 +127,7 @@ impl State {
     }
 
     /// The item for the values of the current line: the checked pose, nothing for a frame
-    /// where the tracker lost the object (counted in `lost`), or an error, which ends the
+    /// where the tracker lost the object (counted in `skipped`), or an error, which ends the
     /// reading.
     #[inline(always)]
     fn finish(&mut self, values: Values, line: &[u8]) -> Option<Result<StampedPose>> {
@@ -158,8 +159,16 @@ impl State {
     #[cold]
     #[inline(never)]
     fn lost_line(&mut self) {
-        let mut lost = self.lost.lock().unwrap_or_else(|e| e.into_inner());
-        lost.record(self.track.line_no);
+        let mut skipped = self.skipped.lock().unwrap_or_else(|e| e.into_inner());
+        skipped.record(self.track.line_no);
+    }
+
+    /// The file's last line, `line`, has no end of line and does not read as a pose
+    /// (`problem`): left out, as cut short.
+    #[cold]
+    pub(crate) fn cut_short(&mut self, line: usize, problem: String) {
+        let mut skipped = self.skipped.lock().unwrap_or_else(|e| e.into_inner());
+        skipped.cut_short = Some((line, problem));
     }
 
     /// Lines before the format (or the CSV header) is known.

@@ -18,7 +18,9 @@
 //! Values must be finite, the quaternion's norm within [`QUAT_NORM_TOLERANCE`] of 1 (it is then
 //! normalised; its sign is kept) and timestamps strictly increasing; gaps are fine. A line
 //! whose pose values are all `NaN`, all empty (CSV) or all zero is a frame where the tracker
-//! lost the object: skipped as a gap and counted ([`LostTracking`], [`PoseReader::lost_tracking`]).
+//! lost the object: skipped as a gap and counted ([`SkippedLines`], [`PoseReader::skipped_lines`]);
+//! so is a last line without its `\n` that does not read as a pose, after poses (a logger
+//! stopped in the middle of it).
 //!
 //! Reading streams ([`PoseReader`], [`open`]); every error names the file, the line and the
 //! problem, e.g. `demo.tum:17: expected 8 columns (timestamp tx ty tz qx qy qz qw), found 7`.
@@ -35,7 +37,8 @@
 //! * `tum.rs`, `csv.rs`: the syntax of TUM and CSV lines, and CSV headers (with their units);
 //! * `motive.rs`: OptiTrack Motive's CSV export (its preamble gives the CSV header);
 //! * `detect.rs`: [`detect_format`];
-//! * `lost.rs`: [`LostTracking`], lines where the tracker lost the object (gaps, counted);
+//! * `skipped.rs`: [`SkippedLines`]: lines where the tracker lost the object (gaps), a last
+//!   line cut short;
 //! * `line.rs`: one line, given the ones before (format, header, previous pose);
 //! * the fast path of TUM reading, speed code: `fast_field.rs` (plain decimals),
 //!   `fast_line.rs` (the common line), `simd.rs` (the same with AVX2), `fast_run.rs` (groups
@@ -57,7 +60,6 @@ mod files;
 mod layout;
 mod length_unit;
 mod line;
-mod lost;
 mod mapped;
 mod motive;
 mod number;
@@ -68,6 +70,7 @@ mod quaternion_order;
 mod reader;
 #[cfg(target_arch = "x86_64")]
 mod simd;
+mod skipped;
 mod stream;
 #[cfg(test)]
 mod tests;
@@ -85,10 +88,10 @@ pub use files::{
 };
 pub use layout::{Format, QUAT_NORM_TOLERANCE};
 pub use length_unit::{to_metres, DeclaredUnits, LengthUnit};
-pub use lost::{is_lost, LostTracking};
 pub use number::parse_f64;
 pub use quaternion_order::QuaternionOrder;
 pub use reader::PoseReader;
+pub use skipped::{is_lost, SkippedLines};
 pub use time_unit::{
     conversion_warning, detect_time_unit, detect_time_unit_of, to_seconds, TimeUnit,
     TIME_UNIT_STAMPS,

@@ -18,7 +18,7 @@
 //! A take with several rigid bodies (an object and the palm that pushes it) is read one body at
 //! a time, the one named ([`super::PoseFile::rigid_body`]); unnamed, it is refused with the
 //! names it holds. A frame in which the body was not seen (every field of its pose empty) is a
-//! gap, skipped and counted (`lost.rs`); a partly empty one is an error. Motive's world is y-up unless
+//! gap, skipped and counted (`skipped.rs`); a partly empty one is an error. Motive's world is y-up unless
 //! its up axis was set to z: learn such files with `--gravity 0,-1,0` (the gravity check says so).
 
 use super::csv::{fields, Header};

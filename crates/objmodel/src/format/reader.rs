@@ -5,7 +5,7 @@
 
 use super::layout::Format;
 use super::line::{Mode, State};
-use super::lost::{LostSink, LostTracking};
+use super::skipped::{SkippedLines, SkippedSink};
 use super::stream::Stream;
 use crate::trajectory::StampedPose;
 use crate::{Error, Result};
@@ -78,21 +78,18 @@ impl<R: BufRead> PoseReader<R> {
         self.st.pose_line
     }
 
-    /// The lines where the tracker lost the object (skipped as gaps), counted as they are read:
-    /// a handle that stays valid when the reader moves to another thread, complete once the
-    /// reader has returned its last pose.
-    pub fn lost_tracking(&self) -> LostTracking {
-        self.st
-            .lost
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .clone()
+    /// The lines skipped so far that were neither blank nor comments ([`SkippedLines`]: where
+    /// the tracker lost the object, a last line cut short); complete once the reader has
+    /// returned its last pose.
+    pub fn skipped_lines(&self) -> SkippedLines {
+        let skipped = self.st.skipped.lock();
+        skipped.unwrap_or_else(|e| e.into_inner()).clone()
     }
 
-    /// A handle on [`PoseReader::lost_tracking`] that outlives the reader (read it after the
+    /// A handle on [`PoseReader::skipped_lines`] that outlives the reader (read it after the
     /// last pose, e.g. on the thread the reader's poses are handed to).
-    pub(crate) fn lost_sink(&self) -> LostSink {
-        self.st.lost.clone()
+    pub(crate) fn skipped_sink(&self) -> SkippedSink {
+        self.st.skipped.clone()
     }
 
     /// Number of lines read so far.

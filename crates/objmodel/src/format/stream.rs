@@ -58,7 +58,7 @@ impl Stream {
                 if self.carry.is_empty() && !self.overlong {
                     return None;
                 }
-                return self.take_carry(st);
+                return self.take_last(st);
             }
             let whole_lines = self.carry.is_empty() && !self.overlong;
             if whole_lines && st.track.line_no > 0 {
@@ -164,6 +164,20 @@ impl Stream {
             }
         }
         None
+    }
+
+    /// Handle the file's last line, which has no `\n` (carried, or over-long): after poses, one
+    /// that does not read as a pose is a line a logger stopped writing in the middle of, left
+    /// out and said (`skipped.rs`), not an error.
+    fn take_last(&mut self, st: &mut State) -> Option<Result<StampedPose>> {
+        let after_poses = st.track.prev_line > 0;
+        match self.take_carry(st) {
+            Some(Err(Error::Parse { line, msg, .. })) if after_poses => {
+                st.cut_short(line, msg);
+                None
+            }
+            r => r,
+        }
     }
 
     /// Handle the carried (or over-long) line and reset the carry buffer.

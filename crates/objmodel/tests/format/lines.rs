@@ -156,10 +156,10 @@ fn lost_tracking_lines_are_gaps_and_counted() {
         let times: Vec<f64> = poses.iter().map(|p| p.t).collect();
         assert_eq!(times, [1.0, 5.0, 7.0], "{name}");
         assert_eq!(xyz(&poses[1]), [0.1, 0.2, 0.3]);
-        let lost = r.lost_tracking();
+        let lost = r.skipped_lines();
         assert_eq!(lost.spans, spans, "{name}");
         assert_eq!(lost.lines, 4, "{name}");
-        let w = lost.warning("object").unwrap();
+        let w = lost.warnings("object").remove(0);
         assert!(w.contains("lost it on 4 lines"), "{w}");
         // The whole-file reader skips them too.
         assert_eq!(read_str(name, text).len(), 3);
@@ -167,7 +167,7 @@ fn lost_tracking_lines_are_gaps_and_counted() {
     // Nothing lost: nothing counted.
     let mut r = PoseReader::new("1 0 0 0 0 0 0 1\n".as_bytes(), "ok.tum".into(), Format::Tum);
     assert!(r.next().unwrap().is_ok());
-    assert_eq!(r.lost_tracking(), format::LostTracking::default());
+    assert_eq!(r.skipped_lines(), format::SkippedLines::default());
     // Some values missing or NaN, others not: errors, as before.
     let h = "t,x,y,z,qx,qy,qz,qw\n1,0,0,0,0,0,0,1\n";
     let e = parse_error("p.csv", &format!("{h}2,0.1,,,,,,\n"), 3);
@@ -177,6 +177,55 @@ fn lost_tracking_lines_are_gaps_and_counted() {
     // A lost line's time is not a pose's: the next pose may share it.
     let text = "1 0 0 0 0 0 0 1\n2 nan nan nan nan nan nan nan\n2 0 0 0 0 0 0 1\n";
     assert_eq!(read_str("p.tum", text).len(), 2);
+}
+
+/// A logger stopped in the middle of the last line: that line, without its `\n`, does not read
+/// as a pose, and after poses it is left out and said, however the reader's buffer cuts the
+/// file. Ended by a `\n`, or with no pose before it, it is an error as always.
+#[test]
+fn a_last_line_cut_short_is_left_out() {
+    let poses = "1 0 0 0 0 0 0 1\n2 0.1 0 0 0 0 0 1\n";
+    #[rustfmt::skip]
+    let cases = [
+        ("cut.tum", format!("{poses}3 0.1 0.2"), 2, 3, "found 3"),
+        ("cut.tum", format!("# c\n{poses}3 0.1 0.2 0.3 0 0 0 0.7"), 2, 4, "norm 0.7"),
+        ("cut.csv", "t,x,y,z,qx,qy,qz,qw\n1,0,0,0,0,0,0,1\n2,0".into(), 1, 3, "found 2"),
+    ];
+    for (name, text, n, line, problem) in cases {
+        let format = if name.ends_with("csv") {
+            Format::Csv
+        } else {
+            Format::Tum
+        };
+        for cap in [1, 2, 7, 16, 64, 4096] {
+            let src = std::io::BufReader::with_capacity(cap, text.as_bytes());
+            let mut r = PoseReader::new(src, name.into(), format);
+            let read: Vec<StampedPose> = r.by_ref().collect::<Result<_, _>>().unwrap();
+            assert_eq!(read.len(), n, "{name} {cap}");
+            let (at, why) = r.skipped_lines().cut_short.expect("said");
+            assert_eq!(at, line, "{name} {cap}");
+            assert!(why.contains(problem), "{why}");
+        }
+        let w = with_file(name, &text, |p| {
+            let mut r = format::open(p).unwrap();
+            r.by_ref().for_each(|p| assert!(p.is_ok()));
+            r.skipped_lines().warnings("object")
+        });
+        assert_eq!(w.len(), 1);
+        assert!(
+            w[0].contains(&format!("line cut short (line {line}")),
+            "{w:?}"
+        );
+        // With its end of line it is an error.
+        parse_error(name, &format!("{text}\n"), line);
+    }
+    // No pose before it: an error.
+    parse_error("one.tum", "1 0.1 0.2", 1);
+    // A last line without its end of line that reads is a pose.
+    assert_eq!(
+        read_str("ok.tum", "1 0 0 0 0 0 0 1\n2 0 0 0 0 0 0 1").len(),
+        2
+    );
 }
 
 #[test]

@@ -1,10 +1,16 @@
-//! Lines where the tracker lost the object. A motion-capture system that cannot see a body
-//! goes on writing its frames, with every pose value `NaN` (or empty, in a CSV export:
-//! pandas' `to_csv` and OptiTrack Motive both leave the cells blank) or zero (Vicon's
-//! occluded segments). Such a line is no pose and no error: the frame is a gap, as a frame
-//! the tracker dropped, and the reader counts it ([`LostTracking`]) so that the learner can
-//! say so. A line with some values missing or `NaN` and others not is still an error: that
-//! is a broken file, not a tracker that lost sight.
+//! Lines a reader skips that are neither blank nor comments, and why ([`SkippedLines`]), so
+//! that the learner can say so:
+//!
+//! * **Frames where the tracker lost the object.** A motion-capture system that cannot see a
+//!   body goes on writing its frames, with every pose value `NaN` (or empty, in a CSV export:
+//!   pandas' `to_csv` and OptiTrack Motive both leave the cells blank) or zero (Vicon's
+//!   occluded segments). Such a line is no pose and no error: the frame is a gap, as a frame
+//!   the tracker dropped. A line with some values missing or `NaN` and others not is still an
+//!   error: that is a broken file, not a tracker that lost sight.
+//! * **A last line cut short.** A logger stopped in the middle of a line (killed, out of
+//!   disk) leaves a last line without its `\n` that does not read as a pose. After poses it
+//!   is left out, with its problem; elsewhere, or ended by a `\n`, a line that does not read
+//!   is an error as always.
 
 use super::layout::VALUES;
 use std::sync::{Arc, Mutex};
@@ -21,24 +27,28 @@ pub fn is_lost(v: &[f64; VALUES]) -> bool {
     pose.iter().all(|x| x.is_nan()) || pose.iter().all(|&x| x == 0.0)
 }
 
-/// The lines of one file where the tracker lost the object: how many, and where (the first
-/// eight runs of consecutive lines).
+/// The lines of one file a reader skipped: where the tracker lost the object (how many, and
+/// the first eight runs of consecutive lines), and a last line cut short.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct LostTracking {
-    /// Lost lines in all.
+pub struct SkippedLines {
+    /// Lines where the tracker lost the object, in all.
     pub lines: usize,
-    /// Runs of consecutive lost lines, first and last (1-based): the first eight.
+    /// Runs of consecutive such lines, first and last (1-based): the first eight.
     pub spans: Vec<(usize, usize)>,
     /// Runs in all.
     pub runs: usize,
     /// The last lost line.
     last: usize,
+    /// The last line of the file, without its `\n`, that does not read as a pose: its number
+    /// and the problem.
+    pub cut_short: Option<(usize, String)>,
 }
 
-/// Where a reader on another thread counts its lost lines, for the thread that reads its poses.
-pub(crate) type LostSink = Arc<Mutex<LostTracking>>;
+/// Where a reader on another thread counts the lines it skips, for the thread that reads its
+/// poses.
+pub(crate) type SkippedSink = Arc<Mutex<SkippedLines>>;
 
-impl LostTracking {
+impl SkippedLines {
     /// Count line `line` (1-based, after every line counted before) as lost.
     pub(crate) fn record(&mut self, line: usize) {
         let continues = self.lines > 0 && self.last + 1 == line;
@@ -54,9 +64,21 @@ impl LostTracking {
         }
     }
 
-    /// What a learner says of the lost lines of the `what` ("object", "palm") stream of
-    /// `file`, if there are any.
-    pub fn warning(&self, what: &str) -> Option<String> {
+    /// What a learner says of the skipped lines of the `what` ("object", "palm") stream.
+    pub fn warnings(&self, what: &str) -> Vec<String> {
+        let mut said: Vec<String> = self.lost_warning(what).into_iter().collect();
+        if let Some((line, problem)) = &self.cut_short {
+            said.push(format!(
+                "the {what}'s file ends in a line cut short (line {line}, without its end of \
+                 line: a logger stopped in the middle of it?), which does not read as a pose \
+                 ({problem}): left out"
+            ));
+        }
+        said
+    }
+
+    /// What a learner says of the lines where the tracker lost the object, if any.
+    fn lost_warning(&self, what: &str) -> Option<String> {
         if self.lines == 0 {
             return None;
         }
@@ -108,8 +130,8 @@ mod tests {
 
     #[test]
     fn runs_are_merged_counted_and_kept_bounded() {
-        let mut lost = LostTracking::default();
-        assert_eq!(lost.warning("object"), None);
+        let mut lost = SkippedLines::default();
+        assert!(lost.warnings("object").is_empty());
         // Runs: 3-5, 9, then 20 single lines two apart.
         let lines: Vec<usize> = [3, 4, 5, 9]
             .into_iter()
@@ -122,7 +144,7 @@ mod tests {
         assert_eq!(lost.runs, 22);
         assert_eq!(lost.spans.len(), KEPT_SPANS);
         assert_eq!(&lost.spans[..3], &[(3, 5), (9, 9), (20, 20)]);
-        let w = lost.warning("palm").unwrap();
+        let w = lost.warnings("palm").remove(0);
         assert!(
             w.starts_with("the palm's tracker lost it on 24 lines in 22 runs"),
             "{w}"
@@ -132,7 +154,7 @@ mod tests {
             "{w}"
         );
         // A run past the kept ones does not stretch the last kept span.
-        let mut lost = LostTracking::default();
+        let mut lost = SkippedLines::default();
         for k in 0..KEPT_SPANS {
             lost.record(10 * k + 1);
         }
