@@ -195,6 +195,11 @@ fn loose((r, a): (f64, f64), indent: &str) -> String {
     )
 }
 
+/// `n` and `thing`, plural where `n` is not 1 ("1 demo", "3 demos").
+fn count(n: usize, thing: &str) -> String {
+    format!("{n} {thing}{}", if n == 1 { "" } else { "s" })
+}
+
 /// A short human summary of a tree.
 pub fn tree(tree: &Tree) -> String {
     let mut s = format!(
@@ -205,20 +210,20 @@ pub fn tree(tree: &Tree) -> String {
     );
     for e in &tree.edges {
         s += &format!(
-            "  {}: point {} m, direction {}, ±{:.2} mm, ±{:.2} deg, {} demos\n",
+            "  {}: point {} m, direction {}, ±{:.2} mm, ±{:.2} deg, {}\n",
             e.id,
             v3(&e.point),
             v3(&e.direction),
             e.sigma_point_m * 1e3,
             e.sigma_direction_rad.to_degrees(),
-            e.n_support
+            count(e.n_support, "demo")
         );
         s += &loose(e.bounds(0.95), "    ");
     }
     for e in &tree.edges {
         for p in &e.pendulums {
             s += &format!(
-                "  {} pendulum, resting on {}: phi {} ±{:.2} deg, I/(m l_p) {}, {} demos\n",
+                "  {} pendulum, resting on {}: phi {} ±{:.2} deg, I/(m l_p) {}, {}\n",
                 e.id,
                 v3(&p.resting_face_normal),
                 p.phi
@@ -226,7 +231,7 @@ pub fn tree(tree: &Tree) -> String {
                 p.phi_sigma.unwrap_or(f64::NAN).to_degrees(),
                 p.inertia_ratio_m
                     .map_or("?".into(), |x| format!("{:.3} m", x)),
-                p.observations.len()
+                count(p.observations.len(), "demo")
             );
         }
     }
@@ -254,16 +259,16 @@ pub fn tree(tree: &Tree) -> String {
         });
         let landings = match f.evidence.landing {
             0 => String::new(),
-            n => format!(", {n} landings"),
+            n => format!(", {}", count(n, "landing")),
         };
         s += &format!(
-            "  {}: normal {}, {off}, ±{:.2} deg, {} demos ({} slides, {} rests{landings})\n",
+            "  {}: normal {}, {off}, ±{:.2} deg, {} ({}, {}{landings})\n",
             f.id,
             v3(&f.normal),
             f.sigma_normal_rad.to_degrees(),
-            f.n_support,
-            f.evidence.slide,
-            f.evidence.rest
+            count(f.n_support, "demo"),
+            count(f.evidence.slide, "slide"),
+            count(f.evidence.rest, "rest")
         );
     }
     if let Some(sp) = &tree.support {
