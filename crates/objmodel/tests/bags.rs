@@ -378,3 +378,71 @@ fn split_cuts_a_session_at_its_rests() {
     assert_eq!(whole.len(), 1);
     assert_eq!(whole[0].classification.frames, session.len() as u64);
 }
+
+/// A tracker that lost the object and published on (every value NaN, or zero): those
+/// messages are left out, as frames not recorded, and said; the rest learns what the poses
+/// without them teach.
+#[test]
+fn poses_a_lost_tracker_published_are_left_out_and_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = instrumented(34);
+    let nan = f64::NAN;
+    let blind = [
+        Isometry3::from_parts(
+            Translation3::new(nan, nan, nan),
+            UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(nan, nan, nan, nan)),
+        ),
+        Isometry3::from_parts(
+            Translation3::new(0.0, 0.0, 0.0),
+            UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(0.0, 0.0, 0.0, 0.0)),
+        ),
+    ];
+    // Lost in the rest before the tilt (frames 20-25) and once more later (frame 70).
+    let lost = |k: usize| (20..26).contains(&k) || k == 70;
+    let mut msgs = Vec::new();
+    for (k, p) in d.object.iter().enumerate() {
+        let pose = if lost(k) { blind[k % 2] } else { p.pose };
+        msgs.push(Msg {
+            topic: "/tag_pose".into(),
+            schema: POSE_STAMPED,
+            log_time: p.t,
+            data: pose_stamped(true, p.t, "world", &pose),
+        });
+    }
+    for p in d.palm.as_ref().unwrap() {
+        msgs.push(Msg {
+            topic: "/palm".into(),
+            schema: POSE_STAMPED,
+            log_time: p.t,
+            data: pose_stamped(true, p.t, "world", &p.pose),
+        });
+    }
+    let path = dir.path().join("lost.mcap");
+    write_bag(&path, &msgs, Some(Compression::Zstd));
+    let sel = BagSelection {
+        reference: Some("world".into()),
+        ..selection("/tag_pose", Some("/palm"))
+    };
+    let got = with_offset(0.0)
+        .observe_all(&Source::Bag {
+            path: &path,
+            selection: &sel,
+        })
+        .unwrap();
+    assert_eq!(got.len(), 1);
+    let said = &got[0].classification.warnings;
+    assert!(
+        said.iter().any(|w| w.starts_with(
+            "7 object poses had every value NaN or zero (the tracker lost it) and were left out"
+        )),
+        "{said:?}"
+    );
+    let mut without = d.clone();
+    without.object = (d.object.iter().enumerate())
+        .filter(|(k, _)| !lost(*k))
+        .map(|(_, p)| *p)
+        .collect();
+    let truth = with_offset(0.0).observe(&Source::Memory(&without)).unwrap();
+    assert!(truth.classification.edges().count() > 0);
+    assert_same_edges(&got[0], &truth, 1e-6);
+}

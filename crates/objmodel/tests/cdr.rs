@@ -23,6 +23,11 @@ fn u32_bytes(le: bool, x: u32) -> [u8; 4] {
 
 /// A PoseStamped built byte by byte: encapsulation, stamp, frame, padding to 8, seven doubles.
 fn hand_pose_stamped(le: bool) -> Vec<u8> {
+    hand_pose_stamped_of(le, [0.5, -1.25, 2.0, 0.0, 0.0, 0.6, 0.8])
+}
+
+/// [`hand_pose_stamped`] with the seven doubles `pose`.
+fn hand_pose_stamped_of(le: bool, pose: [f64; 7]) -> Vec<u8> {
     let mut b = vec![0, le as u8, 0, 0];
     b.extend(u32_bytes(le, 1_700_000_000)); // sec
     b.extend(u32_bytes(le, 250_000_000)); // nanosec
@@ -30,7 +35,7 @@ fn hand_pose_stamped(le: bool) -> Vec<u8> {
     b.extend(b"world\0");
     assert_eq!(b.len() - 4, 18);
     b.extend([0; 6]); // to 24, a multiple of 8
-    for v in [0.5, -1.25, 2.0, 0.0, 0.0, 0.6, 0.8] {
+    for v in pose {
         b.extend(le_or_be(le, v));
     }
     b
@@ -42,7 +47,7 @@ fn cdr_pose_stamped_decodes_in_both_byte_orders() {
         let bytes = hand_pose_stamped(le);
         let mut got = vec![];
         decode(PoseType::PoseStamped, &bytes, &mut |r| {
-            got.push((r.t, r.parent.to_vec(), r.pose))
+            got.push((r.t, r.parent.to_vec(), r.pose.unwrap()))
         })
         .unwrap();
         assert_eq!(got.len(), 1);
@@ -85,7 +90,7 @@ fn cdr_tf_message_decodes_in_both_byte_orders() {
         let bytes = hand_tf(le);
         let mut got = vec![];
         decode(PoseType::TfMessage, &bytes, &mut |r| {
-            got.push((r.t, r.parent.to_vec(), r.child.to_vec(), r.pose))
+            got.push((r.t, r.parent.to_vec(), r.child.to_vec(), r.pose.unwrap()))
         })
         .unwrap();
         assert_eq!(got.len(), 2);
@@ -104,4 +109,24 @@ fn cdr_tf_message_decodes_in_both_byte_orders() {
     bad[n - 8..].copy_from_slice(&0.1f64.to_le_bytes());
     let e = decode(PoseType::PoseStamped, &bad, &mut |_| {}).unwrap_err();
     assert!(e.0.contains("quaternion"), "{e}");
+}
+
+/// A tracker that lost the object and published on: every value NaN, or zero, is no pose
+/// (the reader counts it); some values NaN and others not is an error.
+#[test]
+fn a_lost_pose_is_none_and_a_broken_one_an_error() {
+    let n = f64::NAN;
+    for pose in [[n; 7], [0.0; 7]] {
+        let mut got = vec![];
+        decode(
+            PoseType::PoseStamped,
+            &hand_pose_stamped_of(true, pose),
+            &mut |r| got.push(r.pose),
+        )
+        .unwrap();
+        assert_eq!(got, [None]);
+    }
+    let broken = hand_pose_stamped_of(true, [0.5, n, 2.0, 0.0, 0.0, 0.6, 0.8]);
+    let e = decode(PoseType::PoseStamped, &broken, &mut |_| {}).unwrap_err();
+    assert!(e.0.contains("not finite"), "{e}");
 }

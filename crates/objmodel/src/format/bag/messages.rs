@@ -10,7 +10,8 @@
 //!
 //! Every pose is stamped with its `header.stamp` (seconds + nanoseconds), not the time the
 //! bag received it. A quaternion must be finite with a norm within
-//! [`QUAT_NORM_TOLERANCE`] of 1 (it is then normalised).
+//! [`QUAT_NORM_TOLERANCE`] of 1 (it is then normalised). A pose whose every value is NaN, or
+//! zero, is a tracker that lost the object and published on: no pose (counted by the reader).
 
 use super::cdr::{CdrError, CdrReader, CdrResult};
 use crate::format::QUAT_NORM_TOLERANCE;
@@ -64,8 +65,9 @@ pub struct RawTransform<'a> {
     pub parent: &'a [u8],
     /// `child_frame_id`, or empty for a type without one (the topic names the child).
     pub child: &'a [u8],
-    /// `parent_from_child`.
-    pub pose: Isometry3<f64>,
+    /// `parent_from_child`; `None` where every value is NaN or zero: a tracker that lost the
+    /// object and published on (`format::is_lost`).
+    pub pose: Option<Isometry3<f64>>,
 }
 
 /// Decode one message of type `ty`, handing each pose it carries to `out` (a `TFMessage`
@@ -124,10 +126,14 @@ fn transform_stamped<'a>(r: &mut CdrReader<'a>, ty: PoseType) -> CdrResult<RawTr
     })
 }
 
-/// A `Pose` or a `Transform`: three float64 of position, four of quaternion (x y z w).
-fn pose(r: &mut CdrReader) -> CdrResult<Isometry3<f64>> {
+/// A `Pose` or a `Transform`: three float64 of position, four of quaternion (x y z w); `None`
+/// where every value is NaN or zero (the tracker lost the object: `format::is_lost`).
+fn pose(r: &mut CdrReader) -> CdrResult<Option<Isometry3<f64>>> {
     let [x, y, z] = r.f64s::<3>("position")?;
     let [qx, qy, qz, qw] = r.f64s::<4>("orientation")?;
+    if crate::format::is_lost(&[0.0, x, y, z, qx, qy, qz, qw]) {
+        return Ok(None);
+    }
     if ![x, y, z].iter().all(|v| v.is_finite()) {
         return Err(CdrError(format!("position ({x}, {y}, {z}) is not finite")));
     }
@@ -138,8 +144,8 @@ fn pose(r: &mut CdrReader) -> CdrResult<Isometry3<f64>> {
             "quaternion (x y z w) = ({qx}, {qy}, {qz}, {qw}) has norm {norm}, not 1"
         )));
     }
-    Ok(Isometry3::from_parts(
+    Ok(Some(Isometry3::from_parts(
         Translation3::new(x, y, z),
         UnitQuaternion::new_unchecked(q / norm),
-    ))
+    )))
 }

@@ -98,6 +98,13 @@ pub fn read_bag_demonstrations(
                 s.duplicates
             ));
         }
+        if s.lost > 0 {
+            warnings.push(format!(
+                "{} {what} poses had every value NaN or zero (the tracker lost it) and were \
+                 left out, as frames not recorded",
+                s.lost
+            ));
+        }
     };
     let object = select::poses_in(&bag, &object_sel, &reference, "object")?;
     note("object", &object);

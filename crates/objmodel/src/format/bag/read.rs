@@ -48,6 +48,9 @@ pub struct TopicPoses {
     pub poses: Vec<StampedPose>,
     /// Messages dropped because another had the same stamp.
     pub duplicates: usize,
+    /// Messages left out because every value of their pose was NaN or zero (the tracker lost
+    /// the object).
+    pub lost: usize,
 }
 
 /// What was read of a bag.
@@ -61,6 +64,8 @@ pub struct BagContents {
     pub tf: TfTree,
     /// Poses on tf dropped because another had the same stamp.
     pub tf_duplicates: usize,
+    /// Transforms on tf left out because every value was NaN or zero.
+    pub tf_lost: usize,
     /// The poses of the pose topics asked for.
     pub streams: HashMap<String, TopicPoses>,
 }
@@ -190,11 +195,14 @@ fn read_file(path: &Path, topics: &[&str], bag: &mut BagContents) -> Result<()> 
         };
         let mut failed = None;
         let decoded = if ch.tf {
-            let tf = &mut bag.tf;
+            let (tf, lost) = (&mut bag.tf, &mut bag.tf_lost);
             decode(ty, &m.data, &mut |r: RawTransform| {
+                let Some(pose) = r.pose else {
+                    *lost += 1;
+                    return;
+                };
                 if failed.is_none() {
-                    if let Err(e) =
-                        tf.insert(r.parent, r.child, r.t, r.pose, ch.static_tf, &ch.topic)
+                    if let Err(e) = tf.insert(r.parent, r.child, r.t, pose, ch.static_tf, &ch.topic)
                     {
                         failed = Some(e);
                     }
@@ -212,7 +220,10 @@ fn read_file(path: &Path, topics: &[&str], bag: &mut BagContents) -> Result<()> 
                         s.frame
                     ));
                 }
-                s.poses.push(StampedPose::new(r.t, r.pose));
+                match r.pose {
+                    Some(pose) => s.poses.push(StampedPose::new(r.t, pose)),
+                    None => s.lost += 1,
+                }
             })
         };
         decoded.map_err(|e| at(e.0))?;

@@ -38,6 +38,9 @@ pub struct SelectedPoses {
     pub dropped: usize,
     /// Poses dropped because another had the same stamp.
     pub duplicates: usize,
+    /// Poses left out because every value was NaN or zero (the tracker lost the object); for
+    /// a tf frame, every such transform on tf.
+    pub lost: usize,
 }
 
 /// Find what `spec` names in `bag` (`role`: "object" or "palm", for the error).
@@ -119,6 +122,7 @@ pub fn poses_in(
                 ));
             };
             out.duplicates = s.duplicates;
+            out.lost = s.lost;
             for p in &s.poses {
                 match bag.tf.at(&chain, p.t) {
                     Some(g) => out.poses.push(StampedPose::new(p.t, g * p.pose)),
@@ -137,6 +141,7 @@ pub fn poses_in(
                 ));
             };
             out.duplicates = bag.tf_duplicates;
+            out.lost = bag.tf_lost;
             for p in &bag.tf.edges()[driver].poses {
                 match bag.tf.at(&chain, p.t) {
                     Some(g) => out.poses.push(StampedPose::new(p.t, g)),
