@@ -53,6 +53,12 @@ pub struct LearnArgs {
         requires = "support_height"
     )]
     pub support_sigma: f64,
+    /// Learn from the demonstrations that can be read, and print the error of each that
+    /// cannot (a file, a line and the problem, as without this option), instead of stopping
+    /// at the first: the model is written from the others, and the exit status is still an
+    /// error's (2).
+    #[arg(long)]
+    pub keep_going: bool,
     #[command(flatten)]
     pub bag: BagArgs,
     #[command(flatten)]
@@ -152,6 +158,49 @@ pub fn learn_sources_into(
     Ok(reports)
 }
 
+/// [`learn_sources_into`] of the demonstrations that can be read (`--keep-going`): one whose
+/// file (object or palm) an error names is left out, its error printed, and the others are
+/// learnt again without it (the noise and the centre of mass they share are then theirs
+/// alone). Returns their reports and the errors of those left out. An error that names no
+/// demonstration, or the last one's, ends it as without the option.
+fn learn_readable_into(
+    tree: &mut Tree,
+    mut sources: Vec<DemoSource>,
+    learner: &Learner,
+) -> Result<(Vec<Observation>, Vec<anyhow::Error>)> {
+    let mut left_out = Vec::new();
+    loop {
+        let mut attempt = tree.clone();
+        let e = match learn_sources_into(&mut attempt, &sources, learner) {
+            Ok(reports) => {
+                *tree = attempt;
+                return Ok((reports, left_out));
+            }
+            Err(e) => e,
+        };
+        match failing_source(&e, &sources) {
+            Some(k) if sources.len() > 1 => {
+                eprintln!("error: {e:#} (left out: --keep-going)");
+                sources.remove(k);
+                left_out.push(e);
+            }
+            _ => return Err(e),
+        }
+    }
+}
+
+/// The source whose file (its object's or its palm's) the error `e` names.
+fn failing_source(e: &anyhow::Error, sources: &[DemoSource]) -> Option<usize> {
+    use objmodel::Error::{Data, File, Io, Parse};
+    let file = match e.downcast_ref::<objmodel::Error>()? {
+        Parse { file, .. } | File { file, .. } | Io { file, .. } => file,
+        Data(_) => return None,
+    };
+    sources.iter().position(|s| {
+        s.path() == file || matches!(s, DemoSource::Files { palm: Some(p), .. } if p == file)
+    })
+}
+
 /// Print the reports' warnings, each demonstration's own under its name, and a warning that
 /// every one of several demonstrations was given (the gravity check's) once.
 fn print_all_warnings(reports: &[Observation]) {
@@ -187,8 +236,11 @@ pub fn run(a: &LearnArgs) -> Result<()> {
             .with_context(|| format!("--support-height {h} --support-sigma {}", a.support_sigma))?;
     }
     let learnt = |tree: &mut Tree| -> objmodel::Result<_> {
-        let reports = demo_sources(&a.demos, a.palm.as_deref(), &a.bag)
-            .and_then(|sources| learn_sources_into(tree, &sources, &learner))
+        let (reports, left_out) = demo_sources(&a.demos, a.palm.as_deref(), &a.bag)
+            .and_then(|sources| match a.keep_going {
+                true => learn_readable_into(tree, sources, &learner),
+                false => Ok((learn_sources_into(tree, &sources, &learner)?, Vec::new())),
+            })
             .map_err(|e| objmodel::Error::Data(format!("{e:#}")))?;
         // Kept out by the gravity check: an error that says which gravity to give.
         if let Some(why) = reports.iter().find_map(|r| r.not_learnt.as_ref()) {
@@ -198,23 +250,23 @@ pub fn run(a: &LearnArgs) -> Result<()> {
             )));
         }
         let changed = reports.iter().any(|r| r.learnt());
-        Ok(((reports, tree.clone()), changed))
+        Ok(((reports, tree.clone(), left_out.len()), changed))
     };
     // Into a model file: read, learn and write it under its lock, and leave it as it was when
     // nothing was learnt. Otherwise: a new tree, written where -o says.
-    let (reports, tree, wrote) = match &a.into {
+    let (reports, tree, left_out, wrote) = match &a.into {
         Some(model) => {
-            let (reports, tree) = Tree::update(model, learnt)?;
+            let (reports, tree, left_out) = Tree::update(model, learnt)?;
             let wrote = reports.iter().any(|r| r.learnt());
-            (reports, tree, wrote.then_some(model))
+            (reports, tree, left_out, wrote.then_some(model))
         }
         None => {
-            let ((reports, tree), _) = learnt(&mut Tree::default())?;
+            let ((reports, tree, left_out), _) = learnt(&mut Tree::default())?;
             if let Some(out) = &a.output {
                 tree.save(out)
                     .with_context(|| format!("writing {}", out.display()))?;
             }
-            (reports, tree, a.output.as_ref())
+            (reports, tree, left_out, a.output.as_ref())
         }
     };
     if a.json {
@@ -239,6 +291,16 @@ pub fn run(a: &LearnArgs) -> Result<()> {
             (None, Some(model)) => println!("nothing learnt: {} left as it was", model.display()),
             (None, None) => {}
         }
+    }
+    if left_out > 0 {
+        let what = if left_out == 1 {
+            "1 demonstration".to_string()
+        } else {
+            format!("{left_out} demonstrations")
+        };
+        bail!(
+            "{what} could not be read and left out (the errors above); the model holds the others"
+        );
     }
     Ok(())
 }

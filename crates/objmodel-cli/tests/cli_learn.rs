@@ -420,3 +420,54 @@ fn learn_with_the_supports_height_gives_the_tossed_cube_its_shape() {
         "a height that is not a number is refused",
     );
 }
+
+/// `learn --keep-going`: a file that cannot be read is left out with its error (file, line,
+/// problem), the model is written from the others as `learn` of those alone writes it, and the
+/// exit status is an error's; without the option, nothing is written.
+#[test]
+fn keep_going_learns_the_readable_demonstrations() {
+    let d = TempDir::new("keepgoing");
+    let mut files = synth("topple", d.path(), 2, 5, &[]);
+    let broken = d.write("broken.tum", "1 0 0 0 0 0 0 1\n2 0 0 0 0 0 1\n");
+    let (strict, kept, alone) = (
+        d.join("strict.json"),
+        d.join("kept.json"),
+        d.join("alone.json"),
+    );
+    run(&[
+        vec!["learn".to_string(), "-o".into(), s(&alone)],
+        files.iter().map(|f| s(f)).collect(),
+    ]
+    .concat())
+    .ok();
+    files.insert(1, broken.clone());
+    let args = |out: &Path, keep: bool| {
+        let mut a = vec!["learn".to_string(), "-o".into(), s(out)];
+        a.extend(keep.then(|| "--keep-going".to_string()));
+        a.extend(files.iter().map(|f| s(f)));
+        a
+    };
+    let r = run(&args(&strict, false)).fails();
+    r.check(!strict.exists(), "nothing written without --keep-going");
+    let r = run(&args(&kept, true));
+    r.check(r.code == Some(2), "an error's exit status");
+    let place = format!("error: {}:2: expected 8 columns", broken.display());
+    r.check(
+        r.stderr.contains(&place),
+        "the broken file's error, with its line",
+    );
+    r.check(
+        r.stderr
+            .contains("objmodel: error: 1 demonstration could not be read and left out"),
+        "the closing error",
+    );
+    let (a, b) = (read_json(&kept), read_json(&alone));
+    r.check(
+        a["edges"] == b["edges"] && a["faces"] == b["faces"],
+        "the others' model",
+    );
+    r.check(
+        a["edges"].as_array().is_some_and(|e| !e.is_empty()),
+        "edges learnt",
+    );
+}
