@@ -252,10 +252,15 @@ pub(crate) fn classify_files_recording(
             }
         }
     }
+    let lost_only = skipped[0].1.lock().ok().and_then(|s| s.why_no_poses());
     let mut c = a.finish().map_err(|e| match e {
         crate::Error::Data(msg) => crate::Error::File {
             file: object.to_path_buf(),
-            msg,
+            // (No frame at all: `Analyzer::finish`'s "no poses".)
+            msg: match lost_only {
+                Some(why) if msg.starts_with("no poses") => why,
+                _ => msg,
+            },
         },
         e => e,
     })?;

@@ -165,7 +165,9 @@ fn collect<R: BufRead>(mut reader: PoseReader<R>, size: u64) -> Result<Vec<Stamp
     reader.read_into(&mut poses)?;
     if poses.is_empty() {
         let lines = reader.lines_read();
-        let msg = if lines == 0 {
+        let msg = if let Some(why) = reader.skipped_lines().why_no_poses() {
+            why
+        } else if lines == 0 {
             "no poses: the file is empty".to_string()
         } else if reader.has_csv_header() {
             format!("no poses: the file has a CSV header but no data ({lines} lines)")

@@ -77,6 +77,18 @@ impl SkippedLines {
         said
     }
 
+    /// Why a file without a single pose has none, where lines were skipped as lost.
+    pub fn why_no_poses(&self) -> Option<String> {
+        (self.lines > 0).then(|| {
+            format!(
+                "no poses: every pose line is a frame where the tracker lost the object ({} \
+                 line{}, every pose value NaN, empty or zero)",
+                self.lines,
+                if self.lines == 1 { "" } else { "s" }
+            )
+        })
+    }
+
     /// What a learner says of the lines where the tracker lost the object, if any.
     fn lost_warning(&self, what: &str) -> Option<String> {
         if self.lines == 0 {

@@ -233,6 +233,12 @@ fn files_without_poses() {
     assert!(file_error("e.tum", "").contains("empty"));
     assert!(file_error("e.tum", "# only\n\n  \n# comments\n").contains("no poses"));
     assert!(file_error("e.csv", "t,x,y,z,qx,qy,qz,qw\n").contains("header"));
+    let lost = "1 nan nan nan nan nan nan nan\n2 0 0 0 0 0 0 0\n";
+    let e = file_error("l.tum", lost);
+    assert!(
+        e.contains("every pose line is a frame where the tracker lost the object (2 lines"),
+        "{e}"
+    );
     let e = format::read_trajectory(Path::new("/nonexistent/dir/x.tum")).unwrap_err();
     assert!(
         matches!(e, Error::Io { .. }) && e.to_string().contains("x.tum"),
