@@ -100,16 +100,8 @@ pub fn poses(
                 .zip(&t)
                 .enumerate()
                 .map(|(i, (m, &t))| match m[..12].iter().all(|x| x.is_nan()) {
-                    true => Ok([
-                        t,
-                        f64::NAN,
-                        f64::NAN,
-                        f64::NAN,
-                        f64::NAN,
-                        f64::NAN,
-                        f64::NAN,
-                        f64::NAN,
-                    ]),
+                    // Lost: a row of NaN at its time, left out below.
+                    true => Ok(std::array::from_fn(|k| if k == 0 { t } else { f64::NAN })),
                     false => matrix_row(m, t).map_err(|e| err(format!("{what}[{i}]: {e}"))),
                 })
                 .collect::<PyResult<_>>()?
