@@ -276,5 +276,7 @@ fn lost_frames_written_as_nan_or_zeros_are_gaps() {
             with_lost.warnings
         );
         assert!(!without.warnings.iter().any(|w| w.contains("lost it")));
+        assert_eq!(with_lost.lost_frames as usize, at.len());
+        assert_eq!((without.lost_frames, with_lost.palm_lost_frames), (0, 0));
     }
 }

@@ -262,6 +262,14 @@ pub struct Classification {
     /// that the tracker's noise rules out (see `crate::clean::held`).
     #[serde(default)]
     pub held_frames: u64,
+    /// Lines of the object's file where the tracker lost the object (every pose value NaN,
+    /// empty or zero: `format::SkippedLines`), left out as frames not recorded; not counted
+    /// in `frames`. (Poses in memory and bags: 0; a bag's warnings count its own.)
+    #[serde(default)]
+    pub lost_frames: u64,
+    /// The same of the palm's file.
+    #[serde(default)]
+    pub palm_lost_frames: u64,
     /// Votes over all segments.
     pub votes: Votes,
     /// Tracking noise used by the tests.

@@ -75,6 +75,8 @@ pub(super) fn conclude(
         com_shared: None,
         flight_coms: Vec::new(),
         held_frames: 0,
+        lost_frames: 0,
+        palm_lost_frames: 0,
     };
     c.fill_parts();
     c

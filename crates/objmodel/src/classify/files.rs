@@ -268,6 +268,10 @@ pub(crate) fn classify_files_recording(
     for (what, sink) in &skipped {
         let lines = sink.lock().unwrap_or_else(|e| e.into_inner());
         warnings.extend(lines.warnings(what));
+        match *what {
+            "object" => c.lost_frames = lines.lines as u64,
+            _ => c.palm_lost_frames = lines.lines as u64,
+        }
     }
     c.warnings.splice(0..0, warnings);
     c.length_unit = length_unit;

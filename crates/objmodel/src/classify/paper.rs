@@ -332,6 +332,8 @@ impl PaperMethod {
             com_shared: None,
             flight_coms: Vec::new(),
             held_frames: 0,
+            lost_frames: 0,
+            palm_lost_frames: 0,
         };
         c.fill_parts();
         Ok(c)
