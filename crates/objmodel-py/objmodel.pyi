@@ -56,6 +56,7 @@ def learn(demos: Union[Poses, Sequence[Poses]], *,
           gravity_check: bool = True,
           rigid_bodies: Union[str, tuple[str, Optional[str]], None] = None,
           support_height: Optional[float] = None, support_sigma: float = 0.001,
+          keep_going: bool = False,
           **options: Union[float, str]) -> Tree: ...
 
 def classify(demo: Poses, *, palm: Optional[Poses] = None,

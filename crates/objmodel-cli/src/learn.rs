@@ -141,64 +141,42 @@ pub fn learn_sources_into(
     sources: &[DemoSource],
     learner: &Learner,
 ) -> Result<Vec<Observation>> {
+    Ok(learn_sources(tree, sources, learner, false)?.0)
+}
+
+/// [`learn_sources_into`]; with `keep_going`, of the demonstrations that can be read
+/// ([`Learner::learn_readable`]), each left out printed with its error. Returns the reports
+/// and how many were left out.
+fn learn_sources(
+    tree: &mut Tree,
+    sources: &[DemoSource],
+    learner: &Learner,
+    keep_going: bool,
+) -> Result<(Vec<Observation>, usize)> {
     let bar = crate::progress::bar(sources.len() as u64);
     let wrapped: Vec<_> = sources.iter().map(|s| s.source()).collect();
-    let reports = learner.learn_with_progress(tree, &wrapped, |k| {
+    let progress = |k: usize| {
         if let Some(next) = sources.get(k + 1) {
             bar.set_message(next.path().display().to_string());
         }
         bar.inc(1);
-    });
+    };
+    let learnt = match keep_going {
+        true => learner.learn_readable(tree, &wrapped, progress),
+        false => learner
+            .learn_with_progress(tree, &wrapped, progress)
+            .map(|r| (r, Vec::new())),
+    };
     bar.finish_and_clear();
-    let reports = reports?;
+    let (reports, left_out) = learnt?;
+    for l in &left_out {
+        eprintln!("error: {} (left out: --keep-going)", l.error);
+    }
     // Kept out by the gravity check: the caller fails with the reason, and only that.
     if reports.iter().all(|r| r.not_learnt.is_none()) {
         print_all_warnings(&reports);
     }
-    Ok(reports)
-}
-
-/// [`learn_sources_into`] of the demonstrations that can be read (`--keep-going`): one whose
-/// file (object or palm) an error names is left out, its error printed, and the others are
-/// learnt again without it (the noise and the centre of mass they share are then theirs
-/// alone). Returns their reports and the errors of those left out. An error that names no
-/// demonstration, or the last one's, ends it as without the option.
-fn learn_readable_into(
-    tree: &mut Tree,
-    mut sources: Vec<DemoSource>,
-    learner: &Learner,
-) -> Result<(Vec<Observation>, Vec<anyhow::Error>)> {
-    let mut left_out = Vec::new();
-    loop {
-        let mut attempt = tree.clone();
-        let e = match learn_sources_into(&mut attempt, &sources, learner) {
-            Ok(reports) => {
-                *tree = attempt;
-                return Ok((reports, left_out));
-            }
-            Err(e) => e,
-        };
-        match failing_source(&e, &sources) {
-            Some(k) if sources.len() > 1 => {
-                eprintln!("error: {e:#} (left out: --keep-going)");
-                sources.remove(k);
-                left_out.push(e);
-            }
-            _ => return Err(e),
-        }
-    }
-}
-
-/// The source whose file (its object's or its palm's) the error `e` names.
-fn failing_source(e: &anyhow::Error, sources: &[DemoSource]) -> Option<usize> {
-    use objmodel::Error::{Data, File, Io, Parse};
-    let file = match e.downcast_ref::<objmodel::Error>()? {
-        Parse { file, .. } | File { file, .. } | Io { file, .. } => file,
-        Data(_) => return None,
-    };
-    sources.iter().position(|s| {
-        s.path() == file || matches!(s, DemoSource::Files { palm: Some(p), .. } if p == file)
-    })
+    Ok((reports, left_out.len()))
 }
 
 /// Print the reports' warnings, each demonstration's own under its name, and a warning that
@@ -237,10 +215,7 @@ pub fn run(a: &LearnArgs) -> Result<()> {
     }
     let learnt = |tree: &mut Tree| -> objmodel::Result<_> {
         let (reports, left_out) = demo_sources(&a.demos, a.palm.as_deref(), &a.bag)
-            .and_then(|sources| match a.keep_going {
-                true => learn_readable_into(tree, sources, &learner),
-                false => Ok((learn_sources_into(tree, &sources, &learner)?, Vec::new())),
-            })
+            .and_then(|sources| learn_sources(tree, &sources, &learner, a.keep_going))
             .map_err(|e| objmodel::Error::Data(format!("{e:#}")))?;
         // Kept out by the gravity check: an error that says which gravity to give.
         if let Some(why) = reports.iter().find_map(|r| r.not_learnt.as_ref()) {
@@ -250,7 +225,7 @@ pub fn run(a: &LearnArgs) -> Result<()> {
             )));
         }
         let changed = reports.iter().any(|r| r.learnt());
-        Ok(((reports, tree.clone(), left_out.len()), changed))
+        Ok(((reports, tree.clone(), left_out), changed))
     };
     // Into a model file: read, learn and write it under its lock, and leave it as it was when
     // nothing was learnt. Otherwise: a new tree, written where -o says.

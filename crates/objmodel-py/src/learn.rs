@@ -8,7 +8,7 @@ use crate::json::to_python;
 use crate::poses::QuatOrder;
 use crate::tree::PyTree;
 use objmodel::format::is_palm_file;
-use objmodel::learn::{nothing_to_learn, Learner, Source};
+use objmodel::learn::{nothing_to_learn, Learner, LeftOut, Source};
 use objmodel::observation::Observation;
 use objmodel::tree::Tree;
 use pyo3::prelude::*;
@@ -105,22 +105,60 @@ fn takes(
         .collect()
 }
 
-/// Learn `prepared` into `tree` (all of them or, on an error, none); the reports.
-fn learn_all(
+/// Learn `prepared` into `tree` (all of them or, on an error, none; with `keep_going`, those
+/// that can be read: [`Learner::learn_readable`], each left out warned of); the reports and
+/// the demonstrations they are of.
+fn learn_all<'p>(
     py: Python<'_>,
     learner: &Learner,
     tree: &mut Tree,
-    prepared: &[Prepared],
-) -> PyResult<Vec<Observation>> {
-    let mut work = tree.clone();
-    let reports = py
-        .detach(|| {
-            let sources: Vec<Source> = prepared.iter().map(Prepared::source).collect();
-            learner.learn(&mut work, &sources)
-        })
+    prepared: &'p [Prepared],
+    keep_going: bool,
+) -> PyResult<(Vec<Observation>, Vec<&'p Prepared>)> {
+    let sources: Vec<Source> = prepared.iter().map(Prepared::source).collect();
+    let (reports, left_out) = py
+        .detach(|| learnt(learner, tree, &sources, keep_going))
         .map_err(lib)?;
+    Ok((reports, kept(py, prepared, &left_out)?))
+}
+
+/// `prepared` but those left out, each of which is warned of.
+fn kept<'p>(
+    py: Python<'_>,
+    prepared: &'p [Prepared],
+    left_out: &[LeftOut],
+) -> PyResult<Vec<&'p Prepared>> {
+    let mut kept = Vec::with_capacity(prepared.len());
+    for (k, p) in prepared.iter().enumerate() {
+        match left_out.iter().find(|l| l.index == k) {
+            Some(l) => warn(
+                py,
+                &p.label(),
+                &format!(
+                    "could not be read and was left out (keep_going): {}",
+                    l.error
+                ),
+            )?,
+            None => kept.push(p),
+        }
+    }
+    Ok(kept)
+}
+
+/// `sources` learnt into `tree` as [`learn_all`] says: the reports and those left out.
+fn learnt(
+    learner: &Learner,
+    tree: &mut Tree,
+    sources: &[Source],
+    keep_going: bool,
+) -> objmodel::Result<(Vec<Observation>, Vec<LeftOut>)> {
+    if keep_going {
+        return learner.learn_readable(tree, sources, |_| {});
+    }
+    let mut work = tree.clone();
+    let reports = learner.learn(&mut work, sources)?;
     *tree = work;
-    Ok(reports)
+    Ok((reports, Vec::new()))
 }
 
 /// Each report's warnings, as the command line prints them, then each edge of `tree` held
@@ -129,7 +167,7 @@ fn learn_all(
 /// prints them).
 fn warn_reports(
     py: Python<'_>,
-    prepared: &[Prepared],
+    prepared: &[&Prepared],
     reports: &[Observation],
     tree: &Tree,
 ) -> PyResult<()> {
@@ -180,11 +218,14 @@ fn warn_reports(
 ///
 /// Returns the Tree. Warnings are ObjmodelWarning (among them each edge held back as too
 /// loosely located to be taught); errors ObjmodelError, with the command
-/// line's messages. All demonstrations are learnt or, on an error, none.
+/// line's messages. All demonstrations are learnt or, on an error, none; with
+/// `keep_going=True`, a demonstration whose file cannot be read is left out with an
+/// ObjmodelWarning that gives its error, and the others are learnt (as `objmodel learn
+/// --keep-going`).
 #[pyfunction]
 #[pyo3(
-    signature = (demos, *, palms=None, times=None, names=None, gravity=Gravity::default(), into=None, no_palm=false, quat_order="xyzw", method="robust", gravity_check=true, rigid_bodies=None, support_height=None, support_sigma=1e-3, **options),
-    text_signature = "(demos, *, palms=None, times=None, names=None, gravity=(0, 0, -1), into=None, no_palm=False, quat_order='xyzw', method='robust', gravity_check=True, rigid_bodies=None, support_height=None, support_sigma=0.001, **options)"
+    signature = (demos, *, palms=None, times=None, names=None, gravity=Gravity::default(), into=None, no_palm=false, quat_order="xyzw", method="robust", gravity_check=true, rigid_bodies=None, support_height=None, support_sigma=1e-3, keep_going=false, **options),
+    text_signature = "(demos, *, palms=None, times=None, names=None, gravity=(0, 0, -1), into=None, no_palm=False, quat_order='xyzw', method='robust', gravity_check=True, rigid_bodies=None, support_height=None, support_sigma=0.001, keep_going=False, **options)"
 )]
 #[allow(clippy::too_many_arguments)]
 pub fn learn(
@@ -202,6 +243,7 @@ pub fn learn(
     rigid_bodies: Option<&Bound<'_, PyAny>>,
     support_height: Option<f64>,
     support_sigma: f64,
+    keep_going: bool,
     options: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyTree>> {
     let order = crate::poses::quat_order(quat_order)?;
@@ -227,31 +269,37 @@ pub fn learn(
     match into {
         None => {
             let mut tree = Tree::default();
-            let reports = learn_all(py, &learner, &mut tree, &prepared)?;
-            warn_reports(py, &prepared, &reports, &tree)?;
+            let (reports, kept) = learn_all(py, &learner, &mut tree, &prepared, keep_going)?;
+            warn_reports(py, &kept, &reports, &tree)?;
             Py::new(py, PyTree::from(tree))
         }
         Some(t) if t.is_instance_of::<PyTree>() => {
             let t = t.cast::<PyTree>()?;
-            let reports = learn_all(py, &learner, &mut t.borrow_mut().tree, &prepared)?;
-            warn_reports(py, &prepared, &reports, &t.borrow().tree)?;
+            let (reports, kept) = learn_all(
+                py,
+                &learner,
+                &mut t.borrow_mut().tree,
+                &prepared,
+                keep_going,
+            )?;
+            warn_reports(py, &kept, &reports, &t.borrow().tree)?;
             Ok(t.clone().unbind())
         }
         Some(path) => {
             let path: PathBuf = path
                 .extract()
                 .map_err(|_| err("into must be a Tree or a tree file's path"))?;
-            let (reports, tree) = py
+            let sources: Vec<Source> = prepared.iter().map(Prepared::source).collect();
+            let (reports, left_out, tree) = py
                 .detach(|| {
                     Tree::update(&path, |tree| {
-                        let sources: Vec<Source> = prepared.iter().map(Prepared::source).collect();
-                        let reports = learner.learn(tree, &sources)?;
+                        let (reports, left_out) = learnt(&learner, tree, &sources, keep_going)?;
                         let changed = reports.iter().any(|r| r.learnt());
-                        Ok(((reports, tree.clone()), changed))
+                        Ok(((reports, left_out, tree.clone()), changed))
                     })
                 })
                 .map_err(lib)?;
-            warn_reports(py, &prepared, &reports, &tree)?;
+            warn_reports(py, &kept(py, &prepared, &left_out)?, &reports, &tree)?;
             Py::new(py, PyTree::from(tree))
         }
     }

@@ -83,6 +83,27 @@ def test_lost_rows_are_left_out_with_a_warning(rows):
            [np.column_stack([t, np.full((len(t), 7), np.nan)])])
 
 
+def test_keep_going_leaves_out_what_cannot_be_read(tmp_path, rows):
+    """keep_going=True: an unreadable file is left out with a warning giving its error, and
+    the tree is the one the others give alone; without it, the error is raised."""
+    r, _, _ = rows
+    good = tmp_path / "good.tum"
+    write_tum(good, r)
+    broken = tmp_path / "broken.tum"
+    broken.write_text("1 0 0 0 0 0 0 1\n2 0 0 0 0 0 1\n")
+    raises(r"broken.tum:2: expected 8 columns", [str(good), str(broken)])
+    with pytest.warns(objmodel.ObjmodelWarning,
+                      match=r"broken.tum: could not be read and was left out \(keep_going\): .*broken.tum:2: expected 8 columns"):
+        tree = objmodel.learn([str(broken), str(good), r], names=[None, None, "rows"],
+                              keep_going=True)
+    alone = objmodel.learn([str(good), r], names=[None, "rows"])
+    assert tree.to_json() == alone.to_json()
+    model = tmp_path / "model.json"
+    with pytest.warns(objmodel.ObjmodelWarning, match=r"left out \(keep_going\)"):
+        objmodel.learn([str(good), str(broken)], into=str(model), keep_going=True)
+    assert objmodel.Tree.load(str(model)).to_json() == objmodel.learn([str(good)]).to_json()
+
+
 def test_quaternion_order_mistakes(rows):
     r, t, m = rows
     with pytest.raises(objmodel.ObjmodelError, match=r'quat_order must be "xyzw" .* or "wxyz"'):

@@ -38,5 +38,17 @@ pub enum Error {
     Data(String),
 }
 
+impl Error {
+    /// The file the error is about, if it names one.
+    pub fn file(&self) -> Option<&std::path::Path> {
+        match self {
+            Error::Parse { file, .. } | Error::File { file, .. } | Error::Io { file, .. } => {
+                Some(file)
+            }
+            Error::Data(_) => None,
+        }
+    }
+}
+
 /// `Result` with [`Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;

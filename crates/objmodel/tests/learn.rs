@@ -497,3 +497,53 @@ fn a_short_rest_at_a_high_rate_measures_the_noise() {
         "{p:.2}, {r:.2}"
     );
 }
+
+/// `Learner::learn_readable`: a source whose file does not read is left out with its error,
+/// and the tree is the one the others give alone; an error that no source can be left out for
+/// is returned, and the tree is left as it was.
+#[test]
+fn the_readable_demonstrations_are_learnt_and_the_others_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let b = the_box();
+    let learner = Learner::new(Config::default());
+    let demos: Vec<Demonstration> = (0..3)
+        .map(|k| {
+            let mut d = topple(&b, k, 80 + k as u64).demo;
+            d.name = format!("t{k}");
+            d
+        })
+        .collect();
+    let files: Vec<PathBuf> = demos[..2].iter().map(|d| write(dir.path(), d).0).collect();
+    let broken = dir.path().join("broken.tum");
+    std::fs::write(&broken, "1 0 0 0 0 0 0 1\n2 0 0 0 0 0 1\n").unwrap();
+    let sources = [
+        Source::file(&files[0]),
+        Source::file(&broken),
+        Source::Memory(&demos[2]),
+        Source::file(&files[1]),
+    ];
+    let mut tree = Tree::default();
+    let mut seen = Vec::new();
+    let (reports, left_out) = learner
+        .learn_readable(&mut tree, &sources, |k| seen.push(k))
+        .unwrap();
+    assert_eq!(left_out.len(), 1);
+    assert_eq!(left_out[0].index, 1);
+    assert!(left_out[0]
+        .error
+        .to_string()
+        .contains("broken.tum:2: expected 8 columns"));
+    assert_eq!(reports.len(), 3);
+    assert!(seen.ends_with(&[0, 2, 3]), "{seen:?}");
+    let mut alone = Tree::default();
+    let others = [sources[0], sources[2], sources[3]];
+    learner.learn(&mut alone, &others).unwrap();
+    assert_eq!(tree.to_json(), alone.to_json());
+    // Only the broken file: its error, and the tree as it was.
+    let before = tree.to_json();
+    let e = learner
+        .learn_readable(&mut tree, &[Source::file(&broken)], |_| {})
+        .unwrap_err();
+    assert!(e.to_string().contains("broken.tum:2"), "{e}");
+    assert_eq!(tree.to_json(), before);
+}

@@ -73,9 +73,11 @@ use std::path::Path;
 mod com_sharing;
 mod gravity_check;
 mod held_poses;
+mod readable;
 mod tracker_noise;
 
 pub use gravity_check::NOT_LEARNT;
+pub use readable::LeftOut;
 use tracker_noise::{say_correlated, with_long_run_noise, NoiseCheck};
 
 /// Where a demonstration comes from.
