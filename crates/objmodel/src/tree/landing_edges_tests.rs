@@ -1,9 +1,8 @@
 use super::*;
-use crate::edge::EdgeObservation;
 use crate::face::FaceObservation;
-use crate::geometry::Line;
 use crate::landing::{Landing, RestPlace};
 use crate::noise::NoiseModel;
+use crate::testing::observed_edge as observe;
 use nalgebra::Matrix3;
 use rand::{rngs::StdRng, Rng, SeedableRng};
 use rand_distr::{Distribution, Normal};
@@ -67,33 +66,6 @@ fn box_edges() -> Vec<(Vector3<f64>, Vector3<f64>)> {
         }
     }
     out
-}
-
-/// An observation of the line through `p` along `u`, measured with σ `sigma_p` per axis of
-/// its point and `sigma_d` of its direction (and drawn with them).
-fn observe(
-    demo: &str,
-    p: Vector3<f64>,
-    u: Vector3<f64>,
-    sigma_p: f64,
-    sigma_d: f64,
-    rng: &mut StdRng,
-) -> EdgeObservation {
-    let unit = Normal::new(0.0, 1.0).unwrap();
-    let normal_plane = Matrix3::identity() - u * u.transpose();
-    let dp = normal_plane * Vector3::from_fn(|_, _| unit.sample(rng)) * sigma_p;
-    let du = normal_plane * Vector3::from_fn(|_, _| unit.sample(rng)) * sigma_d;
-    EdgeObservation {
-        demo: demo.to_string(),
-        line: Line::through(p + dp, u + du),
-        point_cov: normal_plane * sigma_p * sigma_p,
-        direction_cov: normal_plane * sigma_d * sigma_d,
-        paper_line: None,
-        frames: 200,
-        max_angle: 0.5,
-        chi2_per_dof: 1.0,
-        common_point_cov: nalgebra::Matrix3::zeros(),
-    }
 }
 
 /// A tree of the box's edges but `skip`, each observed at 0.4 mm and 0.3°, and one edge

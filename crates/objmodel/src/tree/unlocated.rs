@@ -123,7 +123,6 @@ mod tests {
     use super::*;
     use crate::edge::EdgeObservation;
     use crate::face::{FaceObservation, FaceSource};
-    use crate::geometry::Line;
     use nalgebra::{Matrix3, Vector3};
     use rand::{rngs::StdRng, SeedableRng};
     use rand_distr::{Distribution, Normal};
@@ -162,24 +161,10 @@ mod tests {
     }
 
     /// One demonstration's view of the edge along x through (0, 0.03, 0.02), located to σ
-    /// per axis normal to it (and drawn with it), over 200 frames.
+    /// per axis normal to it and 0.2° in direction (and drawn with them).
     fn observe(demo: &str, sigma_p: f64, rng: &mut StdRng) -> EdgeObservation {
-        let unit = Normal::new(0.0, 1.0).unwrap();
-        let u = Vector3::x();
-        let across = Matrix3::identity() - u * u.transpose();
-        let dp = across * Vector3::from_fn(|_, _| unit.sample(rng)) * sigma_p;
-        let sigma_d = 0.2f64.to_radians();
-        EdgeObservation {
-            demo: demo.to_string(),
-            line: Line::through(Vector3::new(0.0, 0.03, 0.02) + dp, u),
-            point_cov: across * sigma_p * sigma_p,
-            direction_cov: across * sigma_d * sigma_d,
-            paper_line: None,
-            frames: 200,
-            max_angle: 0.5,
-            chi2_per_dof: 1.0,
-            common_point_cov: Matrix3::zeros(),
-        }
+        let (p, u) = (Vector3::new(0.0, 0.03, 0.02), Vector3::x());
+        crate::testing::observed_edge(demo, p, u, sigma_p, 0.2f64.to_radians(), rng)
     }
 
     /// An edge one demonstration locates to ±3 mm is withheld, with why; with more
