@@ -166,7 +166,7 @@ fn bad_input_timestamps_not_increasing() {
     expect_bad(
         &d,
         "repeat.tum",
-        Some(&format!("{GOOD}0.4 0 0 0 0 0 0 1\n")),
+        Some(&format!("{GOOD}0.4 0.1 0 0 0 0 0 1\n")),
         Some(6),
         &["timestamp", "repeats", "line 5", "strictly increase"],
     );

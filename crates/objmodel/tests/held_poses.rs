@@ -280,3 +280,63 @@ fn lost_frames_written_as_nan_or_zeros_are_gaps() {
         assert_eq!((without.lost_frames, with_lost.palm_lost_frames), (0, 0));
     }
 }
+
+/// A logger that wrote lines twice (the same time and pose: a buffer flushed twice), in the
+/// object's file and the palm's of an instrumented topple: the copies are left out, counted
+/// and said, and the demonstration teaches what the file without them teaches, bit for bit.
+/// (Before: the file was refused at the first copy, "timestamp ... repeats timestamp".)
+#[test]
+fn lines_written_twice_are_left_out() {
+    let b = SynthBox::new(Vector3::new(0.05, 0.04, 0.07), (0.004, -0.003), 0.6);
+    let d = synth::instrumented_topple(&b, 0, 0.3, &SynthNoise::REAL, 30.0, 67);
+    let palm = d.demo.palm.as_ref().expect("instrumented");
+    let dir = tempfile::tempdir().unwrap();
+    let learner = Learner::new(Config::default());
+    // `poses` as a TUM file, every `every`-th pose line (from the second) written twice
+    // (none for 0); the path and how many lines were written twice.
+    let write = |name: &str, poses: &[StampedPose], every: usize| {
+        let path = dir.path().join(name);
+        objmodel::format::write_tum(&path, poses, "topple").unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let (mut lines, mut copies) = (Vec::new(), 0);
+        for (k, line) in text.lines().filter(|l| !l.starts_with('#')).enumerate() {
+            lines.push(line);
+            if every > 0 && k > 0 && k % every == 0 {
+                lines.push(line);
+                copies += 1;
+            }
+        }
+        std::fs::write(&path, lines.join("\n") + "\n").unwrap();
+        (path, copies)
+    };
+    let (object, _) = write("demo.tum", &d.demo.object, 0);
+    let (palm_file, _) = write("demo.palm.tum", palm, 0);
+    let clean = learner
+        .classify(&Source::instrumented(&object, &palm_file))
+        .unwrap();
+    let (object2, n_object) = write("copies.tum", &d.demo.object, 7);
+    let (palm2, n_palm) = write("copies.palm.tum", palm, 5);
+    assert!(n_object > 10 && n_palm > 10);
+    let copies = learner
+        .classify(&Source::instrumented(&object2, &palm2))
+        .unwrap();
+    assert_eq!(clean.topples.len(), 1, "{:?}", clean.warnings);
+    let topples = |c: &objmodel::classify::Classification, name: &str| {
+        format!("{:?}", c.topples).replace(name, "demo.tum")
+    };
+    assert_eq!(topples(&copies, "copies.tum"), topples(&clean, "demo.tum"));
+    assert_eq!(copies.frames, clean.frames);
+    assert_eq!(
+        (copies.duplicate_lines, copies.palm_duplicate_lines),
+        (n_object as u64, n_palm as u64)
+    );
+    assert_eq!((clean.duplicate_lines, clean.palm_duplicate_lines), (0, 0));
+    for (what, n) in [("object", n_object), ("palm", n_palm)] {
+        let says = format!("the {what}'s file repeats {n} lines exactly");
+        assert!(
+            copies.warnings.iter().any(|w| w.starts_with(&says)),
+            "{says:?} not in {:?}",
+            copies.warnings
+        );
+    }
+}

@@ -270,6 +270,14 @@ pub struct Classification {
     /// The same of the palm's file.
     #[serde(default)]
     pub palm_lost_frames: u64,
+    /// Lines of the object's file that repeat the pose line before them exactly (its time and
+    /// pose: a logger that wrote a line twice), left out (`format::SkippedLines`); not counted
+    /// in `frames`. (Poses in memory and bags: 0.)
+    #[serde(default)]
+    pub duplicate_lines: u64,
+    /// The same of the palm's file.
+    #[serde(default)]
+    pub palm_duplicate_lines: u64,
     /// Votes over all segments.
     pub votes: Votes,
     /// Tracking noise used by the tests.

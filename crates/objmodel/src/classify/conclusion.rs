@@ -77,6 +77,8 @@ pub(super) fn conclude(
         held_frames: 0,
         lost_frames: 0,
         palm_lost_frames: 0,
+        duplicate_lines: 0,
+        palm_duplicate_lines: 0,
     };
     c.fill_parts();
     c

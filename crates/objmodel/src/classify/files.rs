@@ -269,8 +269,14 @@ pub(crate) fn classify_files_recording(
         let lines = sink.lock().unwrap_or_else(|e| e.into_inner());
         warnings.extend(lines.warnings(what));
         match *what {
-            "object" => c.lost_frames = lines.lines as u64,
-            _ => c.palm_lost_frames = lines.lines as u64,
+            "object" => {
+                c.lost_frames = lines.lines as u64;
+                c.duplicate_lines = lines.duplicates as u64;
+            }
+            _ => {
+                c.palm_lost_frames = lines.lines as u64;
+                c.palm_duplicate_lines = lines.duplicates as u64;
+            }
         }
     }
     c.warnings.splice(0..0, warnings);

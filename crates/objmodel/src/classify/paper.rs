@@ -334,6 +334,8 @@ impl PaperMethod {
             held_frames: 0,
             lost_frames: 0,
             palm_lost_frames: 0,
+            duplicate_lines: 0,
+            palm_duplicate_lines: 0,
         };
         c.fill_parts();
         Ok(c)

@@ -4,7 +4,7 @@
 //! [`State`] is what a reader knows between lines: the format (given, or decided at the first
 //! non-comment line), the CSV header, and the [`Track`] of lines and the previous pose.
 
-use super::check::Track;
+use super::check::{check_values, Track};
 use super::csv::{looks_like_header, trim, Header};
 use super::detect::detect_format;
 use super::layout::{Format, VALUES};
@@ -43,6 +43,10 @@ pub(crate) struct State {
     pub(crate) track: Track,
     /// Line of the last pose decoded or returned.
     pub(crate) pose_line: usize,
+    /// The last pose decoded or returned (the line `track.prev_line`), for a line that repeats
+    /// it exactly; set by [`State::finish`] and, after a group of lines the fast path decoded,
+    /// by its caller.
+    pub(crate) last_pose: Option<StampedPose>,
     /// A commented-out CSV header (`#t,x,y,...`) seen before the first data line.
     pending: Option<Header>,
     /// An error ended the reading.
@@ -62,6 +66,7 @@ impl State {
             mode,
             track: Track::new(),
             pose_line: 0,
+            last_pose: None,
             pending: None,
             done: false,
             rigid_body: None,
@@ -127,22 +132,27 @@ impl State {
     }
 
     /// The item for the values of the current line: the checked pose, nothing for a frame
-    /// where the tracker lost the object (counted in `skipped`), or an error, which ends the
-    /// reading.
+    /// where the tracker lost the object or a copy of the line before (counted in `skipped`),
+    /// or an error, which ends the reading.
     #[inline(always)]
     fn finish(&mut self, values: Values, line: &[u8]) -> Option<Result<StampedPose>> {
         let checked = match values {
             Ok(None) => return None,
-            Ok(Some(v)) => self
-                .track
-                .check(&v)
-                .map_err(|problem| (problem, is_lost(&v))),
+            Ok(Some(v)) => self.track.check(&v).map_err(|problem| {
+                let skip = is_lost(&v) || self.repeats_last_pose(&v, &problem);
+                (problem, skip)
+            }),
             Err(problem) => Err((problem, false)),
         };
         match checked {
             Ok(p) => {
                 self.pose_line = self.track.line_no;
+                self.last_pose = Some(p);
                 Some(Ok(p))
+            }
+            Err((Problem::TimeNotIncreasing { .. }, true)) => {
+                self.duplicate_line();
+                None
             }
             Err((_, true)) => {
                 self.lost_line();
@@ -153,6 +163,31 @@ impl State {
                 Some(Err(self.error(problem, line)))
             }
         }
+    }
+
+    /// Whether values `v`, which failed the checks with `problem`, are the last pose again:
+    /// its time, and a pose whose coordinates are the same bit for bit (the same values, read
+    /// by the same rules on every path; columns the reader ignores aside).
+    #[cold]
+    #[inline(never)]
+    fn repeats_last_pose(&self, v: &[f64; VALUES], problem: &Problem) -> bool {
+        let Problem::TimeNotIncreasing { t, prev_t } = *problem else {
+            return false;
+        };
+        let (Ok(again), Some(last)) = (check_values(v, f64::NEG_INFINITY), self.last_pose) else {
+            return false;
+        };
+        // (Coordinates, not rotations: `q` and `-q` are one rotation but two lines.)
+        let coords = |p: &StampedPose| (p.pose.translation.vector, p.pose.rotation.coords);
+        t == prev_t && coords(&again) == coords(&last)
+    }
+
+    /// Count the current line as a copy of the last pose's line.
+    #[cold]
+    #[inline(never)]
+    fn duplicate_line(&mut self) {
+        let mut skipped = self.skipped.lock().unwrap_or_else(|e| e.into_inner());
+        skipped.record_duplicate(self.track.line_no, self.track.prev_line);
     }
 
     /// Count the current line as one where the tracker lost the object.

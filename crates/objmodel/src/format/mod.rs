@@ -20,7 +20,8 @@
 //! whose pose values are all `NaN`, all empty (CSV) or all zero is a frame where the tracker
 //! lost the object: skipped as a gap and counted ([`SkippedLines`], [`PoseReader::skipped_lines`]);
 //! so is a last line without its `\n` that does not read as a pose, after poses (a logger
-//! stopped in the middle of it).
+//! stopped in the middle of it), and a line that repeats the one before exactly (its time and
+//! pose: a logger that wrote it twice).
 //!
 //! Reading streams ([`PoseReader`], [`open`]); every error names the file, the line and the
 //! problem, e.g. `demo.tum:17: expected 8 columns (timestamp tx ty tz qx qy qz qw), found 7`.
@@ -38,7 +39,7 @@
 //! * `motive.rs`: OptiTrack Motive's CSV export (its preamble gives the CSV header);
 //! * `detect.rs`: [`detect_format`];
 //! * `skipped.rs`: [`SkippedLines`]: lines where the tracker lost the object (gaps), a last
-//!   line cut short;
+//!   line cut short, lines written twice;
 //! * `line.rs`: one line, given the ones before (format, header, previous pose);
 //! * the fast path of TUM reading, speed code: `fast_field.rs` (plain decimals),
 //!   `fast_line.rs` (the common line), `simd.rs` (the same with AVX2), `fast_run.rs` (groups

@@ -11,6 +11,12 @@
 //!   disk) leaves a last line without its `\n` that does not read as a pose. After poses it
 //!   is left out, with its problem; elsewhere, or ended by a `\n`, a line that does not read
 //!   is an error as always.
+//! * **A line written twice.** A logger that flushes a buffer twice, or a tool that merged two
+//!   copies of a log, repeats a line: the same time and the same pose (the columns a CSV
+//!   reader ignores aside). The copy is no second
+//!   frame and no contradiction; it is left out and counted. A line with the time of the one
+//!   before and another pose is still an error (which of the two poses the tracker measured
+//!   at that time, no reader can tell).
 
 use super::layout::VALUES;
 use std::sync::{Arc, Mutex};
@@ -42,6 +48,10 @@ pub struct SkippedLines {
     /// The last line of the file, without its `\n`, that does not read as a pose: its number
     /// and the problem.
     pub cut_short: Option<(usize, String)>,
+    /// Lines that repeat the pose line before them exactly (its time and its pose), in all.
+    pub duplicates: usize,
+    /// The first such line and the line it repeats (1-based).
+    pub first_duplicate: Option<(usize, usize)>,
 }
 
 /// Where a reader on another thread counts the lines it skips, for the thread that reads its
@@ -64,9 +74,24 @@ impl SkippedLines {
         }
     }
 
+    /// Count line `line` as a copy of line `of` (its time and pose exactly).
+    pub(crate) fn record_duplicate(&mut self, line: usize, of: usize) {
+        self.duplicates += 1;
+        self.first_duplicate.get_or_insert((line, of));
+    }
+
     /// What a learner says of the skipped lines of the `what` ("object", "palm") stream.
     pub fn warnings(&self, what: &str) -> Vec<String> {
         let mut said: Vec<String> = self.lost_warning(what).into_iter().collect();
+        if let Some((line, of)) = self.first_duplicate {
+            let n = self.duplicates;
+            let (s, each) = if n == 1 { ("", "it") } else { ("s", "each") };
+            said.push(format!(
+                "the {what}'s file repeats {n} line{s} exactly (the first: line {line}, a copy \
+                 of line {of}: the same time and pose, as a logger that wrote a line twice \
+                 leaves): {each} left out, the frame kept once"
+            ));
+        }
         if let Some((line, problem)) = &self.cut_short {
             said.push(format!(
                 "the {what}'s file ends in a line cut short (line {line}, without its end of \
@@ -174,5 +199,35 @@ mod tests {
         lost.record(501);
         assert_eq!(lost.spans[KEPT_SPANS - 1], (71, 71));
         assert_eq!((lost.lines, lost.runs), (KEPT_SPANS + 2, KEPT_SPANS + 1));
+    }
+
+    #[test]
+    fn duplicates_are_counted_and_the_first_named() {
+        let mut lines = SkippedLines::default();
+        lines.record_duplicate(48, 47);
+        assert_eq!(
+            lines.warnings("palm"),
+            [
+                "the palm's file repeats 1 line exactly (the first: line 48, a copy of line 47: \
+              the same time and pose, as a logger that wrote a line twice leaves): it left \
+              out, the frame kept once"
+            ]
+        );
+        lines.record_duplicate(60, 58);
+        lines.record_duplicate(61, 58);
+        assert_eq!(
+            (lines.duplicates, lines.first_duplicate),
+            (3, Some((48, 47)))
+        );
+        let w = lines.warnings("object").remove(0);
+        assert!(
+            w.starts_with(
+                "the object's file repeats 3 lines exactly (the first: line 48, a copy of line 47"
+            ),
+            "{w}"
+        );
+        assert!(w.ends_with("each left out, the frame kept once"), "{w}");
+        // Nothing to say of a file without copies or lost lines.
+        assert!(SkippedLines::default().warnings("object").is_empty());
     }
 }

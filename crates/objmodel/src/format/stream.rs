@@ -75,6 +75,7 @@ impl Stream {
                                 .decode(&mut st.track, rest, out, lines, limit - pushed);
                         if n > 0 {
                             st.pose_line = st.track.prev_line;
+                            st.last_pose = out.last().copied();
                         }
                         off += used;
                         pushed += n;

@@ -100,7 +100,7 @@ fn errors_name_file_line_and_problem() {
         ("demo.tum", format!("{h}2 1 0 0 0 0 0 0\n"), 4, vec!["is zero"]),
         ("demo.tum", format!("{h}2 0 0 0 0 0 0 1.02\n"), 4, vec!["norm 1.02", "tolerance 0.01"]),
         ("demo.tum", format!("{h}2 0 0 0 .5 .5 .5 .5\n3 0 0 0 0 0 0 .98\n"), 5, vec!["norm 0.98"]),
-        ("demo.tum", format!("{h}1 0 0 0 0 0 0 1\n"), 4,
+        ("demo.tum", format!("{h}1 0.1 0 0 0 0 0 1\n"), 4,
          vec!["timestamp 1 on line 4 repeats timestamp 1 on line 2"]),
         ("demo.tum", format!("{h}5 0 0 0 0 0 0 1\n4.5 0 0 0 0 0 0 1\n"), 5,
          vec!["timestamp 4.5 on line 5 goes back from timestamp 5 on line 4"]),
@@ -116,7 +116,7 @@ fn errors_name_file_line_and_problem() {
          vec!["column 7 (qz): \"zero\" is not a number"]),
         ("e.csv", format!("{c}2,0,,0,0,0,0,1,b\n"), 3, vec!["column 3 (ty) is empty"]),
         ("e.csv", format!("{c}2,0,0,0,0,0,0,NaN,b\n"), 3, vec!["qw is NaN"]),
-        ("e.csv", format!("{c}1,0,0,0,0,0,0,1,b\n"), 3, vec!["repeats timestamp 1 on line 2"]),
+        ("e.csv", format!("{c}1,0,0,0.2,0,0,0,1,a\n"), 3, vec!["repeats timestamp 1 on line 2"]),
     ];
     for (name, content, line, needles) in &cases {
         let e = parse_error(name, content, *line);
@@ -177,6 +177,90 @@ fn lost_tracking_lines_are_gaps_and_counted() {
     // A lost line's time is not a pose's: the next pose may share it.
     let text = "1 0 0 0 0 0 0 1\n2 nan nan nan nan nan nan nan\n2 0 0 0 0 0 0 1\n";
     assert_eq!(read_str("p.tum", text).len(), 2);
+}
+
+/// A line written twice (the same time and pose: a logger that flushed a buffer twice) is no
+/// second frame: left out and counted, wherever it falls (on the fast path's lines, after the
+/// first line, after a lost line, at a buffer's edge), and the poses are those of the file
+/// without the copies, bit for bit. The same time with another pose is still an error.
+#[test]
+fn a_line_written_twice_is_left_out_and_counted() {
+    let mut rng = Rng::new(67);
+    let lines: Vec<String> = (0..600)
+        .map(|i| {
+            let p = random_pose(&mut rng, 1_700_000_000.0 + i as f64 / 120.0);
+            let (t, q) = (xyz(&p), xyzw(&p));
+            format!(
+                "{:.6} {:.9} {:.9} {:.9} {:.9} {:.9} {:.9} {:.9}",
+                p.t, t[0], t[1], t[2], q[0], q[1], q[2], q[3]
+            )
+        })
+        .collect();
+    let clean = format!("# t x y z qx qy qz qw\n{}\n", lines.join("\n"));
+    let want = read_str("clean.tum", &clean);
+    for trial in 0..20 {
+        // Copies of randomly chosen lines (some twice over), the first line's among them.
+        let mut copied: Vec<usize> = (0..8).map(|_| rng.below(600) as usize).collect();
+        copied.push(0);
+        copied.sort();
+        let mut text = String::from("# t x y z qx qy qz qw\n");
+        let (mut first, mut n) = (None, 0);
+        let mut line = 1;
+        for (i, l) in lines.iter().enumerate() {
+            text += l;
+            text.push('\n');
+            line += 1;
+            let of = line;
+            for _ in copied.iter().filter(|&&c| c == i) {
+                text += l;
+                text.push('\n');
+                line += 1;
+                first.get_or_insert((line, of));
+                n += 1;
+            }
+        }
+        assert_eq!(read_str("copies.tum", &text), want, "trial {trial}");
+        let cap = [64, 200, 4096, 1 << 16][trial % 4];
+        let src = std::io::BufReader::with_capacity(cap, text.as_bytes());
+        let mut r = PoseReader::new(src, "copies.tum".into(), Format::Tum);
+        let read: Vec<StampedPose> = r.by_ref().collect::<Result<_, _>>().unwrap();
+        assert_eq!(read, want, "trial {trial}");
+        let skipped = r.skipped_lines();
+        assert_eq!((skipped.duplicates, skipped.first_duplicate), (n, first));
+        assert_eq!(skipped.lines, 0);
+    }
+    // CSV, and a copy after a lost line between the two.
+    let csv = "t,x,y,z,qx,qy,qz,qw\n1,0.1,0.2,0.3,0,0,0,1\n1,0.1,0.2,0.3,0,0,0,1\n\
+               2,0.1,0.2,0.3,0,0,1,0\n3,,,,,,,\n2,0.1,0.2,0.3,0,0,1,0\n";
+    let mut r = PoseReader::new(csv.as_bytes(), "c.csv".into(), Format::Csv);
+    let read: Vec<StampedPose> = r.by_ref().collect::<Result<_, _>>().unwrap();
+    assert_eq!(read.iter().map(|p| p.t).collect::<Vec<_>>(), [1.0, 2.0]);
+    let skipped = r.skipped_lines();
+    assert_eq!(
+        (skipped.duplicates, skipped.first_duplicate),
+        (2, Some((3, 2)))
+    );
+    assert_eq!(skipped.lines, 1);
+    // A column the reader ignores (a frame number, a note) may differ: the pose is the same.
+    let csv = "t,x,y,z,qx,qy,qz,qw,frame\n1,0,0,0,0,0,0,1,7\n1,0,0,0,0,0,0,1,8\n";
+    let mut r = PoseReader::new(csv.as_bytes(), "c.csv".into(), Format::Csv);
+    assert_eq!(r.by_ref().count(), 1);
+    assert_eq!(r.skipped_lines().duplicates, 1);
+    // The same time, another pose (even one that differs in the last digit, or only in the
+    // quaternion's sign): an error, as before.
+    let others = [
+        "1.0 1 2 3 0 0 0.001 1",
+        "1.0 1 2 3.000000001 0 0 0 1",
+        "1 1 2 3 0 0 0 -1",
+    ];
+    for other in others {
+        let e = parse_error("t.tum", &format!("1.0 1 2 3 0 0 0 1\n{other}\n"), 2);
+        assert!(e.contains("repeats timestamp 1 on line 1"), "{e}");
+    }
+    // A copy of a line further back is no copy of the pose before: the time goes back.
+    let text = "1 1 2 3 0 0 0 1\n2 1 2 3 0 0 0 1\n1 1 2 3 0 0 0 1\n";
+    let e = parse_error("t.tum", text, 3);
+    assert!(e.contains("goes back from"), "{e}");
 }
 
 /// A logger stopped in the middle of the last line: that line, without its `\n`, does not read
