@@ -38,6 +38,7 @@
 //! * `tum.rs`, `csv.rs`: the syntax of TUM and CSV lines, and CSV headers (with their units);
 //! * `motive.rs`: OptiTrack Motive's CSV export (its preamble gives the CSV header);
 //! * `detect.rs`: [`detect_format`];
+//! * `date_time.rs`: a CSV time column's date-times (ISO 8601) as seconds;
 //! * `skipped.rs`: [`SkippedLines`]: lines where the tracker lost the object (gaps), a last
 //!   line cut short, lines written twice;
 //! * `line.rs`: one line, given the ones before (format, header, previous pose);
@@ -53,6 +54,7 @@
 pub mod bag;
 mod check;
 mod csv;
+mod date_time;
 mod detect;
 mod fast_field;
 mod fast_line;

@@ -5,7 +5,8 @@
 //! line is ([`Context`]: line numbers, the text of a field) and turns the problem into a
 //! `file:line: message` error with [`Problem::message`].
 
-use super::layout::{COLUMNS, CSV_NAMES, MAX_LINE, QUAT_NORM_TOLERANCE};
+use super::date_time::looks_like_date_time;
+use super::layout::{COLUMNS, CSV_NAMES, MAX_LINE, QUAT_NORM_TOLERANCE, TIME};
 
 /// What is wrong with one line of a pose file.
 #[derive(Clone, Debug, PartialEq)]
@@ -25,6 +26,13 @@ pub(crate) enum Problem {
         column: usize,
         role: usize,
         text: Vec<u8>,
+    },
+    /// Field `column` (1-based), the time, is `text`, which begins as a date-time does but
+    /// does not read as one (`why`: `date_time.rs`).
+    NotADateTime {
+        column: usize,
+        text: Vec<u8>,
+        why: String,
     },
     /// The line is longer than `MAX_LINE` bytes.
     LineTooLong,
@@ -106,10 +114,22 @@ impl Problem {
                 let name = COLUMNS[*role];
                 if text.is_empty() {
                     format!("column {column} ({name}) is empty; expected a number")
+                } else if *role == TIME && looks_like_date_time(text) {
+                    format!(
+                        "column {column} ({name}): {} is not a number (a TUM file's timestamps \
+                         are seconds; a date-time is read from a CSV file's time column)",
+                        quote(text)
+                    )
                 } else {
                     format!("column {column} ({name}): {} is not a number", quote(text))
                 }
             }
+            Problem::NotADateTime { column, text, why } => format!(
+                "column {column} (timestamp): {} is neither a number of seconds nor a \
+                 date-time that reads ({why}; ISO 8601 as 2026-12-07T10:00:00.25Z, with an \
+                 offset or without one for UTC)",
+                quote(text)
+            ),
             Problem::LineTooLong => format!("line is longer than {MAX_LINE} bytes"),
             Problem::MissingColumns { missing, found } => {
                 let missing: Vec<&str> = missing.iter().map(|&r| COLUMNS[r]).collect();

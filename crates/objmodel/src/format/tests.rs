@@ -227,6 +227,7 @@ fn imports_go_one_way() {
     let files: &[(&str, &str)] = &[
         ("check", include_str!("check.rs")),
         ("csv", include_str!("csv.rs")),
+        ("date_time", include_str!("date_time.rs")),
         ("detect", include_str!("detect.rs")),
         ("fast_field", include_str!("fast_field.rs")),
         ("fast_line", include_str!("fast_line.rs")),

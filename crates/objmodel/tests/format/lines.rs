@@ -263,6 +263,83 @@ fn a_line_written_twice_is_left_out_and_counted() {
     assert!(e.contains("goes back from"), "{e}");
 }
 
+/// A CSV time column written as date-times (pandas' `to_csv` of a `DatetimeIndex`, RFC 3339
+/// with `Z` or an offset) reads as seconds since the Unix epoch: the same poses as the file
+/// written in seconds, to the `f64`'s resolution at today's dates. A date-time that does not
+/// read says why; a TUM file's times stay seconds.
+#[test]
+fn a_csv_time_column_of_date_times_reads_as_seconds() {
+    let t0 = 1_796_637_600.0; // 2026-12-07T10:00:00Z
+    let rows = [
+        (0.0, "0.1,0.2,0.3,0,0,0,1"),
+        (0.033333, "0.1,0.2,0.4,0,0,1,0"),
+        (1.5, "0.2,0.2,0.4,0,0,0,1"),
+    ];
+    let seconds: String = rows
+        .iter()
+        .map(|(t, p)| format!("{},{p}\n", t0 + t))
+        .collect();
+    let want = read_str("s.csv", &format!("t,x,y,z,qx,qy,qz,qw\n{seconds}"));
+    let forms: [fn(f64) -> String; 4] = [
+        |t| format!("2026-12-07 10:00:{t:09.6}"),
+        |t| format!("2026-12-07T10:00:{t:09.6}Z"),
+        |t| format!("2026-12-07T11:00:{t:09.6}+01:00"),
+        |t| format!("\"2026-12-07T10:00:{t:012.9}z\""),
+    ];
+    for (k, form) in forms.iter().enumerate() {
+        let body: String = rows
+            .iter()
+            .map(|(t, p)| format!("{},{p}\n", form(*t)))
+            .collect();
+        // A header, a header in a comment (the first data line must not pass for one), and
+        // a declared time unit, which a date-time does not take.
+        for head in [
+            "time,x,y,z,qx,qy,qz,qw\n",
+            "#time,x,y,z,qx,qy,qz,qw\n",
+            "time [ns],x,y,z,qx,qy,qz,qw\n",
+        ] {
+            let got = read_str("d.csv", &format!("{head}{body}"));
+            assert_eq!(got.len(), want.len(), "{k} {head}");
+            for (g, w) in got.iter().zip(&want) {
+                assert!(
+                    (g.t - w.t).abs() < 1e-6,
+                    "{k} {head}: {} against {}",
+                    g.t,
+                    w.t
+                );
+                assert_eq!(
+                    (g.pose.translation, g.pose.rotation.coords),
+                    (w.pose.translation, w.pose.rotation.coords)
+                );
+            }
+        }
+    }
+    // A lost frame's time may be a date-time too.
+    let text =
+        "time,x,y,z,qx,qy,qz,qw\n2026-12-07T10:00:00Z,0,0,0,0,0,0,1\n2026-12-07T10:00:01Z,,,,,,,\n";
+    assert_eq!(read_str("l.csv", text).len(), 1);
+    let h = "time,x,y,z,qx,qy,qz,qw\n";
+    let e = parse_error(
+        "m.csv",
+        &format!("{h}2026-13-07T10:00:00Z,0,0,0,0,0,0,1\n"),
+        2,
+    );
+    assert!(
+        e.contains("is neither a number of seconds nor a date-time that reads"),
+        "{e}"
+    );
+    assert!(e.contains("month"), "{e}");
+    let e = parse_error("m.csv", &format!("{h}2026-12-07,0,0,0,0,0,0,1\n"), 2);
+    assert!(e.contains("a date without a time of day"), "{e}");
+    let e = parse_error("m.tum", "2026-12-07T10:00:00Z 0 0 0 0 0 0 1\n", 1);
+    assert!(e.contains("a TUM file's timestamps are seconds"), "{e}");
+    // Times still increase: a date-time before the one above it is out of order.
+    let text =
+        format!("{h}2026-12-07T10:00:01Z,0,0,0,0,0,0,1\n2026-12-07T10:00:00Z,0,0,0,0,0,0,1\n");
+    let e = parse_error("o.csv", &text, 3);
+    assert!(e.contains("goes back from"), "{e}");
+}
+
 /// A logger stopped in the middle of the last line: that line, without its `\n`, does not read
 /// as a pose, and after poses it is left out and said, however the reader's buffer cuts the
 /// file. Ended by a `\n`, or with no pose before it, it is an error as always.
