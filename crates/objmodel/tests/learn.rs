@@ -499,8 +499,9 @@ fn a_short_rest_at_a_high_rate_measures_the_noise() {
 }
 
 /// `Learner::learn_readable`: a source whose file does not read is left out with its error,
-/// and the tree is the one the others give alone; an error that no source can be left out for
-/// is returned, and the tree is left as it was.
+/// and the tree is the one the others give alone, each source read once (a batch with many
+/// broken files costs one pass, not one per broken file); an error that no source can be left
+/// out for is returned, and the tree is left as it was.
 #[test]
 fn the_readable_demonstrations_are_learnt_and_the_others_named() {
     let dir = tempfile::tempdir().unwrap();
@@ -516,27 +517,31 @@ fn the_readable_demonstrations_are_learnt_and_the_others_named() {
     let files: Vec<PathBuf> = demos[..2].iter().map(|d| write(dir.path(), d).0).collect();
     let broken = dir.path().join("broken.tum");
     std::fs::write(&broken, "1 0 0 0 0 0 0 1\n2 0 0 0 0 0 1\n").unwrap();
+    let missing = dir.path().join("missing.tum");
     let sources = [
         Source::file(&files[0]),
         Source::file(&broken),
         Source::Memory(&demos[2]),
+        Source::file(&missing),
         Source::file(&files[1]),
+        Source::file(&broken),
     ];
     let mut tree = Tree::default();
     let mut seen = Vec::new();
     let (reports, left_out) = learner
         .learn_readable(&mut tree, &sources, |k| seen.push(k))
         .unwrap();
-    assert_eq!(left_out.len(), 1);
-    assert_eq!(left_out[0].index, 1);
+    let indices: Vec<usize> = left_out.iter().map(|l| l.index).collect();
+    assert_eq!(indices, [1, 3, 5]);
     assert!(left_out[0]
         .error
         .to_string()
         .contains("broken.tum:2: expected 8 columns"));
+    assert!(left_out[1].error.to_string().contains("missing.tum"));
     assert_eq!(reports.len(), 3);
-    assert!(seen.ends_with(&[0, 2, 3]), "{seen:?}");
+    assert_eq!(seen, [0, 1, 2, 3, 4, 5], "each source read once");
     let mut alone = Tree::default();
-    let others = [sources[0], sources[2], sources[3]];
+    let others = [sources[0], sources[2], sources[4]];
     learner.learn(&mut alone, &others).unwrap();
     assert_eq!(tree.to_json(), alone.to_json());
     // Only the broken file: its error, and the tree as it was.

@@ -618,10 +618,26 @@ impl Learner {
             analysed(k);
         }
         let observed = &sources[..per_source.len()];
-        self.share_noise(observed, &mut per_source)?;
-        self.share_com(observed, &mut per_source, tree)?;
+        let out = self.fuse_observed(tree, observed, per_source)?;
+        match failure {
+            Some(e) => Err(e),
+            None => Ok(out),
+        }
+    }
+
+    /// The second half of [`Self::learn_with_progress`]: the observations of `sources` (each
+    /// source's, in order) share their noise and centre of mass, are checked against gravity,
+    /// and enter `tree`; the reports.
+    fn fuse_observed(
+        &self,
+        tree: &mut Tree,
+        sources: &[Source],
+        mut per_source: Vec<Vec<Observation>>,
+    ) -> Result<Vec<Observation>> {
+        self.share_noise(sources, &mut per_source)?;
+        self.share_com(sources, &mut per_source, tree)?;
         let contradicted = if self.gravity_checked {
-            self.check_gravity(observed, &per_source)?
+            self.check_gravity(sources, &per_source)?
         } else {
             None
         };
@@ -646,10 +662,7 @@ impl Learner {
         if let (Some(given), None) = (&self.support, &contradicted) {
             tree.give_support(given.clone());
         }
-        match failure {
-            Some(e) => Err(e),
-            None => Ok(out),
-        }
+        Ok(out)
     }
 }
 

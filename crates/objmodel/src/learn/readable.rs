@@ -33,41 +33,78 @@ impl Source<'_> {
 impl Learner {
     /// [`Learner::learn_with_progress`] of the demonstrations that can be read: one whose file
     /// an error names ([`Error::file`]: a line that does not read, a file that cannot be
-    /// opened) is left out, and the others are learnt again without it (the noise and the
-    /// centre of mass they share are then theirs alone). `analysed` gets indices among
-    /// `sources`. Returns the reports of those learnt, in order, and those left out, in the
+    /// opened) is left out, and the others are learnt without it (the noise and the centre of
+    /// mass they share are then theirs alone). Each source is read once (`analysed` gets each
+    /// index once, in order, whether it was read or left out); only an error in the stages
+    /// after the reading (a file that changed under the learner) costs another pass over the
+    /// others. Returns the reports of those learnt, in order, and those left out, in the
     /// order found. An error that names no source, or the last source's, is returned as
-    /// [`Learner::learn`] returns it. `tree` changes only on success. Each source left out
-    /// costs one more pass over the others.
+    /// [`Learner::learn`] returns it. `tree` changes only on success.
     pub fn learn_readable(
         &self,
         tree: &mut Tree,
         sources: &[Source],
         mut analysed: impl FnMut(usize),
     ) -> Result<(Vec<Observation>, Vec<LeftOut>)> {
-        let mut kept: Vec<usize> = (0..sources.len()).collect();
-        let mut left_out = Vec::new();
+        let (mut kept, mut per_source, mut left_out) = (Vec::new(), Vec::new(), Vec::new());
+        for (k, source) in sources.iter().enumerate() {
+            match self.observe_all(source) {
+                Ok(o) => {
+                    kept.push(k);
+                    per_source.push(o);
+                }
+                Err(error) if names(&error, source) => left_out.push(LeftOut { index: k, error }),
+                Err(error) => return Err(error),
+            }
+            analysed(k);
+        }
+        if kept.is_empty() {
+            if let Some(last) = left_out.pop() {
+                return Err(last.error);
+            }
+        }
+        // The observations of the first pass; a pass after an error past the reading (a file
+        // that changed under the learner) reads the others again.
+        let mut observed = Some(per_source);
         loop {
             let mut attempt = tree.clone();
             let these: Vec<Source> = kept.iter().map(|&i| sources[i]).collect();
-            let error = match self.learn_with_progress(&mut attempt, &these, |k| analysed(kept[k]))
-            {
+            let learnt = match observed.take() {
+                Some(per_source) => self.fuse_observed(&mut attempt, &these, per_source),
+                None => self.learn(&mut attempt, &these),
+            };
+            match learnt {
                 Ok(reports) => {
                     *tree = attempt;
                     return Ok((reports, left_out));
                 }
-                Err(e) => e,
-            };
-            let named = error
-                .file()
-                .and_then(|f| kept.iter().position(|&i| sources[i].reads(f)));
-            match named {
-                Some(k) if kept.len() > 1 => left_out.push(LeftOut {
-                    index: kept.remove(k),
-                    error,
-                }),
-                _ => return Err(error),
+                Err(error) => leave_out(error, sources, &mut kept, &mut left_out)?,
             }
         }
+    }
+}
+
+/// Whether `error` names a file that `source` reads.
+fn names(error: &Error, source: &Source) -> bool {
+    error.file().is_some_and(|f| source.reads(f))
+}
+
+/// Move the source among `kept` (indices into `sources`) whose file `error` names to
+/// `left_out`; the error itself where it names none of them, or the last of them.
+fn leave_out(
+    error: Error,
+    sources: &[Source],
+    kept: &mut Vec<usize>,
+    left_out: &mut Vec<LeftOut>,
+) -> Result<()> {
+    match kept.iter().position(|&i| names(&error, &sources[i])) {
+        Some(k) if kept.len() > 1 => {
+            left_out.push(LeftOut {
+                index: kept.remove(k),
+                error,
+            });
+            Ok(())
+        }
+        _ => Err(error),
     }
 }
