@@ -15,7 +15,8 @@
 //!
 //! A row whose pose values are all NaN (or all zero), or a matrix all NaN above its last row,
 //! is a frame where the tracker lost the object, as in a file (`objmodel::format::SkippedLines`):
-//! left out, as a frame not recorded, with an `ObjmodelWarning` that counts them.
+//! left out, as a frame not recorded, with an `ObjmodelWarning` that counts them. A row that
+//! repeats the row before exactly (its time and pose) is left out likewise, and counted.
 
 use crate::error::{err, warn};
 use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion};
@@ -131,7 +132,9 @@ pub fn poses(
         return Err(err(format!("{what}: no poses: the array is empty")));
     }
     let mut out = Vec::with_capacity(rows.len());
-    let mut lost = Vec::new();
+    let (mut lost, mut copies) = (Vec::new(), Vec::new());
+    // The row of the last pose kept.
+    let mut prev_row = 0;
     for (i, row) in rows.iter().enumerate() {
         if is_lost(row) {
             lost.push(i);
@@ -145,22 +148,29 @@ pub fn poses(
             };
             err(format!("{what}[{i}]: {e}{hint}"))
         })?;
-        if let Some(prev) = out.last().map(|p: &StampedPose| p.t) {
-            if p.t <= prev {
-                let how = if p.t == prev {
+        if let Some(prev) = out.last().copied() {
+            // A row that repeats the last pose exactly (its time and coordinates) is a copy, as
+            // a line written twice in a file (`objmodel::format::SkippedLines`).
+            let coords = |p: &StampedPose| (p.t, p.pose.translation.vector, p.pose.rotation.coords);
+            if coords(&p) == coords(&prev) {
+                copies.push(i);
+                continue;
+            }
+            if p.t <= prev.t {
+                let how = if p.t == prev.t {
                     "repeats"
                 } else {
                     "goes back from"
                 };
                 return Err(err(format!(
-                    "{what}[{i}]: timestamp {} {how} timestamp {prev} of row {} (timestamps must \
-                     strictly increase)",
-                    p.t,
-                    i - 1
+                    "{what}[{i}]: timestamp {} {how} timestamp {} of row {prev_row} (timestamps \
+                     must strictly increase)",
+                    p.t, prev.t
                 )));
             }
         }
         out.push(p);
+        prev_row = i;
     }
     if out.is_empty() {
         return Err(err(format!(
@@ -177,6 +187,22 @@ pub fn poses(
                 "the tracker lost the object in {} row{s} (the first {first}, the last {last}): \
                  every pose value NaN or zero; left out, as frames not recorded",
                 lost.len()
+            ),
+        )?;
+    }
+    if let Some(first) = copies.first() {
+        let n = copies.len();
+        let (s, verb) = if n == 1 {
+            ("", "repeats")
+        } else {
+            ("s", "repeat")
+        };
+        warn(
+            obj.py(),
+            what,
+            &format!(
+                "{n} row{s} {verb} the row before exactly (the first {first}: the same time and \
+                 pose); left out, the frame kept once"
             ),
         )?;
     }

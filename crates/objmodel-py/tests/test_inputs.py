@@ -51,6 +51,7 @@ def test_values(rows):
     raises(r"demos\[0\]\[7\]: quaternion \(qx qy qz qw\) = .* has norm 2, which differs from 1 by more than the tolerance 0.01", [bad])
     bad = r.copy()
     bad[9, 0] = bad[8, 0]
+    bad[9, 1] += 1e-3  # (the same pose again is a copy: below)
     raises(r"demos\[0\]\[9\]: timestamp .* repeats timestamp .* of row 8 \(timestamps must strictly increase\)", [bad])
     bad = r.copy()
     bad[9, 0] = bad[7, 0]
@@ -81,6 +82,26 @@ def test_lost_rows_are_left_out_with_a_warning(rows):
     # Some values NaN and others not: still an error (above); all rows lost: no poses.
     raises(r"demos\[0\]: no poses: every row is a frame where the tracker lost the object",
            [np.column_stack([t, np.full((len(t), 7), np.nan)])])
+
+
+def test_rows_written_twice_are_kept_once_with_a_warning(rows):
+    """A row that repeats the row before exactly (its time and pose: a logger that wrote it
+    twice) is the same frame: left out, counted, and the tree is the one without the copies.
+    The same time with another pose is still an error, naming the row of the pose before."""
+    r, _, _ = rows
+    doubled = np.insert(r, [50, 50, 200], r[[49, 49, 199]], axis=0)
+    with pytest.warns(objmodel.ObjmodelWarning,
+                      match=r"demos\[0\]: 3 rows repeat the row before exactly \(the first 50: the same time and pose\)"):
+        a = objmodel.learn([doubled])
+    b = objmodel.learn([r])
+    assert a.edges.shape == (1, 6)
+    np.testing.assert_array_equal(a.edges, b.edges)
+    # After lost rows, the row a repeated time repeats is the last one kept.
+    bad = r.copy()
+    bad[10:12, 1:] = np.nan
+    bad[12, 0] = bad[9, 0]
+    bad[12, 1] += 1e-3
+    raises(r"demos\[0\]\[12\]: timestamp .* repeats timestamp .* of row 9 ", [bad])
 
 
 def test_keep_going_leaves_out_what_cannot_be_read(tmp_path, rows):
