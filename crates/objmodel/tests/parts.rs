@@ -408,3 +408,85 @@ fn a_rest_of_two_frames_teaches_no_face_after_a_topple() {
     assert_eq!(taught_after[0], 0, "{taught_after:?}");
     assert!(taught_after[1] >= 4, "{taught_after:?}");
 }
+
+/// Every rest says what it taught or why it taught nothing: beside a topple, the faces; a
+/// toss's landing, that it teaches once another landing agrees; the rest before the toss's
+/// lift (no contact mode leaves it), that it may be the object held still; two frames of rest,
+/// that they are too few.
+#[test]
+fn every_rest_says_what_it_taught_or_why_not() {
+    let learner = Learner::new(Config::default());
+    let b = SynthBox::new(Vector3::new(0.04, 0.03, 0.06), (0.0, 0.0), 0.3);
+    // The rests that say something: each either taught its face or says why not.
+    let rests = |c: &objmodel::classify::Classification| -> Vec<(bool, Option<String>)> {
+        let rests: Vec<_> = c.parts.iter().filter(|p| p.kind == Label::Rest).collect();
+        for p in &rests {
+            let taught = p.taught.iter().any(|t| t == "resting face");
+            assert!(!(taught && p.withheld.is_some()), "{p:?}");
+        }
+        rests
+            .iter()
+            .filter(|p| !p.taught.is_empty() || p.withheld.is_some())
+            .map(|p| (!p.taught.is_empty(), p.withheld.clone()))
+            .collect()
+    };
+    let p = synth::ToppleParams::default();
+    let topple = synth::topple(&b, &p, &SynthNoise::REAL, 30.0, 900).demo;
+    let c = learner
+        .observe(&Source::Memory(&topple))
+        .unwrap()
+        .classification;
+    assert_eq!(rests(&c), [(true, None), (true, None)], "{:?}", c.parts);
+    // Two frames of rest after the fall.
+    let t_stop = topple.object[0].t + 1.0 + p.push_s + p.fall_s;
+    let mut short = topple.clone();
+    short.object.retain(|x| x.t <= t_stop + 1.5 / 30.0);
+    let c = learner
+        .observe(&Source::Memory(&short))
+        .unwrap()
+        .classification;
+    let said = rests(&c);
+    assert_eq!(said[0], (true, None), "{:?}", c.parts);
+    let last = said.last().unwrap().1.clone().unwrap_or_default();
+    assert!(
+        last.contains("frames of rest, fewer than 3"),
+        "{last:?} {:?}",
+        c.parts
+    );
+    // A toss: the lift from the table is no contact mode; the landing waits for another.
+    let mocap = SynthNoise {
+        sigma_position: 1e-4,
+        sigma_rotation: 0.05f64.to_radians(),
+        drop: 0.0,
+        sign_flip: 0.0,
+        tag_flip: 0.0,
+    };
+    let toss = synth::toss(&b, &mocap, 100.0, 3).demo;
+    let c = learner
+        .observe(&Source::Memory(&toss))
+        .unwrap()
+        .classification;
+    assert!(
+        c.parts.iter().any(|p| p.kind == Label::Flight),
+        "{:?}",
+        c.parts
+    );
+    let said = rests(&c);
+    let (first, last) = (&said[0], said.last().unwrap());
+    assert!(
+        first.1.as_deref().is_some_and(|w| w.contains("held still")),
+        "{said:?}"
+    );
+    assert!(
+        last.1
+            .as_deref()
+            .is_some_and(|w| w.starts_with("a landing")),
+        "{said:?}"
+    );
+    // The human summary shows the reasons.
+    let json = serde_json::to_value(&c).unwrap();
+    let parts = json["parts"].as_array().unwrap();
+    assert!(parts.iter().any(|p| p["withheld"]
+        .as_str()
+        .is_some_and(|w| w.starts_with("a landing"))));
+}

@@ -424,7 +424,8 @@ pub struct Part {
     /// `"resting face"` (a rest on the support, with gravity).
     #[serde(default)]
     pub taught: Vec<String>,
-    /// Why a part of a contact mode taught nothing, when the learner said why.
+    /// Why a part of a contact mode, or a rest (the last of its segment's), taught nothing,
+    /// when the learner said why.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub withheld: Option<String>,
     /// A flight's centre of mass, when the flight turned enough to determine it (object frame;

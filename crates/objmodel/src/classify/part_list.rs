@@ -168,9 +168,15 @@ fn mark_taught(c: &Classification, out: &mut [Part]) {
             }
         }
     }
+    mark_rests(c, out);
+}
+
+/// Put on each rest what it taught (the face rested on) or why it taught nothing, from the
+/// parts `out` as they are (again after flights are found: a landing follows one).
+fn mark_rests(c: &Classification, out: &mut [Part]) {
     // Rest k is the one before segment k (the last: after the last segment); the rest after
     // segment s is the last part of s (rests inside a segment do not split it).
-    let taught = c.resting_faces_taught();
+    let not_taught = c.resting_faces_not_taught_among(out);
     for j in 0..out.len() {
         let p = &out[j];
         if p.kind != Label::Rest {
@@ -182,11 +188,19 @@ fn mark_taught(c: &Classification, out: &mut [Part]) {
             Some(s) if last_of_segment => s + 1,
             Some(_) => continue,
         };
-        if taught.get(k).copied().unwrap_or(false) {
-            out[j].taught.push("resting face".into());
+        let p = &mut out[j];
+        p.taught.retain(|t| t != RESTING_FACE);
+        p.withheld = None;
+        match not_taught.get(k) {
+            Some(None) => p.taught.push(RESTING_FACE.into()),
+            Some(Some(why)) => p.withheld = Some(why.clone()),
+            None => {}
         }
     }
 }
+
+/// What a rest on the support teaches.
+const RESTING_FACE: &str = "resting face";
 
 impl Classification {
     /// Teach nothing: every edge, face and rest of the classification is withheld, for the
@@ -218,5 +232,13 @@ impl Classification {
     /// Fill [`Self::parts`] from the labels and what the segments taught.
     pub fn fill_parts(&mut self) {
         self.parts = parts(self);
+    }
+
+    /// Say again on each rest of [`Self::parts`] what it taught, or why nothing, once the
+    /// parts are final (flights split from the motions: a rest after one is a landing).
+    pub(crate) fn mark_rests(&mut self) {
+        let mut parts = std::mem::take(&mut self.parts);
+        mark_rests(self, &mut parts);
+        self.parts = parts;
     }
 }

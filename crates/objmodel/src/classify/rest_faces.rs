@@ -2,7 +2,7 @@
 //! a contact mode shows the support; a landing, when a flight leads to it
 //! ([`crate::landing`]); and, at a topple's rest, the support's height ([`crate::support`]).
 
-use super::{analysis, Classification, Label};
+use super::{analysis, Classification, Label, Part};
 use crate::face::FaceObservation;
 use crate::noise::NoiseModel;
 use crate::rest_place::RestHeight;
@@ -42,15 +42,62 @@ impl Classification {
     /// segment): whether it taught the face rested on, from gravity ([`Self::rest_faces`]) or
     /// beside a topple's edge ([`FaceObservation::from_rest`]).
     pub fn resting_faces_taught(&self) -> Vec<bool> {
+        self.resting_faces_not_taught()
+            .iter()
+            .map(Option::is_none)
+            .collect()
+    }
+
+    /// Per rest (as [`Self::resting_faces_taught`]): why it taught no face (too short, the
+    /// demonstration teaches nothing, gravity in doubt or its down unknown, no contact mode
+    /// shows it on the support, or a landing, which teaches once another demonstration's
+    /// agrees: [`Self::landings`]); `None` where it taught one.
+    pub fn resting_faces_not_taught(&self) -> Vec<Option<String>> {
+        self.resting_faces_not_taught_among(&self.parts)
+    }
+
+    /// [`Self::resting_faces_not_taught`] with the demonstration's `parts` (while they are
+    /// being listed).
+    pub(crate) fn resting_faces_not_taught_among(&self, parts: &[Part]) -> Vec<Option<String>> {
+        let after_flight = |k: usize| {
+            k >= 1
+                && parts
+                    .iter()
+                    .any(|p| p.kind == Label::Flight && p.segment == Some(k - 1))
+        };
+        let world = self.world_noise().is_some();
         self.rests()
             .into_iter()
-            .map(|r| {
-                r.with_edge
-                    || (!self.gravity_doubted
-                        && self.withheld.is_none()
-                        && r.supported
-                        && r.normal.is_some()
-                        && r.frames as f64 >= analysis::MIN_FACE_FRAMES)
+            .enumerate()
+            .map(|(k, r)| {
+                if r.with_edge {
+                    return None;
+                }
+                let why = if (r.frames as f64) < analysis::MIN_FACE_FRAMES {
+                    format!(
+                        "face not taught: {} frame{} of rest, fewer than {}",
+                        r.frames,
+                        if r.frames == 1 { "" } else { "s" },
+                        analysis::MIN_FACE_FRAMES
+                    )
+                } else if self.withheld.is_some() {
+                    "face not taught: the demonstration teaches nothing".into()
+                } else if self.gravity_doubted {
+                    "face not taught: the gravity given is in doubt".into()
+                } else if r.normal.is_none() {
+                    "face not taught: which way is down is not known".into()
+                } else if r.supported {
+                    return None;
+                } else if world && after_flight(k) && r.place.is_some() {
+                    "a landing: its face is taught once a landing of another demonstration \
+                     agrees"
+                        .into()
+                } else {
+                    "face not taught: no slide, topple or roll leaves it or reaches it, so it \
+                     may be the object held still"
+                        .into()
+                };
+                Some(why)
             })
             .collect()
     }

@@ -404,6 +404,7 @@ impl Learner {
         }
         classification.fill_parts();
         crate::flight::mark_flights(classification, recording, &self.config);
+        classification.mark_rests();
         // A roll is measured without a reference pose, so it does not depend on the rest a
         // demonstration starts with; it does on the noise.
         if !unmeasurable {
