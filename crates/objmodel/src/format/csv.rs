@@ -1,6 +1,9 @@
 //! CSV lines: splitting a line into fields (comma separated, optional spaces around a field,
 //! optional double quotes, `""` inside quotes, `#` outside quotes starting a comment), reading
-//! the header ([`Header`]: which column holds which value) and the values of a data line.
+//! the header ([`Header`]: which column holds which value; a units row right after it,
+//! `s,mm,mm,mm,,,,`, declares units as a name's `x [mm]` does) and the values of a data line
+//! (an empty field past the header's columns, or a header's empty last column missing, is a
+//! comma a logger ends its lines with).
 //!
 //! The fields are split by hand rather than by the `csv` crate: that crate parses a stream, not
 //! one line handed over by the reader, knows comments only at the start of a line, and keeps
@@ -18,6 +21,9 @@ use super::problem::Problem;
 
 /// Role value of a column that is ignored.
 const IGNORE: u8 = u8::MAX;
+
+/// The longest field a units row holds \[bytes\] (`millimetres`, `[s]`).
+const MAX_UNIT_NAME: usize = 16;
 
 /// Spaces and tabs (and a stray `\r`) around a field.
 #[inline]
@@ -125,6 +131,8 @@ pub(crate) struct Header {
     scale: [f64; VALUES],
     /// The units the header declares.
     declared: DeclaredUnits,
+    /// The column names (lower case), for a units row (`Header::with_units_row`).
+    names: Vec<String>,
 }
 
 impl Header {
@@ -189,7 +197,55 @@ impl Header {
             line,
             scale,
             declared,
+            names,
         })
+    }
+
+    /// The units of `s` if it is a units row: the line right after the header in some exports
+    /// (`s,mm,mm,mm,,,,`), a field per column, none of them a number or a date-time, none
+    /// longer than a unit's name, not all empty.
+    pub(crate) fn units_row(&self, s: &[u8]) -> Option<Vec<String>> {
+        let units = fields(s);
+        let unit = |u: &String| {
+            u.len() <= MAX_UNIT_NAME
+                && parse_f64(u.as_bytes()).is_none()
+                && date_time(u.as_bytes()).is_none()
+        };
+        let columns = self.columns_of(units.len(), units.last().is_some_and(String::is_empty));
+        let is_row = columns && units.iter().all(unit) && units.iter().any(|u| !u.is_empty());
+        is_row.then_some(units)
+    }
+
+    /// This header with the units of a units row declared, as a name's `x [mm]` declares
+    /// them (a unit the column's name declares stays); the problem of a unit that is not its
+    /// column's.
+    pub(crate) fn with_units_row(&self, units: &[String]) -> Result<Header, Problem> {
+        let names = self
+            .names
+            .iter()
+            .zip(units.iter().chain(std::iter::repeat(&String::new())))
+            .map(|(name, unit)| {
+                let unit = unit.trim_matches(['[', ']', '(', ')']).trim();
+                match unit.is_empty() || column_unit(name).is_some() {
+                    true => name.clone(),
+                    false => format!("{name} [{unit}]"),
+                }
+            })
+            .collect();
+        let roles = self
+            .roles
+            .iter()
+            .map(|&r| (r != IGNORE).then_some(r as usize));
+        Header::from_roles(names, roles.collect(), self.line)
+    }
+
+    /// Whether a line of `count` fields (the last one empty: `last_empty`) has this header's
+    /// columns: as many, or one more or one fewer where the one is an empty last field (a
+    /// logger that ends every line, or only its header, with a comma).
+    fn columns_of(&self, count: usize, last_empty: bool) -> bool {
+        let n = self.roles.len();
+        let header_ends_empty = self.names.last().is_some_and(String::is_empty);
+        count == n || (count == n + 1 && last_empty) || (count + 1 == n && header_ends_empty)
     }
 
     /// This header with its positions in `unit` (declared elsewhere than in its columns, as a
@@ -198,6 +254,11 @@ impl Header {
         self.declared.length = Some(unit);
         self.scale[1..4].fill(unit.metres());
         self
+    }
+
+    /// The line the header is on.
+    pub(crate) fn line(&self) -> usize {
+        self.line
     }
 
     /// The units the header declares.
@@ -225,6 +286,7 @@ impl Header {
         if fields.is_blank() {
             return Ok(None);
         }
+        let mut last_empty = false;
         while let Some((a, b)) = fields.next_field() {
             let role = self.role(count);
             if role < VALUES {
@@ -234,9 +296,10 @@ impl Header {
                     None => {}
                 }
             }
+            last_empty = a == b;
             count += 1;
         }
-        if count != self.roles.len() {
+        if !self.columns_of(count, last_empty) {
             return Err(Problem::CsvColumns {
                 expected: self.roles.len(),
                 found: count,

@@ -113,6 +113,7 @@ impl State {
         }
         let values = match &self.mode {
             Mode::Tum => return self.finish_tum(&scan_tum(line), line),
+            Mode::Csv(h) if self.track.line_no == h.line() + 1 => self.units_row(line),
             Mode::Csv(h) => h.values(line),
             Mode::Auto | Mode::CsvHeader => self.first_lines(line),
             Mode::Motive(_) => self.motive_line(line),
@@ -250,6 +251,20 @@ impl State {
         }
         self.no_rigid_body()?;
         self.mode = Mode::Csv(Header::parse(body, self.track.line_no)?);
+        Ok(None)
+    }
+
+    /// The line right after the CSV header: a units row (`s,mm,mm,mm,,,,`: `Header::units_row`),
+    /// whose units the header then declares, or a data line.
+    #[cold]
+    fn units_row(&mut self, line: &[u8]) -> Values {
+        let Mode::Csv(h) = &self.mode else {
+            unreachable!("called in CSV mode")
+        };
+        let Some(units) = h.units_row(line) else {
+            return h.values(line);
+        };
+        self.mode = Mode::Csv(h.with_units_row(&units)?);
         Ok(None)
     }
 

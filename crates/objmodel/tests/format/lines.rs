@@ -340,6 +340,77 @@ fn a_csv_time_column_of_date_times_reads_as_seconds() {
     assert!(e.contains("goes back from"), "{e}");
 }
 
+/// What some exports and loggers add to a CSV file: a units row right after the header (its
+/// units declared as a name's `x [mm]` declares them), and a comma that ends every line, or
+/// only the header.
+#[test]
+fn a_units_row_and_trailing_commas() {
+    let rows = "1,100,200,300,0,0,0,1\n2,100,200,400,0,0,1,0\n";
+    let mm = read_str(
+        "mm.csv",
+        &format!("t [s],x [mm],y [mm],z [mm],qx,qy,qz,qw\n{rows}"),
+    );
+    for (head, units) in [
+        ("t,x,y,z,qx,qy,qz,qw", "s,mm,mm,mm,,,,"),
+        ("t,x,y,z,qx,qy,qz,qw", " [s] , [mm] ,(mm),\"mm\",-,-,-,-"),
+        (
+            "t,x,y,z,qx,qy,qz,qw,note",
+            "seconds,millimetres,mm,mm,,,,,text",
+        ),
+        // The name's own unit stays; the row's fills in the others.
+        ("t,x [mm],y,z,qx,qy,qz,qw", ",m,mm,mm,,,,"),
+    ] {
+        let rows = if head.ends_with("note") {
+            rows.replace('\n', ",a\n")
+        } else {
+            rows.to_string()
+        };
+        let text = format!("{head}\n{units}\n{rows}");
+        assert_eq!(read_str("u.csv", &text), mm, "{units}");
+        let mut r = PoseReader::new(text.as_bytes(), "u.csv".into(), Format::Csv);
+        assert_eq!(r.by_ref().count(), 2);
+        assert_eq!(
+            r.declared_units().length,
+            Some(format::LengthUnit::Millimetres)
+        );
+    }
+    // A unit that is not its column's, and a units row that is data gone wrong.
+    let e = parse_error(
+        "u.csv",
+        &format!("t,x,y,z,qx,qy,qz,qw\nframes,mm,mm,mm,,,,\n{rows}"),
+        2,
+    );
+    assert!(
+        e.contains("\"t [frames]\", timestamp) declares a unit that is not a time"),
+        "{e}"
+    );
+    let e = parse_error(
+        "u.csv",
+        "t,x,y,z,qx,qy,qz,qw\n1,0,0,0,0,0,0,1\ns,mm,mm,mm,,,,\n",
+        3,
+    );
+    assert!(e.contains("\"s\" is not a number"), "{e}");
+    // Trailing commas: on every line, on the data lines only, on the header only.
+    let want = read_str(
+        "c.csv",
+        "t,x,y,z,qx,qy,qz,qw\n1,0.1,0.2,0.3,0,0,0,1\n2,0.1,0.2,0.4,0,0,0,1\n",
+    );
+    let data = ["1,0.1,0.2,0.3,0,0,0,1", "2,0.1,0.2,0.4,0,0,0,1"];
+    for (head, end) in [(",", ","), ("", ","), (",", ""), ("", ", ")] {
+        let text = format!(
+            "t,x,y,z,qx,qy,qz,qw{head}\n{}{end}\n{}{end}\n",
+            data[0], data[1]
+        );
+        assert_eq!(read_str("c.csv", &text), want, "{text:?}");
+    }
+    // One field too many that is not empty, or two empty ones: still an error.
+    for extra in [",5", ",,"] {
+        let text = format!("t,x,y,z,qx,qy,qz,qw\n{}{extra}\n", data[0]);
+        let e = parse_error("c.csv", &text, 2);
+        assert!(e.contains("expected 8 columns"), "{e}");
+    }
+}
+
 /// A logger stopped in the middle of the last line: that line, without its `\n`, does not read
 /// as a pose, and after poses it is left out and said, however the reader's buffer cuts the
 /// file. Ended by a `\n`, or with no pose before it, it is an error as always.
