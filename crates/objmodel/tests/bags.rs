@@ -446,3 +446,72 @@ fn poses_a_lost_tracker_published_are_left_out_and_said() {
     assert!(truth.classification.edges().count() > 0);
     assert_same_edges(&got[0], &truth, 1e-6);
 }
+
+/// On tf, a transform a lost tracker published (every value NaN or zero) is counted for its
+/// own frame: the object's poses say how many of theirs were lost, not how many of another
+/// frame's (an unrelated joint's).
+#[test]
+fn lost_transforms_on_tf_are_counted_for_their_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = instrumented(35);
+    let wc = world_from_camera();
+    let nan = f64::NAN;
+    let blind = Isometry3::from_parts(
+        Translation3::new(nan, nan, nan),
+        UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(nan, nan, nan, nan)),
+    );
+    let mut msgs = vec![Msg {
+        topic: "/tf_static".into(),
+        schema: TF,
+        log_time: d.object[0].t - 1.0,
+        data: tf_message(true, &[(0.0, "world", "camera_optical", wc)]),
+    }];
+    for (k, p) in d.object.iter().enumerate() {
+        // The tag lost in 3 frames; the joint, published with it, in 9.
+        let tag = if (30..33).contains(&k) {
+            blind
+        } else {
+            wc.inverse() * p.pose
+        };
+        let joint = if k % 10 == 5 {
+            blind
+        } else {
+            Isometry3::rotation(Vector3::z() * p.t.sin())
+        };
+        msgs.push(Msg {
+            topic: "/tf".into(),
+            schema: TF,
+            log_time: p.t + 0.01,
+            data: tf_message(
+                true,
+                &[
+                    (p.t, "camera_optical", "tag36h11:0", tag),
+                    (p.t, "world", "elbow", joint),
+                ],
+            ),
+        });
+    }
+    let path = dir.path().join("tf_lost.mcap");
+    write_bag(&path, &msgs, Some(Compression::Zstd));
+    let sel = BagSelection {
+        reference: Some("world".into()),
+        ..selection("tag36h11:0", None)
+    };
+    let got = with_offset(0.0)
+        .observe_all(&Source::Bag {
+            path: &path,
+            selection: &sel,
+        })
+        .unwrap();
+    let said = &got[0].classification.warnings;
+    let lost: Vec<&String> = said
+        .iter()
+        .filter(|w| w.contains("the tracker lost it"))
+        .collect();
+    assert_eq!(lost.len(), 1, "{said:?}");
+    assert!(
+        lost[0].starts_with("3 object poses had every value NaN or zero"),
+        "{said:?}"
+    );
+    assert!(d.object.len() / 10 > 3);
+}

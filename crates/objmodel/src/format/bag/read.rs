@@ -64,8 +64,8 @@ pub struct BagContents {
     pub tf: TfTree,
     /// Poses on tf dropped because another had the same stamp.
     pub tf_duplicates: usize,
-    /// Transforms on tf left out because every value was NaN or zero.
-    pub tf_lost: usize,
+    /// Transforms on tf left out because every value was NaN or zero, by child frame.
+    pub tf_lost: HashMap<String, usize>,
     /// The poses of the pose topics asked for.
     pub streams: HashMap<String, TopicPoses>,
 }
@@ -198,7 +198,9 @@ fn read_file(path: &Path, topics: &[&str], bag: &mut BagContents) -> Result<()> 
             let (tf, lost) = (&mut bag.tf, &mut bag.tf_lost);
             decode(ty, &m.data, &mut |r: RawTransform| {
                 let Some(pose) = r.pose else {
-                    *lost += 1;
+                    *lost
+                        .entry(String::from_utf8_lossy(r.child).into_owned())
+                        .or_default() += 1;
                     return;
                 };
                 if failed.is_none() {

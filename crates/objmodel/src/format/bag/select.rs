@@ -140,8 +140,13 @@ pub fn poses_in(
                     ),
                 ));
             };
-            out.duplicates = bag.tf_duplicates;
-            out.lost = bag.tf_lost;
+            // (Counted on the chain's edges: a lost or doubled transform of another frame
+            // takes nothing from these poses.)
+            let edges = || chain.steps.iter().map(|&(i, _)| &bag.tf.edges()[i]);
+            out.duplicates = edges().map(|e| e.duplicates).sum();
+            out.lost = edges()
+                .map(|e| bag.tf_lost.get(&e.child).copied().unwrap_or(0))
+                .sum();
             for p in &bag.tf.edges()[driver].poses {
                 match bag.tf.at(&chain, p.t) {
                     Some(g) => out.poses.push(StampedPose::new(p.t, g)),

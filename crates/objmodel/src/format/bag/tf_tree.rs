@@ -23,6 +23,8 @@ pub struct Edge {
     pub poses: Vec<StampedPose>,
     /// Topic it was published on (the first, if several).
     pub topic: String,
+    /// Poses dropped because another had the same stamp ([`TfTree::finish`]).
+    pub duplicates: usize,
 }
 
 impl Edge {
@@ -113,7 +115,8 @@ impl TfTree {
             if e.fixed.is_some() {
                 e.poses.clear();
             }
-            dropped += sort_dedup(&mut e.poses);
+            e.duplicates = sort_dedup(&mut e.poses);
+            dropped += e.duplicates;
         }
         dropped
     }
