@@ -35,7 +35,7 @@ pub(crate) const QUAT: usize = 4;
 /// needs its `w`, so Euler angles under those names are refused as a missing `qw`).
 #[rustfmt::skip]
 pub(crate) const CSV_NAMES: [&[&str]; VALUES] = [
-    &["timestamp", "t", "time", "stamp", "header_stamp", "%time"],
+    &["timestamp", "t", "time", "stamp", "header_stamp", "%time", "__time"],
     &["tx", "x", "px", "pos_x", "position_x", "translation_x", "p_rs_r_x"],
     &["ty", "y", "py", "pos_y", "position_y", "translation_y", "p_rs_r_y"],
     &["tz", "z", "pz", "pos_z", "position_z", "translation_z", "p_rs_r_z"],
@@ -56,13 +56,21 @@ pub(crate) fn column_role(field: &str) -> Option<usize> {
 
 /// A ROS message's stamp, flattened to CSV (`field.header.stamp`): the time of the measurement.
 pub(crate) const HEADER_STAMP: &str = "header_stamp";
-/// The time a ROS message was logged, flattened to CSV (`%time`): a timestamp only where the
-/// file has no [`HEADER_STAMP`] (the transport's delay and jitter are in it).
-pub(crate) const LOG_TIME: &str = "%time";
+/// The time a ROS message was logged, flattened to CSV (`%time`; PlotJuggler's `__time`): a
+/// timestamp only where the file has no [`HEADER_STAMP`] (the transport's delay and jitter
+/// are in it).
+pub(crate) fn is_log_time(name: &str) -> bool {
+    matches!(name, "%time" | "__time")
+}
+
+/// Units a name may end in after an `_` (`time_s`, `x_mm`), where the rest is a name of
+/// [`CSV_NAMES`].
+const UNIT_SUFFIXES: [&str; 8] = ["s", "sec", "ms", "us", "ns", "m", "cm", "mm"];
 
 /// A CSV header field as [`CSV_NAMES`] lists it: lower case, without a unit in brackets or
-/// parentheses at its end (`Time (Seconds)`, `p_RS_R_x [m]`), and a dotted path reduced to its
-/// last two parts joined by `_` (`field.pose.position.x` is `position_x`).
+/// parentheses at its end (`Time (Seconds)`, `p_RS_R_x [m]`) or after an `_` (`x_mm`), and a
+/// path reduced to its last two parts joined by `_` (a ROS message flattened to CSV,
+/// `field.pose.position.x`, and PlotJuggler's `/tag/pose/position/x` are `position_x`).
 pub(crate) fn column_name(field: &str) -> String {
     let mut name = field.trim().to_ascii_lowercase();
     for (open, close) in [('[', ']'), ('(', ')')] {
@@ -73,25 +81,37 @@ pub(crate) fn column_name(field: &str) -> String {
             }
         }
     }
-    let parts: Vec<&str> = name.split('.').collect();
+    let parts: Vec<&str> = name.split(['.', '/']).filter(|p| !p.is_empty()).collect();
     if parts.len() > 1 {
         name = parts[parts.len() - 2..].join("_");
     }
-    name
+    match unit_suffix(&name) {
+        Some((known, _)) => known.to_string(),
+        None => name,
+    }
+}
+
+/// A name that ends in a unit after an `_` (`time_s`, `x_mm`), where the rest is a name of
+/// [`CSV_NAMES`] and the whole is none: the rest and the unit.
+fn unit_suffix(name: &str) -> Option<(&str, &str)> {
+    let known = |n: &str| CSV_NAMES.iter().any(|names| names.contains(&n));
+    let (rest, unit) = name.rsplit_once('_')?;
+    (UNIT_SUFFIXES.contains(&unit) && known(rest) && !known(name)).then_some((rest, unit))
 }
 
 /// The unit a CSV header field declares in brackets or parentheses at its end, lower case
-/// (`X (Millimeters)`: `millimeters`), if any; empty brackets (EuRoC's `q_RS_w []`) declare
-/// none.
+/// (`X (Millimeters)`: `millimeters`), or after an `_` (`x_mm`), if any; empty brackets
+/// (EuRoC's `q_RS_w []`) declare none.
 pub(crate) fn column_unit(field: &str) -> Option<String> {
     let name = field.trim().to_lowercase();
-    [('[', ']'), ('(', ')')]
+    let bracketed = [('[', ']'), ('(', ')')]
         .into_iter()
         .find_map(|(open, close)| {
             let inner = name.strip_suffix(close)?;
             let unit = inner[inner.rfind(open)? + open.len_utf8()..].trim();
             (!unit.is_empty()).then(|| unit.to_string())
-        })
+        });
+    bracketed.or_else(|| unit_suffix(&name).map(|(_, unit)| unit.to_string()))
 }
 
 /// A quaternion whose norm differs from 1 by more than this (relative) is rejected as corrupt;

@@ -411,6 +411,91 @@ fn a_units_row_and_trailing_commas() {
     }
 }
 
+/// Headers that Python scripts and PlotJuggler write: a unit after an `_` (`time_s`, `x_mm`),
+/// and PlotJuggler's `__time` with a topic's fields as paths (`/tag/pose/position/x`), timed
+/// by the message's `header/stamp` where the file has one.
+#[test]
+fn unit_suffixes_and_plotjuggler_paths_name_columns() {
+    let rows = [(1.0, [0.1, 0.2, 0.3]), (2.0, [0.1, 0.2, 0.4])];
+    let want = read_str(
+        "w.csv",
+        &format!(
+            "t,x,y,z,qx,qy,qz,qw\n{}",
+            rows.iter()
+                .map(|(t, p)| format!("{t},{},{},{},0,0,0,1\n", p[0], p[1], p[2]))
+                .collect::<String>()
+        ),
+    );
+    let pj = [
+        "/tag/pose/position/x",
+        "/tag/pose/position/y",
+        "/tag/pose/position/z",
+    ];
+    let pq = [
+        "/tag/pose/orientation/x",
+        "/tag/pose/orientation/y",
+        "/tag/pose/orientation/z",
+    ];
+    let pj = format!(
+        "{},{},{}",
+        pj.join(","),
+        pq.join(","),
+        "/tag/pose/orientation/w"
+    );
+    for (head, scale_t, scale_p, stamp) in [
+        (
+            "time_s,x_m,y_m,z_m,qx,qy,qz,qw".to_string(),
+            1.0,
+            1.0,
+            false,
+        ),
+        (
+            "t_ms,x_mm,y_mm,z_mm,qx,qy,qz,qw".to_string(),
+            1e3,
+            1e3,
+            false,
+        ),
+        (
+            "timestamp_ns,pos_x_mm,pos_y_mm,pos_z_mm,quat_x,quat_y,quat_z,quat_w".to_string(),
+            1e9,
+            1e3,
+            false,
+        ),
+        (format!("__time,{pj}"), 1.0, 1.0, false),
+        (format!("__time,/tag/header/stamp,{pj}"), 1.0, 1.0, true),
+    ] {
+        let body: String = rows
+            .iter()
+            .map(|(t, p)| {
+                // The log time 0.05 s after the stamp: the stamp is the time, where there is one.
+                let times = if stamp {
+                    format!("{},{t}", t + 0.05)
+                } else {
+                    format!("{}", t * scale_t)
+                };
+                let [x, y, z] = p.map(|v| v * scale_p);
+                format!("{times},{x},{y},{z},0,0,0,1\n")
+            })
+            .collect();
+        let got = read_str("h.csv", &format!("{head}\n{body}"));
+        assert_eq!(got.len(), 2, "{head}");
+        for (g, w) in got.iter().zip(&want) {
+            assert!((g.t - w.t).abs() < 1e-9, "{head}: {} {}", g.t, w.t);
+            assert!(
+                (g.pose.translation.vector - w.pose.translation.vector).norm() < 1e-12,
+                "{head}"
+            );
+        }
+    }
+    // A name that is a known one whole is not split (`pos_x` is no `pos` in unit `x`), and a
+    // unit after an `_` that is not the column's is the header's error.
+    let e = parse_error("h.csv", "t,x_s,y,z,qx,qy,qz,qw\n1,0,0,0,0,0,0,1\n", 1);
+    assert!(
+        e.contains("\"x_s\", tx) declares a unit that is not a length"),
+        "{e}"
+    );
+}
+
 /// A logger stopped in the middle of the last line: that line, without its `\n`, does not read
 /// as a pose, and after poses it is left out and said, however the reader's buffer cuts the
 /// file. Ended by a `\n`, or with no pose before it, it is an error as always.
