@@ -13,10 +13,9 @@
 //!   is an error as always.
 //! * **A line written twice.** A logger that flushes a buffer twice, or a tool that merged two
 //!   copies of a log, repeats a line: the same time and the same pose (the columns a CSV
-//!   reader ignores aside). The copy is no second
-//!   frame and no contradiction; it is left out and counted. A line with the time of the one
-//!   before and another pose is still an error (which of the two poses the tracker measured
-//!   at that time, no reader can tell).
+//!   reader ignores aside). The copy is no second frame and no contradiction; it is left out
+//!   and counted. A line with the time of the one before and another pose is still an error
+//!   (which of the two poses the tracker measured at that time, no reader can tell).
 
 use super::layout::VALUES;
 use std::sync::{Arc, Mutex};
@@ -85,7 +84,11 @@ impl SkippedLines {
         let mut said: Vec<String> = self.lost_warning(what).into_iter().collect();
         if let Some((line, of)) = self.first_duplicate {
             let n = self.duplicates;
-            let (s, each) = if n == 1 { ("", "it") } else { ("s", "each") };
+            let (s, each) = if n == 1 {
+                ("", "the copy")
+            } else {
+                ("s", "each copy")
+            };
             said.push(format!(
                 "the {what}'s file repeats {n} line{s} exactly (the first: line {line}, a copy \
                  of line {of}: the same time and pose, as a logger that wrote a line twice \
@@ -209,8 +212,8 @@ mod tests {
             lines.warnings("palm"),
             [
                 "the palm's file repeats 1 line exactly (the first: line 48, a copy of line 47: \
-              the same time and pose, as a logger that wrote a line twice leaves): it left \
-              out, the frame kept once"
+              the same time and pose, as a logger that wrote a line twice leaves): the copy \
+              left out, the frame kept once"
             ]
         );
         lines.record_duplicate(60, 58);
@@ -226,7 +229,10 @@ mod tests {
             ),
             "{w}"
         );
-        assert!(w.ends_with("each left out, the frame kept once"), "{w}");
+        assert!(
+            w.ends_with("each copy left out, the frame kept once"),
+            "{w}"
+        );
         // Nothing to say of a file without copies or lost lines.
         assert!(SkippedLines::default().warnings("object").is_empty());
     }
