@@ -21,7 +21,7 @@
 use crate::error::{err, warn};
 use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion};
 use numpy::{PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
-use objmodel::format::{is_lost, pose_from_values, QUAT_NORM_TOLERANCE};
+use objmodel::format::{is_copy, is_lost, pose_from_values, QUAT_NORM_TOLERANCE};
 use objmodel::StampedPose;
 use pyo3::prelude::*;
 
@@ -151,8 +151,7 @@ pub fn poses(
         if let Some(prev) = out.last().copied() {
             // A row that repeats the last pose exactly (its time and coordinates) is a copy, as
             // a line written twice in a file (`objmodel::format::SkippedLines`).
-            let coords = |p: &StampedPose| (p.t, p.pose.translation.vector, p.pose.rotation.coords);
-            if coords(&p) == coords(&prev) {
+            if is_copy(&p, &prev) {
                 copies.push(i);
                 continue;
             }

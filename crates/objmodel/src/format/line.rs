@@ -10,7 +10,7 @@ use super::detect::detect_format;
 use super::layout::{Format, VALUES};
 use super::motive::{is_motive_start, Preamble};
 use super::problem::{Context, Problem};
-use super::skipped::{is_lost, SkippedSink};
+use super::skipped::{is_copy, is_lost, SkippedSink};
 use super::tum::{is_tum_header, scan_tum, tum_field, TumScan};
 use crate::trajectory::StampedPose;
 use crate::{Error, Result};
@@ -172,15 +172,13 @@ impl State {
     #[cold]
     #[inline(never)]
     fn repeats_last_pose(&self, v: &[f64; VALUES], problem: &Problem) -> bool {
-        let Problem::TimeNotIncreasing { t, prev_t } = *problem else {
+        let Problem::TimeNotIncreasing { .. } = problem else {
             return false;
         };
         let (Ok(again), Some(last)) = (check_values(v, f64::NEG_INFINITY), self.last_pose) else {
             return false;
         };
-        // (Coordinates, not rotations: `q` and `-q` are one rotation but two lines.)
-        let coords = |p: &StampedPose| (p.pose.translation.vector, p.pose.rotation.coords);
-        t == prev_t && coords(&again) == coords(&last)
+        is_copy(&again, &last)
     }
 
     /// Count the current line as a copy of the last pose's line.

@@ -94,7 +94,7 @@ pub use length_unit::{to_metres, DeclaredUnits, LengthUnit};
 pub use number::parse_f64;
 pub use quaternion_order::QuaternionOrder;
 pub use reader::PoseReader;
-pub use skipped::{is_lost, SkippedLines};
+pub use skipped::{is_copy, is_lost, SkippedLines};
 pub use time_unit::{
     conversion_warning, detect_time_unit, detect_time_unit_of, to_seconds, TimeUnit,
     TIME_UNIT_STAMPS,

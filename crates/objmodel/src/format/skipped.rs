@@ -18,6 +18,7 @@
 //!   (which of the two poses the tracker measured at that time, no reader can tell).
 
 use super::layout::VALUES;
+use crate::trajectory::StampedPose;
 use std::sync::{Arc, Mutex};
 
 /// Spans of lost lines kept for the message; lines past them are counted, not listed, so
@@ -30,6 +31,14 @@ const KEPT_SPANS: usize = 8;
 pub fn is_lost(v: &[f64; VALUES]) -> bool {
     let pose = &v[1..];
     pose.iter().all(|x| x.is_nan()) || pose.iter().all(|&x| x == 0.0)
+}
+
+/// Whether pose `p` is a copy of pose `of`: the same time and the same coordinates, bit for bit
+/// (coordinates, not rotations: `q` and `-q` are one rotation but two lines). What a line, or
+/// a row of an array, written twice gives.
+pub fn is_copy(p: &StampedPose, of: &StampedPose) -> bool {
+    let coords = |p: &StampedPose| (p.t, p.pose.translation.vector, p.pose.rotation.coords);
+    coords(p) == coords(of)
 }
 
 /// The lines of one file a reader skipped: where the tracker lost the object (how many, and
