@@ -84,3 +84,29 @@ fn an_instrumented_topple_claims_no_slide() {
         assert!(tree.friction.as_ref().is_none_or(|f| f.estimate.is_none()));
     }
 }
+
+/// A slide tracked at 1 mm whose positions are in millimetres: the demonstration teaches
+/// nothing (its noise would be a metre: not metres), so it teaches no friction either (a slide
+/// fitted in millimetres against g in metres would give a wrong μ with confidence).
+#[test]
+fn a_slide_refused_as_not_in_metres_claims_no_friction() {
+    let learner = Learner::new(Config::default());
+    let mut d = slide(1, 0.25, &TrackerNoise::real(), 1);
+    let in_mm = |poses: &mut Vec<objmodel::trajectory::StampedPose>| {
+        for p in poses.iter_mut() {
+            p.pose.translation.vector *= 1000.0;
+        }
+    };
+    in_mm(&mut d.object);
+    in_mm(d.palm.as_mut().unwrap());
+    let mut tree = Tree::default();
+    let reports = learner.learn(&mut tree, &[Source::Memory(&d)]).unwrap();
+    let c = &reports[0].classification;
+    assert!(c.withheld.is_some(), "{:?}", c.warnings);
+    assert!(
+        reports[0].palm_slide.is_none(),
+        "{:?}",
+        reports[0].palm_slide
+    );
+    assert!(tree.friction.as_ref().is_none_or(|f| f.estimate.is_none()));
+}

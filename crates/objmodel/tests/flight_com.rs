@@ -103,3 +103,35 @@ fn a_gravity_off_by_two_degrees_is_estimated_with_the_centre_of_mass() {
         "said {said:?}, truth {truth:?}"
     );
 }
+
+/// A demonstration that teaches nothing (here made so with `withhold_all`, as a file whose
+/// noise cannot be resolved or whose lengths are not metres is) keeps its flights among its
+/// parts, each saying why it taught nothing, and gives the tree no centre of mass.
+#[test]
+fn a_demonstration_that_teaches_nothing_keeps_its_flights_but_gives_no_centre_of_mass() {
+    let (_, reports) = common::learn_files(&common::tum_files(&format!("{DIR}/brick")));
+    let mut o = reports
+        .into_iter()
+        .find(|o| !o.classification.flight_coms_taught().is_empty())
+        .expect("a flight that measured its centre of mass");
+    let flights = |c: &objmodel::classify::Classification| {
+        c.parts
+            .iter()
+            .filter(|p| p.kind == objmodel::classify::Label::Flight)
+            .count()
+    };
+    let before = flights(&o.classification);
+    o.classification.withhold_all("a reason");
+    let c = &o.classification;
+    assert_eq!(flights(c), before, "{:?}", c.parts);
+    assert!(c.parts.iter().all(|p| p.taught.is_empty()));
+    assert!(c
+        .parts
+        .iter()
+        .filter(|p| p.com_estimate.is_some())
+        .all(|p| p.withheld.as_deref() == Some("a reason")));
+    assert!(c.flight_coms_taught().is_empty());
+    let mut tree = Tree::default();
+    tree.add(&o);
+    assert!(tree.flights.is_empty() && tree.com.is_none());
+}

@@ -350,6 +350,16 @@ pub struct Classification {
 }
 
 impl Classification {
+    /// The flights' centres of mass that the demonstration teaches ([`Self::flight_coms`]):
+    /// none where it teaches nothing ([`Self::withheld`]) or the object was on a palm.
+    pub fn flight_coms_taught(&self) -> &[crate::flight::ComEstimate] {
+        if self.instrumented || self.withheld.is_some() {
+            &[]
+        } else {
+            &self.flight_coms
+        }
+    }
+
     /// Whether the object flew in the demonstration (a part of it is a flight,
     /// [`crate::flight`]): its rolls are then told from flights by a centre of mass
     /// ([`crate::roll`], [`crate::shared_com`]).

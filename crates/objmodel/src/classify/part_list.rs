@@ -205,7 +205,8 @@ const RESTING_FACE: &str = "resting face";
 impl Classification {
     /// Teach nothing: every edge, face and rest of the classification is withheld, for the
     /// reason given (which becomes a warning and [`Self::withheld`]); the labels and votes
-    /// stay.
+    /// stay, and so do the parts once flights and rolls are marked in them (each part that
+    /// taught something, or a flight that measured a centre of mass, then says why not).
     pub fn withhold_all(&mut self, why: &str) {
         self.topples.clear();
         for s in &mut self.segments {
@@ -226,7 +227,21 @@ impl Classification {
         self.withheld = Some(why.to_string());
         self.warnings
             .push(format!("{why}; nothing is learnt from it"));
-        self.fill_parts();
+        let marked = self
+            .parts
+            .iter()
+            .any(|p| matches!(p.kind, Label::Flight | Label::Impact | Label::Roll));
+        if !marked {
+            self.fill_parts();
+            return;
+        }
+        // The labels alone would give the parts back without the flights and rolls.
+        for p in &mut self.parts {
+            if !p.taught.is_empty() || p.com_estimate.is_some() || p.withheld.is_some() {
+                p.taught.clear();
+                p.withheld = Some(why.to_string());
+            }
+        }
     }
 
     /// Fill [`Self::parts`] from the labels and what the segments taught.

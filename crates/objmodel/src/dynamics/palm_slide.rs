@@ -86,10 +86,12 @@ struct SlideSeries {
 }
 
 /// The friction a slide on the palm shows, if the demonstration `c` (whose frames `recording`
-/// kept) is one: instrumented, resting first, and moving on the palm as the model says; `g`
-/// is gravity in the tracking frame.
+/// kept) is one: instrumented, resting first, and moving on the palm as the model says (and
+/// teaching something: see [`Classification::withheld`]); `g` is gravity in the tracking
+/// frame.
 pub fn measure(recording: &Recording, c: &Classification, g: &Vector3<f64>) -> Option<PalmSlide> {
-    if recording.palm.is_empty() || !c.topples.is_empty() {
+    // (A demonstration that teaches nothing teaches no friction either.)
+    if recording.palm.is_empty() || !c.topples.is_empty() || c.withheld.is_some() {
         return None;
     }
     let first = c.segments.first()?;

@@ -46,10 +46,9 @@ impl Learner {
             .iter()
             .flatten()
             .enumerate()
-            .filter(|(_, o)| !o.classification.instrumented)
             .flat_map(|(k, o)| {
                 o.classification
-                    .flight_coms
+                    .flight_coms_taught()
                     .iter()
                     .map(move |e| (k, e.clone()))
             })

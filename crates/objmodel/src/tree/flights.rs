@@ -16,11 +16,11 @@ use crate::shared_com::{shared_com, SharedCom};
 impl Tree {
     /// Keep the flights' centres of mass of the demonstration `c`, under its name in the tree.
     pub(super) fn add_flights(&mut self, demo: &str, c: &Classification) {
-        if c.instrumented {
-            return;
-        }
-        self.flights
-            .extend(c.flight_coms.iter().map(|e| FlightCom::of(demo, e)));
+        self.flights.extend(
+            c.flight_coms_taught()
+                .iter()
+                .map(|e| FlightCom::of(demo, e)),
+        );
     }
 
     /// The centre of mass the tree's flights agree on ([`shared_com`]), if they do.
