@@ -5,6 +5,11 @@
 //! (an empty field past the header's columns, or a header's empty last column missing, is a
 //! comma a logger ends its lines with).
 //!
+//! A header without a comma whose columns are separated by semicolons (`t;x;y;z;...`) makes
+//! the file semicolon-separated, as a spreadsheet in a locale that writes decimal commas saves
+//! it: then a comma inside a number is its decimal point (`0,5` is 0.5; `2026-12-07
+//! 10:00:00,25` too, as ISO 8601 allows).
+//!
 //! The fields are split by hand rather than by the `csv` crate: that crate parses a stream, not
 //! one line handed over by the reader, knows comments only at the start of a line, and keeps
 //! the spaces before an opening quote (and then the quotes) in a field. Measured on 24807 lines
@@ -40,18 +45,21 @@ pub(crate) fn trim(s: &[u8]) -> &[u8] {
     &s[a..b]
 }
 
-/// Splits a CSV line into fields: comma separated, optional spaces around fields, optional
-/// double quotes (`""` inside quotes is a quote), and `#` outside quotes starts a comment.
+/// Splits a CSV line into fields: separated by `sep` (a comma, or a semicolon: see the module
+/// documentation), optional spaces around fields, optional double quotes (`""` inside quotes is
+/// a quote), and `#` outside quotes starts a comment.
 struct Fields<'a> {
     s: &'a [u8],
+    sep: u8,
     i: usize,
     done: bool,
 }
 
 impl<'a> Fields<'a> {
-    fn new(s: &'a [u8]) -> Self {
+    fn new(s: &'a [u8], sep: u8) -> Self {
         Fields {
             s,
+            sep,
             i: 0,
             done: false,
         }
@@ -71,7 +79,7 @@ impl<'a> Fields<'a> {
         if self.done {
             return None;
         }
-        let s = self.s;
+        let (s, sep) = (self.s, self.sep);
         let n = s.len();
         let mut i = self.i;
         while i < n && is_space(s[i]) {
@@ -97,12 +105,12 @@ impl<'a> Fields<'a> {
                 }
                 i += 1;
             }
-            while i < n && s[i] != b',' && s[i] != b'#' {
+            while i < n && s[i] != sep && s[i] != b'#' {
                 i += 1;
             }
         } else {
             a = i;
-            while i < n && s[i] != b',' && s[i] != b'#' {
+            while i < n && s[i] != sep && s[i] != b'#' {
                 i += 1;
             }
             b = i;
@@ -110,7 +118,7 @@ impl<'a> Fields<'a> {
                 b -= 1;
             }
         }
-        if i < n && s[i] == b',' {
+        if i < n && s[i] == sep {
             self.i = i + 1;
         } else {
             self.done = true;
@@ -135,12 +143,28 @@ pub(crate) struct Header {
     declared: DeclaredUnits,
     /// The column names (lower case), for a units row (`Header::with_units_row`).
     names: Vec<String>,
+    /// What separates the fields ([`separator_of`] the header).
+    sep: u8,
+}
+
+/// What separates the fields of a CSV file whose header is `line`: a comma, unless the line has
+/// none and has a semicolon (see the module documentation).
+pub(crate) fn separator_of(line: &[u8]) -> u8 {
+    if !line.contains(&b',') && line.contains(&b';') {
+        b';'
+    } else {
+        b','
+    }
 }
 
 impl Header {
     /// Read header line `line`; the problem names the missing (or doubled) columns.
     pub(crate) fn parse(s: &[u8], line: usize) -> Result<Header, Problem> {
-        let names: Vec<String> = fields(s).iter().map(|f| f.to_ascii_lowercase()).collect();
+        let sep = separator_of(s);
+        let names: Vec<String> = fields(s, sep)
+            .iter()
+            .map(|f| f.to_ascii_lowercase())
+            .collect();
         // A ROS message flattened to CSV has the time it was logged (`%time`) and the time it
         // was measured (`field.header.stamp`): the motion is in the second.
         let stamped = names.iter().any(|n| column_name(n) == HEADER_STAMP);
@@ -148,7 +172,18 @@ impl Header {
             .iter()
             .map(|n| column_role(n).filter(|_| !(stamped && is_log_time(&column_name(n)))))
             .collect();
-        Header::from_roles(names, roles, line)
+        Ok(Header::from_roles(names, roles, line)?.with_separator(sep))
+    }
+
+    /// What separates the fields.
+    pub(crate) fn separator(&self) -> u8 {
+        self.sep
+    }
+
+    /// This header with its fields separated by `sep`.
+    pub(crate) fn with_separator(mut self, sep: u8) -> Header {
+        self.sep = sep;
+        self
     }
 
     /// The header of columns `names` (as written, lower case) that give `roles` (an index into
@@ -200,6 +235,7 @@ impl Header {
             scale,
             declared,
             names,
+            sep: b',',
         })
     }
 
@@ -207,12 +243,10 @@ impl Header {
     /// (`s,mm,mm,mm,,,,`), a field per column, none of them a number or a date-time, none
     /// longer than a unit's name, not all empty.
     pub(crate) fn units_row(&self, s: &[u8]) -> Option<Vec<String>> {
-        let units = fields(s);
-        let unit = |u: &String| {
-            u.len() <= MAX_UNIT_NAME
-                && parse_f64(u.as_bytes()).is_none()
-                && date_time(u.as_bytes()).is_none()
-        };
+        let units = fields(s, self.sep);
+        // (A number or a date-time is what a time column's value may be.)
+        let unit =
+            |u: &String| u.len() <= MAX_UNIT_NAME && self.value(TIME, u.as_bytes()).is_none();
         let columns = self.columns_of(units.len(), units.last().is_some_and(String::is_empty));
         let is_row = columns && units.iter().all(unit) && units.iter().any(|u| !u.is_empty());
         is_row.then_some(units)
@@ -238,7 +272,7 @@ impl Header {
             .roles
             .iter()
             .map(|&r| (r != IGNORE).then_some(r as usize));
-        Header::from_roles(names, roles.collect(), self.line)
+        Ok(Header::from_roles(names, roles.collect(), self.line)?.with_separator(self.sep))
     }
 
     /// Whether a line of `count` fields (the last one empty: `last_empty`) has this header's
@@ -284,7 +318,7 @@ impl Header {
         let mut vals = [0.0; VALUES];
         let mut count = 0;
         let mut bad = None;
-        let mut fields = Fields::new(s);
+        let mut fields = Fields::new(s, self.sep);
         if fields.is_blank() {
             return Ok(None);
         }
@@ -340,9 +374,26 @@ impl Header {
     fn value(&self, role: usize, field: &[u8]) -> Option<f64> {
         match parse_f64(field) {
             Some(v) => Some(v * self.scale[role]),
+            None if self.sep == b';' && field.contains(&b',') => {
+                self.value_with_decimal_comma(role, field)
+            }
             None if role == TIME => date_time(field),
             None => None,
         }
+    }
+
+    /// [`Header::value`] of a field whose comma is its decimal point (a semicolon-separated
+    /// file's: see the module documentation); `None` for one with more than one comma.
+    #[cold]
+    fn value_with_decimal_comma(&self, role: usize, field: &[u8]) -> Option<f64> {
+        if field.iter().filter(|&&b| b == b',').count() != 1 {
+            return None;
+        }
+        let dotted: Vec<u8> = field
+            .iter()
+            .map(|&b| if b == b',' { b'.' } else { b })
+            .collect();
+        self.value(role, &dotted)
     }
 
     /// The time of data line `s` if every field of it that holds a position or a rotation is
@@ -356,7 +407,7 @@ impl Header {
 
     /// Span of the field of data line `s` that holds value `role`.
     pub(crate) fn field(&self, s: &[u8], role: usize) -> Option<(usize, usize)> {
-        let mut f = Fields::new(s);
+        let mut f = Fields::new(s, self.sep);
         (0..=self.cols[role]).filter_map(|_| f.next_field()).last()
     }
 }
@@ -409,9 +460,9 @@ fn declared_units(
     Ok((scale, declared))
 }
 
-/// The fields of a CSV line: trimmed, without quotes.
-pub(crate) fn fields(line: &[u8]) -> Vec<String> {
-    let mut f = Fields::new(line);
+/// The fields of a CSV line separated by `sep`: trimmed, without quotes.
+pub(crate) fn fields(line: &[u8], sep: u8) -> Vec<String> {
+    let mut f = Fields::new(line, sep);
     std::iter::from_fn(|| f.next_field())
         .map(|(a, b)| String::from_utf8_lossy(&line[a..b]).into_owned())
         .collect()
@@ -426,13 +477,14 @@ fn date_time(field: &[u8]) -> Option<f64> {
         .flatten()
 }
 
-/// True if `line` looks like a CSV header: it has a comma, and a field with a letter that is
-/// not a number (`1e-3`, `nan` and `inf` are numbers) or a date-time (`2026-12-07T10:00Z`).
+/// True if `line` looks like a CSV header: it has a comma (or a semicolon: [`separator_of`]),
+/// and a field with a letter that is not a number (`1e-3`, `nan` and `inf` are numbers) or a
+/// date-time (`2026-12-07T10:00Z`).
 pub(crate) fn looks_like_header(line: &[u8]) -> bool {
-    if !line.contains(&b',') {
+    if !line.contains(&b',') && !line.contains(&b';') {
         return false;
     }
-    let mut f = Fields::new(line);
+    let mut f = Fields::new(line, separator_of(line));
     while let Some((a, b)) = f.next_field() {
         let field = &line[a..b];
         let word = field.iter().any(u8::is_ascii_alphabetic);

@@ -214,7 +214,7 @@ impl State {
         }
         if body[0] == b'#' {
             // Maybe a commented-out CSV header such as "#timestamp,x,y,z,...".
-            if self.pending.is_none() && body.contains(&b',') {
+            if self.pending.is_none() && (body.contains(&b',') || body.contains(&b';')) {
                 if let Ok(h) = Header::parse(&body[1..], self.track.line_no) {
                     self.pending = Some(h);
                 }
@@ -224,7 +224,14 @@ impl State {
         if let Mode::Auto = self.mode {
             let text = String::from_utf8_lossy(body);
             self.mode = match detect_format(&self.file, &text) {
-                Format::Tum if !(self.pending.is_some() && body.contains(&b',')) => Mode::Tum,
+                Format::Tum
+                    if !self
+                        .pending
+                        .as_ref()
+                        .is_some_and(|h| body.contains(&h.separator())) =>
+                {
+                    Mode::Tum
+                }
                 _ => Mode::CsvHeader,
             };
             if let Mode::Tum = self.mode {

@@ -46,7 +46,7 @@ impl Preamble {
     /// The preamble that the metadata line `line` starts, of an export whose rigid body `body`
     /// is to be read (where named).
     pub(crate) fn parse(line: &[u8], body: Option<&str>) -> Result<Preamble, Problem> {
-        let f = fields(line);
+        let f = fields(line, b',');
         let value = |key: &str| {
             f.iter()
                 .position(|k| k.eq_ignore_ascii_case(key))
@@ -78,7 +78,7 @@ impl Preamble {
     /// the column header (`Frame,...`), the CSV header of the rigid body's pose (on line
     /// `line_no`).
     pub(crate) fn take(&mut self, line: &[u8], line_no: usize) -> Result<Option<Header>, Problem> {
-        let f = fields(line);
+        let f = fields(line, b',');
         if f.iter().all(|x| x.is_empty()) {
             return Ok(None);
         }

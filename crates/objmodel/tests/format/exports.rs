@@ -76,8 +76,10 @@ fn a_first_line_naming_tums_columns_is_a_header() {
     }
     let err = parse_error("o.txt", "t x y z qw qx qy qz\n1 1 2 3 1 0 0 0\n", 1);
     assert!(err.contains("is not a number"), "{err}");
-    let err = parse_error("s.csv", "t;x;y;z;qx;qy;qz;qw\n1;1;2;3;0;0;0;1\n", 1);
-    assert!(err.contains("separated by ';'"), "{err}");
+    // (Semicolons separate a spreadsheet's fields where commas are decimal points: read, see
+    // `lines.rs`.)
+    let err = parse_error("s.csv", "t|x|y|z|qx|qy|qz|qw\n1|1|2|3|0|0|0|1\n", 1);
+    assert!(err.contains("separated by '|'"), "{err}");
 }
 
 /// An OptiTrack Motive export: `rows` data lines after the preamble, with `units` and

@@ -411,6 +411,99 @@ fn a_units_row_and_trailing_commas() {
     }
 }
 
+/// A spreadsheet saved in a locale that writes decimal commas separates its fields by
+/// semicolons: such a file (a header without commas) reads as its comma-separated twin, bit
+/// for bit, with a units row, a commented header, date-times and a name without `.csv`; a field
+/// with two commas, or a comma-separated file's decimal comma, is an error that names it.
+#[test]
+fn semicolons_and_decimal_commas() {
+    let mut rng = Rng::new(68);
+    let rows: Vec<[String; 8]> = (0..300)
+        .map(|i| {
+            let p = random_pose(&mut rng, 1_700_000_000.0 + i as f64 / 240.0);
+            let (t, q) = (xyz(&p), xyzw(&p));
+            let mut r = [p.t, t[0], t[1], t[2], q[0], q[1], q[2], q[3]].map(|v| format!("{v:.9}"));
+            // Some values as integers, some in exponent notation.
+            match i % 7 {
+                0 => r[2] = format!("{}", t[1].round() as i64),
+                1 => r[1] = format!("{:e}", t[0]),
+                _ => {}
+            }
+            r
+        })
+        .collect();
+    let lines = |sep: &str, comma: bool| -> String {
+        rows.iter()
+            .map(|r| {
+                let r: Vec<String> = r
+                    .iter()
+                    .map(|v| {
+                        if comma {
+                            v.replace('.', ",")
+                        } else {
+                            v.clone()
+                        }
+                    })
+                    .collect();
+                r.join(sep) + "\n"
+            })
+            .collect()
+    };
+    let want = read_str(
+        "w.csv",
+        &format!("t,x,y,z,qx,qy,qz,qw\n{}", lines(",", false)),
+    );
+    assert_eq!(want.len(), rows.len());
+    for (name, text) in [
+        (
+            "s.csv",
+            format!("t;x;y;z;qx;qy;qz;qw\n{}", lines(";", true)),
+        ),
+        (
+            "s.csv",
+            format!("t;x;y;z;qx;qy;qz;qw\n{}", lines(";", false)),
+        ),
+        (
+            "s.csv",
+            format!(
+                "t ; x ; y ; z ; qx ; qy ; qz ; qw ;\n{}",
+                lines(" ; ", true)
+            ),
+        ),
+        (
+            "s.csv",
+            format!("t;x;y;z;qx;qy;qz;qw\ns;m;m;m;;;;\n{}", lines(";", true)),
+        ),
+        (
+            "s.txt",
+            format!("t;x;y;z;qx;qy;qz;qw\n{}", lines(";", true)),
+        ),
+        (
+            "s.txt",
+            format!("#t;x;y;z;qx;qy;qz;qw\n{}", lines(";", true)),
+        ),
+    ] {
+        let got = read_str(name, &text);
+        assert_eq!(got, want, "{}", &text[..60]);
+    }
+    // Millimetres by a units row; a date-time with a decimal comma.
+    let text = "t;x;y;z;qx;qy;qz;qw\ns;mm;mm;mm;;;;\n1,5;100;200,5;-300;0;0;0;1\n";
+    let got = read_str("mm.csv", text);
+    assert_eq!(xyz(&got[0]), [0.1, 0.2005, -0.3]);
+    assert_eq!(got[0].t, 1.5);
+    let text = "time;x;y;z;qx;qy;qz;qw\n2026-12-07 10:00:00,25;0;0;0;0;0;0;1\n";
+    let got = read_str("d.csv", text);
+    assert_eq!(got[0].t, 1_796_637_600.25);
+    // Two commas in a field; a decimal comma where commas separate the fields.
+    let e = parse_error("e.csv", "t;x;y;z;qx;qy;qz;qw\n1;0,1,5;0;0;0;0;0;1\n", 2);
+    assert!(
+        e.contains("column 2 (tx): \"0,1,5\" is not a number"),
+        "{e}"
+    );
+    let e = parse_error("e.csv", "t,x,y,z,qx,qy,qz,qw\n1,0,5,0,0,0,0,0,1\n", 2);
+    assert!(e.contains("expected 8 columns"), "{e}");
+}
+
 /// Headers that Python scripts and PlotJuggler write: a unit after an `_` (`time_s`, `x_mm`),
 /// and PlotJuggler's `__time` with a topic's fields as paths (`/tag/pose/position/x`), timed
 /// by the message's `header/stamp` where the file has one.
