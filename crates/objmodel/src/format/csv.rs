@@ -1,9 +1,10 @@
 //! CSV lines: splitting a line into fields (comma separated, optional spaces around a field,
 //! optional double quotes, `""` inside quotes, `#` outside quotes starting a comment), reading
-//! the header ([`Header`]: which column holds which value; a units row right after it,
-//! `s,mm,mm,mm,,,,`, declares units as a name's `x [mm]` does) and the values of a data line
-//! (an empty field past the header's columns, or a header's empty last column missing, is a
-//! comma a logger ends its lines with).
+//! the header ([`Header`]: which column holds which value; a units row after it (the first line
+//! that is not blank or a comment), `s,mm,mm,mm,,,,`, declares units as a name's `x [mm]` does;
+//! under a commented header, `#t,x,...`, a row whose fields are its columns' units) and the
+//! values of a data line (an empty field past the header's columns, or a header's empty last
+//! column missing, is a comma a logger ends its lines with).
 //!
 //! A header without a comma whose columns are separated by semicolons (`t;x;y;z;...`) makes
 //! the file semicolon-separated, as a spreadsheet in a locale that writes decimal commas saves
@@ -239,7 +240,7 @@ impl Header {
         })
     }
 
-    /// The units of `s` if it is a units row: the line right after the header in some exports
+    /// The units of `s` if it is a units row: the line after the header in some exports
     /// (`s,mm,mm,mm,,,,`), a field per column, none of them a number or a date-time, none
     /// longer than a unit's name, not all empty.
     pub(crate) fn units_row(&self, s: &[u8]) -> Option<Vec<String>> {
@@ -290,11 +291,6 @@ impl Header {
         self.declared.length = Some(unit);
         self.scale[1..4].fill(unit.metres());
         self
-    }
-
-    /// The line the header is on.
-    pub(crate) fn line(&self) -> usize {
-        self.line
     }
 
     /// The units the header declares.

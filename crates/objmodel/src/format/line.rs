@@ -49,6 +49,9 @@ pub(crate) struct State {
     pub(crate) last_pose: Option<StampedPose>,
     /// A commented-out CSV header (`#t,x,y,...`) seen before the first data line.
     pending: Option<Header>,
+    /// The line that may be a units row (`Header::units_row`): the first after the CSV header
+    /// that is not blank or a comment (0: none).
+    units_line: usize,
     /// An error ended the reading.
     pub(crate) done: bool,
     /// The rigid body to read from a Motive export that holds several, where one is named.
@@ -68,6 +71,7 @@ impl State {
             pose_line: 0,
             last_pose: None,
             pending: None,
+            units_line: 0,
             done: false,
             rigid_body: None,
             skipped: SkippedSink::default(),
@@ -113,7 +117,7 @@ impl State {
         }
         let values = match &self.mode {
             Mode::Tum => return self.finish_tum(&scan_tum(line), line),
-            Mode::Csv(h) if self.track.line_no == h.line() + 1 => self.units_row(line),
+            Mode::Csv(_) if self.track.line_no == self.units_line => self.units_row(line),
             Mode::Csv(h) => h.values(line),
             Mode::Auto | Mode::CsvHeader => self.first_lines(line),
             Mode::Motive(_) => self.motive_line(line),
@@ -242,7 +246,16 @@ impl State {
                 return scan_tum(line).values(line);
             }
         }
-        // CSV: this line is the header, unless it is data and a commented header came before.
+        // CSV: this line is the header, unless it is data or a units row and a commented header
+        // came before.
+        if let Some(h) = self.pending.as_ref() {
+            // (A row of names that are not units is the header itself.)
+            if let Some(Ok(h)) = h.units_row(body).map(|units| h.with_units_row(&units)) {
+                self.pending = None;
+                self.mode = Mode::Csv(h);
+                return Ok(None);
+            }
+        }
         if !looks_like_header(body) {
             if let Some(h) = self.pending.take() {
                 let values = h.values(line);
@@ -256,16 +269,22 @@ impl State {
         }
         self.no_rigid_body()?;
         self.mode = Mode::Csv(Header::parse(body, self.track.line_no)?);
+        self.units_line = self.track.line_no + 1;
         Ok(None)
     }
 
-    /// The line right after the CSV header: a units row (`s,mm,mm,mm,,,,`: `Header::units_row`),
-    /// whose units the header then declares, or a data line.
+    /// The first line after the CSV header that is not blank or a comment: a units row
+    /// (`s,mm,mm,mm,,,,`: `Header::units_row`), whose units the header then declares, or a data
+    /// line.
     #[cold]
     fn units_row(&mut self, line: &[u8]) -> Values {
         let Mode::Csv(h) = &self.mode else {
             unreachable!("called in CSV mode")
         };
+        if trim(line).first().is_none_or(|&b| b == b'#') {
+            self.units_line += 1;
+            return Ok(None);
+        }
         let Some(units) = h.units_row(line) else {
             return h.values(line);
         };

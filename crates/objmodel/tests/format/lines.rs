@@ -374,6 +374,17 @@ fn a_units_row_and_trailing_commas() {
             Some(format::LengthUnit::Millimetres)
         );
     }
+    // The units row after blank and comment lines; under a commented header; a commented
+    // header followed by the header itself (names that are not units).
+    for text in [
+        format!("t,x,y,z,qx,qy,qz,qw\n\n# units:\ns,mm,mm,mm,,,,\n{rows}"),
+        format!("#t,x,y,z,qx,qy,qz,qw\ns,mm,mm,mm,,,,\n{rows}"),
+        format!("# t,x,y,z,qx,qy,qz,qw\n\n# units\ns,mm,mm,mm,,,,\n{rows}"),
+    ] {
+        assert_eq!(read_str("u.csv", &text), mm, "{text}");
+    }
+    let text = format!("#t,x,y,z,qx,qy,qz,qw\nt,x [mm],y [mm],z [mm],qx,qy,qz,qw\n{rows}");
+    assert_eq!(read_str("u.csv", &text), mm);
     // A unit that is not its column's, and a units row that is data gone wrong.
     let e = parse_error(
         "u.csv",
