@@ -111,6 +111,16 @@ pub fn classification(c: &Classification, frames: bool) -> String {
             if r.taught { ", taught" } else { "" }
         );
     }
+    for r in &c.rolls_rejected {
+        s += &format!(
+            "  no roll {:.2}-{:.2} s, {:.1} deg about a fixed line ({} frames): {}\n",
+            r.t_start,
+            r.t_end,
+            r.turn.to_degrees(),
+            r.frames,
+            r.why
+        );
+    }
     if c.parts.len() > 1 {
         s += "  parts:\n";
         for p in &c.parts {

@@ -334,3 +334,37 @@ fn length_units_declared_given_or_refused() {
         "a unit that is no length is refused with its place",
     );
 }
+
+/// A toss whose turn over an edge a fall of a point of the object explains too (rapier, brick
+/// tossed, motion-capture noise): `classify --json` lists the turn under `"rolls_rejected"`,
+/// inside a motion and not in a flight, over at least five frames and turned far enough to
+/// locate a line (8.6°), with why; the summary says it on a `no roll` line, one per entry.
+#[test]
+fn a_turn_that_is_no_roll_says_why() {
+    let demo = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../objmodel/tests/data/rapier_tosses/shared_com/brick/brick_toss_mocap_s117.tum");
+    let v = classify_json(&demo, &[]);
+    let rejected = v["rolls_rejected"].as_array().expect("rolls_rejected");
+    assert!(!rejected.is_empty());
+    let parts = v["parts"].as_array().unwrap();
+    for r in rejected {
+        let (t0, t1) = (r["t_start"].as_f64().unwrap(), r["t_end"].as_f64().unwrap());
+        assert!(r["frames"].as_u64().unwrap() >= 5, "{r}");
+        assert!(r["turn"].as_f64().unwrap().to_degrees() >= 8.6, "{r}");
+        assert!(r["why"].as_str().unwrap().contains("falling freely"), "{r}");
+        let within =
+            |p: &&Value| p["t_start"].as_f64().unwrap() <= t0 && t1 <= p["t_end"].as_f64().unwrap();
+        let part = parts.iter().find(within).expect("a part holds it");
+        assert!(
+            !["flight", "rest", "roll"].contains(&part["kind"].as_str().unwrap()),
+            "{part}"
+        );
+    }
+    let text = run(&["classify".to_string(), s(&demo)]).ok().stdout;
+    let lines: Vec<&str> = text
+        .lines()
+        .filter(|l| l.trim_start().starts_with("no roll"))
+        .collect();
+    assert_eq!(lines.len(), rejected.len(), "{text}");
+    assert!(lines[0].contains("falling freely"), "{text}");
+}

@@ -329,6 +329,11 @@ pub struct Classification {
     /// and whether it taught it.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub rolls: Vec<crate::roll::Roll>,
+    /// The turns inside its motions that looked like rolls and are not ([`crate::roll`]: the
+    /// fixed-line model explained them, about a level line, over enough frames and turn; a
+    /// later test rejected them), each with why.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub rolls_rejected: Vec<crate::roll::RejectedRoll>,
     /// Why the demonstration teaches nothing at all ([`Classification::withhold_all`]), if it
     /// does not.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -70,6 +70,7 @@ pub(super) fn conclude(
         warnings,
         parts: Vec::new(),
         rolls: Vec::new(),
+        rolls_rejected: Vec::new(),
         withheld: None,
         length_unit: None,
         com_shared: None,

@@ -327,6 +327,7 @@ impl PaperMethod {
             gravity_doubted: false,
             parts: Vec::new(),
             rolls: Vec::new(),
+            rolls_rejected: Vec::new(),
             withheld: None,
             length_unit: None,
             com_shared: None,

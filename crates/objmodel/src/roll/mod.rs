@@ -51,7 +51,7 @@ mod swing;
 
 pub use fit::{fit, frame_chi2, RollFit, RollNoise};
 pub use parts::mark_rolls;
-pub use record::Roll;
+pub use record::{RejectedRoll, Roll};
 
 use crate::edge::EdgeObservation;
 use crate::flight::{FlightFrame, FlightTest};
@@ -116,6 +116,9 @@ pub struct Candidate {
     /// at `alpha`, its line's place, level or the flight model), rather than for too few
     /// frames or too little turn: its frames are then not looked at again.
     pub physics: bool,
+    /// Whether its line is level, as an edge rolled over on a level support is (always, when
+    /// gravity is not known).
+    pub level: bool,
 }
 
 impl RollTest<'_> {
@@ -223,7 +226,19 @@ fn angle_between(a: &FlightFrame, b: &FlightFrame) -> f64 {
 /// The rolls in `frames` (time order, outliers removed), in order (see the module
 /// documentation).
 pub fn find_rolls(frames: &[FlightFrame], test: &RollTest) -> Vec<Candidate> {
+    find_rolls_and_rejected(frames, test).0
+}
+
+/// The rolls in `frames` ([`find_rolls`]), and the windows about a level line rejected
+/// although they had enough frames and turned far enough (a [`Candidate`] whose `physics` and
+/// `level` are set), in order: the turns a user may take for rolls. (Not those about a line
+/// off level: an object spinning on the support or in the air turns about such a line.)
+pub fn find_rolls_and_rejected(
+    frames: &[FlightFrame],
+    test: &RollTest,
+) -> (Vec<Candidate>, Vec<Candidate>) {
     let min_frames = MIN_ROLL_FRAMES;
+    let mut rejected = Vec::new();
     let min_turn = test.min_turn();
     let n = frames.len();
     let mut out = Vec::new();
@@ -269,6 +284,13 @@ pub fn find_rolls(frames: &[FlightFrame], test: &RollTest) -> Vec<Candidate> {
             // a flight, ...) is not looked at again from a later start: its frames would have
             // as many more chances to pass.
             i = if c.physics { end } else { i + 1 };
+            if c.physics && c.level {
+                rejected.push(Candidate {
+                    first,
+                    last: end - 1,
+                    ..c
+                });
+            }
             continue;
         }
         out.push(Candidate {
@@ -279,7 +301,7 @@ pub fn find_rolls(frames: &[FlightFrame], test: &RollTest) -> Vec<Candidate> {
         i = end;
     }
     withhold_drifting(&mut out, test);
-    out
+    (out, rejected)
 }
 
 /// Largest angle \[rad\] between the lines of two rolls, one right after the other and turning
@@ -499,8 +521,18 @@ fn judge(frames: &[FlightFrame], fit: RollFit, test: &RollTest, min_turn: f64) -
         rejected: None,
         withheld: None,
         physics: false,
+        level: true,
     };
     let edge = test.edge(&fit, "");
+    let off_level = test.down.and_then(|d| {
+        crate::classify::parts::direction_off_level(
+            &fit.world_line.direction,
+            &fit.world_direction_cov,
+            &d,
+            test.alpha,
+        )
+    });
+    c.level = off_level.is_none();
     c.rejected = if fit.frames < MIN_ROLL_FRAMES || !test.passes(&fit, test.alpha) {
         Some("the fixed-line model does not explain it".into())
     } else if fit.object_line.point.norm() > test.r_max {
@@ -513,14 +545,7 @@ fn judge(frames: &[FlightFrame], fit: RollFit, test: &RollTest, min_turn: f64) -
     } else if fit.turn.abs() < min_turn {
         crate::classify::parts::edge_turns_too_little(&edge, test.tolerance_m)
             .or_else(|| Some("it turns too little".into()))
-    } else if let Some(w) = test.down.and_then(|d| {
-        crate::classify::parts::direction_off_level(
-            &fit.world_line.direction,
-            &fit.world_direction_cov,
-            &d,
-            test.alpha,
-        )
-    }) {
+    } else if let Some(w) = off_level {
         Some(w)
     } else if test
         .flight

@@ -1,8 +1,8 @@
 //! Rolls in a classification: found in the kept frames of each run of parts that taught
 //! nothing (not rests, landings, flights or impacts), put into `c.rolls` and, as `roll` parts,
-//! into `c.parts`.
+//! into `c.parts`; the turns that looked like rolls and were not, into `c.rolls_rejected`.
 
-use super::{find_rolls, Roll, RollNoise, RollTest};
+use super::{find_rolls_and_rejected, RejectedRoll, Roll, RollNoise, RollTest};
 use crate::classify::{Classification, Config, Label, Part};
 use crate::flight::{FlightFrame, FlightTest, Span, MAX_COM_M};
 use crate::recording::{RecordedFrame, Recording};
@@ -80,7 +80,16 @@ pub fn mark_rolls(c: &mut Classification, recording: &Recording, config: &Config
             .filter(|f| !outlier(f.index))
             .collect();
         let frames: Vec<FlightFrame> = kept.iter().map(|&f| f.into()).collect();
-        for mut r in find_rolls(&frames, &test) {
+        let (rolls, rejected) = find_rolls_and_rejected(&frames, &test);
+        c.rolls_rejected
+            .extend(rejected.into_iter().map(|r| RejectedRoll {
+                t_start: kept[r.first].t,
+                t_end: kept[r.last].t,
+                frames: r.last + 1 - r.first,
+                turn: r.fit.turn.abs(),
+                why: r.rejected.unwrap_or_default(),
+            }));
+        for mut r in rolls {
             let (a, b) = (kept[r.first], kept[r.last]);
             // Said with any other reason the roll has (its line moved, it is located too
             // poorly): off the support, it is no edge, however well located.

@@ -33,3 +33,22 @@ pub struct Roll {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub support: Option<crate::support::SupportObservation>,
 }
+
+/// A turn that looked like a roll and is not one: a window of a motion that the fixed-line
+/// model explained, about a level line, over enough frames and far enough to locate the line,
+/// which a later test rejected (its χ² at the tests' level, a line off the object, or the free
+/// fall of a point of the object explaining it too). Reported so that a user sees why a motion that
+/// turned over an edge taught none; it teaches nothing.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RejectedRoll {
+    /// Time of its first frame \[s\].
+    pub t_start: f64,
+    /// Time of its last frame \[s\].
+    pub t_end: f64,
+    /// Its frames (outliers left out).
+    pub frames: usize,
+    /// The angle it turned about its line \[rad\].
+    pub turn: f64,
+    /// Why it is no roll.
+    pub why: String,
+}
