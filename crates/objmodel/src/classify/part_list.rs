@@ -206,7 +206,8 @@ impl Classification {
     /// Teach nothing: every edge, face and rest of the classification is withheld, for the
     /// reason given (which becomes a warning and [`Self::withheld`]); the labels and votes
     /// stay, and so do the parts once flights and rolls are marked in them (each part that
-    /// taught something, or a flight that measured a centre of mass, then says why not).
+    /// taught something, measured a centre of mass or said why it taught nothing then gives
+    /// this reason).
     pub fn withhold_all(&mut self, why: &str) {
         self.topples.clear();
         for s in &mut self.segments {

@@ -37,8 +37,8 @@ pub struct Roll {
 /// A turn that looked like a roll and is not one: a window of a motion that the fixed-line
 /// model explained, about a level line, over enough frames and far enough to locate the line,
 /// which a later test rejected (its χ² at the tests' level, a line off the object, or the free
-/// fall of a point of the object explaining it too). Reported so that a user sees why a motion that
-/// turned over an edge taught none; it teaches nothing.
+/// fall of a point of the object explaining it too). Reported so that a user sees why a motion
+/// that turned over an edge taught none; it teaches nothing.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RejectedRoll {
     /// Time of its first frame \[s\].

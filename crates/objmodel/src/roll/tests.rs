@@ -469,13 +469,6 @@ fn a_contact_that_wanders_is_in_the_edge_sigma() {
     assert!(m_fit > 3.0, "the fit's own σ gives {m_fit:.2}");
 }
 
-/// A box rolling over its edge through its balance with the momentum of a toss (5 rad/s at
-/// the start): over 16 frames at 190 Hz, 18° about the edge, the free-flight model explains
-/// the frames too, with the point of the box that accelerates with gravity for the while
-/// (its centre of acceleration, 0.3-0.4 m from the object's origin) for a centre of mass.
-/// That point is off the object, so the window is a roll: over 40 draws of 0.2 mm and 0.15°
-/// of noise, the flight model explains about a quarter of the windows (at the tests' 10⁻³),
-/// each with its point more than 0.3 m from the origin, and no window is rejected.
 /// A 0.1 m x 0.2 m box falling over its edge, its centre of mass (the origin) l from the edge:
 /// θ'' = (m g l / I_edge) sin θ, θ from the balance; from 23° before it at 5 rad/s, 16 frames at
 /// 190 Hz, exact.
@@ -503,6 +496,13 @@ fn falling_turn() -> Vec<StampedPose> {
         .collect()
 }
 
+/// A box rolling over its edge through its balance with the momentum of a toss (5 rad/s at
+/// the start): over 16 frames at 190 Hz, 18° about the edge, the free-flight model explains
+/// the frames too, with the point of the box that accelerates with gravity for the while
+/// (its centre of acceleration, 0.3-0.4 m from the object's origin) for a centre of mass.
+/// That point is off the object, so the window is a roll: over 40 draws of 0.2 mm and 0.15°
+/// of noise, the flight model explains about a quarter of the windows (at the tests' 10⁻³),
+/// each with its point more than 0.3 m from the origin, and no window is rejected.
 #[test]
 fn a_flight_whose_centre_of_mass_is_off_the_object_is_no_alternative() {
     let noise = NoiseModel {
