@@ -86,8 +86,9 @@ fn an_instrumented_topple_claims_no_slide() {
 }
 
 /// A slide tracked at 1 mm whose positions are in millimetres: the demonstration teaches
-/// nothing (its noise would be a metre: not metres), so it teaches no friction either (a slide
-/// fitted in millimetres against g in metres would give a wrong μ with confidence).
+/// nothing (its noise would be a metre: not metres), so it teaches no friction either (a
+/// guard: `palm_slide::measure` fits nothing for a demonstration withheld whole; this slide's
+/// fit in millimetres finds nothing either).
 #[test]
 fn a_slide_refused_as_not_in_metres_claims_no_friction() {
     let learner = Learner::new(Config::default());
