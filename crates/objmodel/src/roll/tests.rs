@@ -496,6 +496,26 @@ fn falling_turn() -> Vec<StampedPose> {
         .collect()
 }
 
+/// The noise model of the tests on [`falling_turn`] (0.2 mm, 0.15°) and `n` draws of its
+/// frames with that noise (seeded).
+fn falling_turn_draws(n: usize) -> (NoiseModel, Vec<Vec<FlightFrame>>) {
+    let noise = NoiseModel {
+        sigma_position: 2e-4,
+        sigma_rotation: 0.15f64.to_radians(),
+    };
+    let synth_noise = SynthNoise {
+        sigma_position: noise.sigma_position,
+        sigma_rotation: noise.sigma_rotation,
+        ..SynthNoise::CLEAN
+    };
+    let poses = falling_turn();
+    let mut rng = StdRng::seed_from_u64(29);
+    let draws = (0..n)
+        .map(|_| noisy_frames(&poses, &synth_noise, &mut rng))
+        .collect();
+    (noise, draws)
+}
+
 /// A box rolling over its edge through its balance with the momentum of a toss (5 rad/s at
 /// the start): over 16 frames at 190 Hz, 18° about the edge, the free-flight model explains
 /// the frames too, with the point of the box that accelerates with gravity for the while
@@ -505,29 +525,18 @@ fn falling_turn() -> Vec<StampedPose> {
 /// each with its point more than 0.3 m from the origin, and no window is rejected.
 #[test]
 fn a_flight_whose_centre_of_mass_is_off_the_object_is_no_alternative() {
-    let noise = NoiseModel {
-        sigma_position: 2e-4,
-        sigma_rotation: 0.15f64.to_radians(),
-    };
+    let (noise, draws) = falling_turn_draws(40);
     let gravity = Vector3::new(0.0, 0.0, -crate::pendulum::G);
     let flight = FlightTest::new(gravity, noise, 1e-3, crate::flight::MAX_COM_M);
     let test = roll_test(noise, Some(&flight));
-    let poses = falling_turn();
-    let synth_noise = SynthNoise {
-        sigma_position: noise.sigma_position,
-        sigma_rotation: noise.sigma_rotation,
-        ..SynthNoise::CLEAN
-    };
-    let mut rng = StdRng::seed_from_u64(29);
     let (mut flights, mut off_object) = (0, 0);
-    for _ in 0..40 {
-        let frames = noisy_frames(&poses, &synth_noise, &mut rng);
-        let f = fit(&frames, &test.noise).unwrap();
-        if let Some(fl) = flight.falls_at(&frames, test.alpha) {
+    for frames in &draws {
+        let f = fit(frames, &test.noise).unwrap();
+        if let Some(fl) = flight.falls_at(frames, test.alpha) {
             flights += 1;
             off_object += usize::from(fl.com.norm() > 0.3);
         }
-        let c = judge(&frames, f, &test, test.min_turn());
+        let c = judge(frames, f, &test, test.min_turn());
         assert!(c.rejected.is_none(), "{:?}", c.rejected);
     }
     assert!(
@@ -630,25 +639,13 @@ fn a_turn_whose_line_moves_teaches_no_edge() {
 /// the same frames are a roll, and nothing is reported rejected.
 #[test]
 fn a_turn_a_fall_explains_is_reported_rejected() {
-    let noise = NoiseModel {
-        sigma_position: 2e-4,
-        sigma_rotation: 0.15f64.to_radians(),
-    };
+    let (noise, draws) = falling_turn_draws(40);
     let gravity = Vector3::new(0.0, 0.0, -crate::pendulum::G);
     let anywhere = FlightTest::new(gravity, noise, 1e-3, 10.0);
     let on_object = FlightTest::new(gravity, noise, 1e-3, crate::flight::MAX_COM_M);
-    let poses = falling_turn();
-    let synth_noise = SynthNoise {
-        sigma_position: noise.sigma_position,
-        sigma_rotation: noise.sigma_rotation,
-        ..SynthNoise::CLEAN
-    };
-    let mut rng = StdRng::seed_from_u64(29);
     let mut falls = 0;
-    for _ in 0..40 {
-        let frames = noisy_frames(&poses, &synth_noise, &mut rng);
-        let (rolls, rejected) =
-            find_rolls_and_rejected(&frames, &roll_test(noise, Some(&anywhere)));
+    for frames in &draws {
+        let (rolls, rejected) = find_rolls_and_rejected(frames, &roll_test(noise, Some(&anywhere)));
         if rolls.is_empty() {
             falls += 1;
             assert_eq!(rejected.len(), 1, "{rejected:?}");
@@ -659,7 +656,7 @@ fn a_turn_a_fall_explains_is_reported_rejected() {
             assert!(rejected.is_empty(), "{rejected:?}");
         }
         let (rolls, rejected) =
-            find_rolls_and_rejected(&frames, &roll_test(noise, Some(&on_object)));
+            find_rolls_and_rejected(frames, &roll_test(noise, Some(&on_object)));
         assert_eq!(rolls.len(), 1);
         assert!(rejected.is_empty(), "{rejected:?}");
     }
