@@ -116,9 +116,6 @@ pub struct Candidate {
     /// at `alpha`, its line's place, level or the flight model), rather than for too few
     /// frames or too little turn: its frames are then not looked at again.
     pub physics: bool,
-    /// Whether its line is level, as an edge rolled over on a level support is (always, when
-    /// gravity is not known).
-    pub level: bool,
 }
 
 impl RollTest<'_> {
@@ -229,9 +226,9 @@ pub fn find_rolls(frames: &[FlightFrame], test: &RollTest) -> Vec<Candidate> {
     find_rolls_and_rejected(frames, test).0
 }
 
-/// The rolls in `frames` ([`find_rolls`]), and the windows about a level line rejected
-/// although they had enough frames and turned far enough (a [`Candidate`] whose `physics` and
-/// `level` are set), in order: the turns a user may take for rolls. (Not those about a line
+/// The rolls in `frames` ([`find_rolls`]), and the windows about a level line (`off_level`)
+/// rejected although they had enough frames and turned far enough (a [`Candidate`] whose
+/// `physics` is set), in order: the turns a user may take for rolls. (Not those about a line
 /// off level: an object spinning on the support or in the air turns about such a line.)
 pub fn find_rolls_and_rejected(
     frames: &[FlightFrame],
@@ -284,7 +281,7 @@ pub fn find_rolls_and_rejected(
             // a flight, ...) is not looked at again from a later start: its frames would have
             // as many more chances to pass.
             i = if c.physics { end } else { i + 1 };
-            if c.physics && c.level {
+            if c.physics && off_level(&c.fit, test).is_none() {
                 rejected.push(Candidate {
                     first,
                     last: end - 1,
@@ -511,6 +508,19 @@ fn one_way(
     Some((start + a, start + b + 1, f))
 }
 
+/// Why the world line of `fit` is not level, when gravity is known and it is not (an edge
+/// rolled over on a level support is level: `classify::parts::direction_off_level`).
+fn off_level(fit: &RollFit, test: &RollTest) -> Option<String> {
+    test.down.and_then(|d| {
+        crate::classify::parts::direction_off_level(
+            &fit.world_line.direction,
+            &fit.world_direction_cov,
+            &d,
+            test.alpha,
+        )
+    })
+}
+
 /// The tests after the model: the turn, the level line, the flight alternative, and whether the
 /// edge is located well enough to be taught.
 fn judge(frames: &[FlightFrame], fit: RollFit, test: &RollTest, min_turn: f64) -> Candidate {
@@ -521,18 +531,8 @@ fn judge(frames: &[FlightFrame], fit: RollFit, test: &RollTest, min_turn: f64) -
         rejected: None,
         withheld: None,
         physics: false,
-        level: true,
     };
     let edge = test.edge(&fit, "");
-    let off_level = test.down.and_then(|d| {
-        crate::classify::parts::direction_off_level(
-            &fit.world_line.direction,
-            &fit.world_direction_cov,
-            &d,
-            test.alpha,
-        )
-    });
-    c.level = off_level.is_none();
     c.rejected = if fit.frames < MIN_ROLL_FRAMES || !test.passes(&fit, test.alpha) {
         Some("the fixed-line model does not explain it".into())
     } else if fit.object_line.point.norm() > test.r_max {
@@ -545,7 +545,7 @@ fn judge(frames: &[FlightFrame], fit: RollFit, test: &RollTest, min_turn: f64) -
     } else if fit.turn.abs() < min_turn {
         crate::classify::parts::edge_turns_too_little(&edge, test.tolerance_m)
             .or_else(|| Some("it turns too little".into()))
-    } else if let Some(w) = off_level {
+    } else if let Some(w) = off_level(&fit, test) {
         Some(w)
     } else if test
         .flight
