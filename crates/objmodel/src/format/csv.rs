@@ -148,6 +148,11 @@ pub(crate) struct Header {
     sep: u8,
 }
 
+/// Whether `line` has a field separator: a comma, or a semicolon (see the module documentation).
+pub(crate) fn has_separator(line: &[u8]) -> bool {
+    line.contains(&b',') || line.contains(&b';')
+}
+
 /// What separates the fields of a CSV file whose header is `line`: a comma, unless the line has
 /// none and has a semicolon (see the module documentation).
 pub(crate) fn separator_of(line: &[u8]) -> u8 {
@@ -173,7 +178,7 @@ impl Header {
             .iter()
             .map(|n| column_role(n).filter(|_| !(stamped && is_log_time(&column_name(n)))))
             .collect();
-        Ok(Header::from_roles(names, roles, line)?.with_separator(sep))
+        Header::from_roles(names, roles, line, sep)
     }
 
     /// What separates the fields.
@@ -181,19 +186,14 @@ impl Header {
         self.sep
     }
 
-    /// This header with its fields separated by `sep`.
-    pub(crate) fn with_separator(mut self, sep: u8) -> Header {
-        self.sep = sep;
-        self
-    }
-
     /// The header of columns `names` (as written, lower case) that give `roles` (an index into
-    /// `COLUMNS`, or none), on line `line`; the problem names the missing (or doubled) columns,
-    /// or a unit that is not its column's.
+    /// `COLUMNS`, or none), on line `line`, its fields separated by `sep`; the problem names the
+    /// missing (or doubled) columns, or a unit that is not its column's.
     pub(crate) fn from_roles(
         mut names: Vec<String>,
         roles: Vec<Option<usize>>,
         line: usize,
+        sep: u8,
     ) -> Result<Header, Problem> {
         let mut cols = [usize::MAX; VALUES];
         // (value, column, name) of every column that gives a value.
@@ -236,7 +236,7 @@ impl Header {
             scale,
             declared,
             names,
-            sep: b',',
+            sep,
         })
     }
 
@@ -273,7 +273,7 @@ impl Header {
             .roles
             .iter()
             .map(|&r| (r != IGNORE).then_some(r as usize));
-        Ok(Header::from_roles(names, roles.collect(), self.line)?.with_separator(self.sep))
+        Header::from_roles(names, roles.collect(), self.line, self.sep)
     }
 
     /// Whether a line of `count` fields (the last one empty: `last_empty`) has this header's
@@ -477,7 +477,7 @@ fn date_time(field: &[u8]) -> Option<f64> {
 /// and a field with a letter that is not a number (`1e-3`, `nan` and `inf` are numbers) or a
 /// date-time (`2026-12-07T10:00Z`).
 pub(crate) fn looks_like_header(line: &[u8]) -> bool {
-    if !line.contains(&b',') && !line.contains(&b';') {
+    if !has_separator(line) {
         return false;
     }
     let mut f = Fields::new(line, separator_of(line));

@@ -5,7 +5,7 @@
 //! non-comment line), the CSV header, and the [`Track`] of lines and the previous pose.
 
 use super::check::{check_values, Track};
-use super::csv::{looks_like_header, trim, Header};
+use super::csv::{has_separator, looks_like_header, trim, Header};
 use super::detect::detect_format;
 use super::layout::{Format, VALUES};
 use super::motive::{is_motive_start, Preamble};
@@ -218,7 +218,7 @@ impl State {
         }
         if body[0] == b'#' {
             // Maybe a commented-out CSV header such as "#timestamp,x,y,z,...".
-            if self.pending.is_none() && (body.contains(&b',') || body.contains(&b';')) {
+            if self.pending.is_none() && has_separator(body) {
                 if let Ok(h) = Header::parse(&body[1..], self.track.line_no) {
                     self.pending = Some(h);
                 }

@@ -172,6 +172,6 @@ impl Preamble {
                     .to_ascii_lowercase()
             })
             .collect();
-        Ok(Header::from_roles(names, roles, line_no)?.with_length(self.length))
+        Ok(Header::from_roles(names, roles, line_no, b',')?.with_length(self.length))
     }
 }
