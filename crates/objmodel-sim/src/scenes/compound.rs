@@ -5,8 +5,8 @@
 //! `μ < d / h_low` and the high push at `h_high` topples it when `μ > d / h_high`; the table's
 //! friction is the geometric mean of `1.3 d / h_high` and `0.6 d / h_low`.
 
-use super::push::{Finger, Push, FINGER_RADIUS};
-use super::{edge_lever, facing_yaw, resting_pose, Run, SceneOutput, Script};
+use super::push::{lowest_tipping_height, Finger, Push, FINGER_RADIUS};
+use super::{edge_lever, Run, SceneOutput, Script};
 use crate::spec::BoxSpec;
 use crate::world::PhysicsParams;
 use crate::{Result, SimError};
@@ -24,8 +24,7 @@ pub fn run(spec: &BoxSpec, p: &PhysicsParams, rng: &mut StdRng) -> Result<SceneO
         for sign in [1.0, -1.0] {
             let (d, hc) = edge_lever(spec, axis, sign);
             let (lo, hi) = (1.3 * d / h_high, 0.6 * d / h_low);
-            let corner =
-                spec.dims[axis] * (d.atan2(hc) + 4f64.to_radians()).sin() + FINGER_RADIUS + 0.003;
+            let corner = lowest_tipping_height(spec, axis, d, hc);
             if lo < hi && h_high > hc && h_high > corner {
                 options.push((axis, sign, (lo * hi).sqrt()));
             }
@@ -51,31 +50,23 @@ pub fn run(spec: &BoxSpec, p: &PhysicsParams, rng: &mut StdRng) -> Result<SceneO
     let (d, hc) = edge_lever(spec, axis, sign);
     let phi = d.atan2(hc);
 
-    let mut run = Run::new(p);
-    run.world.add_table(mu);
-    let yaw = facing_yaw(spec, rng);
-    run.place_box(spec, mu, &resting_pose(spec, yaw, rng));
+    let mut run = Run::on_table(spec, p, mu, rng);
     run.rest(1.0)?;
     let motion_start = run.world.t;
     let (start, e) = push.line(&run, spec);
     let mut finger = Finger::new(&mut run, start);
     let down = -Vector3::z();
-    let mut max_tilt: f64 = 0.0;
-    finger.move_to(
+    let max_tilt = finger.slide_to(
         &mut run,
         start + e * (0.015 + slide_distance),
         push.speed,
-        |r| {
-            max_tilt = max_tilt.max(r.tilt(&down));
-            false
-        },
+        &down,
     )?;
     if max_tilt > 5f64.to_radians() {
         return Err(SimError::Scene("the low push tipped the box".into()));
     }
     // Back off, let the box stop, rise, and aim the high push at the box where it now is.
-    let back = finger.pos - e * 0.03;
-    finger.move_to(&mut run, back, 0.1, |_| false)?;
+    finger.withdraw(&mut run, &e)?;
     run.settle(4.0)?;
     run.rest(rng.random_range(0.3..0.8))?;
     push.height = h_high;
@@ -86,15 +77,10 @@ pub fn run(spec: &BoxSpec, p: &PhysicsParams, rng: &mut StdRng) -> Result<SceneO
     finger.move_to(&mut run, up, 0.1, |_| false)?;
     finger.move_to(&mut run, start2, 0.1, |_| false)?;
     let second_phase = run.world.t;
-    let stop_at = phi + 4f64.to_radians();
-    let tipped = finger.move_to(&mut run, start2 + e2 * 0.4, push.speed, |r| {
-        r.tilt(&down) > stop_at
-    })?;
-    if !tipped {
+    if !finger.tip_over(&mut run, start2 + e2 * 0.4, push.speed, &down, phi)? {
         return Err(SimError::Scene("the high push did not tip the box".into()));
     }
-    let back = finger.pos - e2 * 0.03;
-    finger.move_to(&mut run, back, 0.1, |_| false)?;
+    finger.withdraw(&mut run, &e2)?;
     run.settle(6.0)?;
     run.rest(1.0)?;
     let script = Script {

@@ -5,6 +5,7 @@
 //! 30 Hz output is a subsample of that record and the ground truth events are found on the
 //! full-rate record.
 
+pub mod carry;
 pub mod compound;
 pub mod general;
 pub mod instrumented;
@@ -18,7 +19,7 @@ pub mod toss;
 use crate::spec::BoxSpec;
 use crate::world::{Body, PhysicsParams, World};
 use crate::{Result, SimError};
-use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
 use rand::Rng;
 
 /// One full-rate record: time, `world_from_box` (geometric box frame) and `world_from_support`
@@ -93,6 +94,17 @@ impl Run {
             samples: Vec::new(),
             max_t: 60.0,
         }
+    }
+
+    /// A world with the fixed table (friction `mu`) and the box standing on its `-z` face near
+    /// the origin, its tag facing the camera ([`facing_yaw`], [`resting_pose`]: two draws of
+    /// `rng`, in that order).
+    pub fn on_table<R: Rng>(spec: &BoxSpec, p: &PhysicsParams, mu: f64, rng: &mut R) -> Run {
+        let mut run = Run::new(p);
+        run.world.add_table(mu);
+        let yaw = facing_yaw(spec, rng);
+        run.place_box(spec, mu, &resting_pose(spec, yaw, rng));
+        run
     }
 
     /// Place the box; records the first sample.
@@ -223,6 +235,20 @@ pub fn facing_yaw<R: Rng>(spec: &BoxSpec, rng: &mut R) -> f64 {
     }
     // yaw that turns the face normal's heading onto -y
     -std::f64::consts::FRAC_PI_2 - n.y.atan2(n.x) + jitter
+}
+
+/// A random direction, uniform on the sphere (drawn in the unit ball, by rejection).
+pub fn random_unit_vector<R: Rng>(rng: &mut R) -> Unit<Vector3<f64>> {
+    loop {
+        let v = Vector3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+        );
+        if v.norm() > 0.2 && v.norm() < 1.0 {
+            return Unit::new_normalize(v);
+        }
+    }
 }
 
 /// The bottom edge of the `-z` face that a box tips over when its CoM is driven toward

@@ -16,6 +16,17 @@ pub const FINGER_RADIUS: f64 = 0.006;
 /// Fingertip friction (a smooth probe: it pushes along the face normal).
 pub const FINGER_MU: f64 = 0.05;
 
+/// How far past its balance a push turns the box before the finger lets go \[rad\]: 4°.
+pub const TIP_PAST_BALANCE_RAD: f64 = 4.0 * (std::f64::consts::PI / 180.0);
+
+/// The lowest push height \[m\] at which the finger still touches the pushed face of box axis
+/// `axis` when the box has turned [`TIP_PAST_BALANCE_RAD`] past its balance angle
+/// `φ = atan2(d, h_c)` (lever `d`, CoM height `h_c`): the face's bottom corner rises to
+/// `w sin(φ + 4°)`, `w` the box's width along `axis`.
+pub fn lowest_tipping_height(spec: &BoxSpec, axis: usize, d: f64, hc: f64) -> f64 {
+    spec.dims[axis] * (d.atan2(hc) + TIP_PAST_BALANCE_RAD).sin() + FINGER_RADIUS + 0.003
+}
+
 /// A straight push.
 #[derive(Debug, Clone, Copy)]
 pub struct Push {
@@ -117,11 +128,77 @@ impl Finger {
         }
     }
 
+    /// Push toward `target` at `speed` until the box, resting on the face whose outward normal
+    /// in the box frame is `down`, has turned [`TIP_PAST_BALANCE_RAD`] past its balance angle
+    /// `phi` \[rad\]. Returns whether it did before the finger reached `target`.
+    pub fn tip_over(
+        &mut self,
+        run: &mut Run,
+        target: Vector3<f64>,
+        speed: f64,
+        down: &Vector3<f64>,
+        phi: f64,
+    ) -> Result<bool> {
+        let stop_at = phi + TIP_PAST_BALANCE_RAD;
+        self.move_to(run, target, speed, |r| r.tilt(down) > stop_at)
+    }
+
+    /// Push to `target` at `speed`, a slide of the box resting on the face whose outward normal
+    /// in the box frame is `down`. Returns the largest tilt of that face on the way \[rad\].
+    pub fn slide_to(
+        &mut self,
+        run: &mut Run,
+        target: Vector3<f64>,
+        speed: f64,
+        down: &Vector3<f64>,
+    ) -> Result<f64> {
+        let mut max_tilt: f64 = 0.0;
+        self.move_to(run, target, speed, |r| {
+            max_tilt = max_tilt.max(r.tilt(down));
+            false
+        })?;
+        Ok(max_tilt)
+    }
+
+    /// Pull back 3 cm against the push direction `e`, out of the box's way.
+    pub fn withdraw(&mut self, run: &mut Run, e: &Vector3<f64>) -> Result<()> {
+        let back = self.pos - e * 0.03;
+        self.move_to(run, back, 0.1, |_| false)?;
+        Ok(())
+    }
+
     /// Jump the (out of contact) finger to `pos` over one step.
     pub fn teleport(&mut self, run: &mut Run, pos: Vector3<f64>) -> Result<()> {
         self.pos = pos;
         let pose = nalgebra::Isometry3::translation(pos.x, pos.y, pos.z);
         run.world.set_kinematic(self.body, &pose);
         run.step()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn four_degrees_past_balance_is_four_degrees() {
+        assert_eq!(TIP_PAST_BALANCE_RAD, 4f64.to_radians());
+    }
+
+    #[test]
+    fn the_lowest_tipping_height_is_where_the_turned_face_s_corner_is() {
+        // A 10 x 10 x 20 cm box, CoM centred, tipping over an x edge: φ = atan(5 / 10).
+        let spec = BoxSpec::new("tall", [0.1, 0.1, 0.2], 0.6);
+        let (d, hc) = super::super::edge_lever(&spec, 0, 1.0);
+        let phi = (0.05f64 / 0.1).atan();
+        assert!((d.atan2(hc) - phi).abs() < 1e-15);
+        // The pushed face's bottom corner, turned by φ + 4° about the far edge, is
+        // w sin(φ + 4°) above the table; the finger's centre must be its radius and 3 mm above.
+        let h = lowest_tipping_height(&spec, 0, d, hc);
+        let corner = 0.1 * (phi + 4f64.to_radians()).sin();
+        assert!(
+            (h - corner - FINGER_RADIUS - 0.003).abs() < 1e-15,
+            "{h} {corner}"
+        );
     }
 }

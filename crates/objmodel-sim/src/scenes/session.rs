@@ -9,15 +9,15 @@
 //!
 //! The script's notes list `action_i` for each action: 0 topple, 1 slide, 2 carry.
 
-use super::general::min_jerk;
-use super::push::{Finger, Push, FINGER_RADIUS};
+use super::carry::{self, CarryPath};
+use super::push::{lowest_tipping_height, Finger, Push, FINGER_RADIUS};
 use super::topple_slide::lever_on;
-use super::{facing_yaw, resting_pose, Run, SceneOutput, Script};
+use super::{facing_yaw, Run, SceneOutput, Script};
 use crate::events::rest_face;
 use crate::spec::{BoxFace, BoxSpec};
 use crate::world::PhysicsParams;
 use crate::{Result, SimError};
-use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
+use nalgebra::{Unit, UnitQuaternion, Vector2, Vector3};
 use rand::rngs::StdRng;
 use rand::Rng;
 
@@ -38,8 +38,7 @@ fn push_height(
     let (d, hc) = lever_on(spec, k0, s0, k1, s1);
     if topple {
         let h_high = 0.88 * spec.dims[k0];
-        let corner =
-            spec.dims[k1] * (d.atan2(hc) + 4f64.to_radians()).sin() + FINGER_RADIUS + 0.003;
+        let corner = lowest_tipping_height(spec, k1, d, hc);
         (h_high > hc.max(corner) && mu > 1.3 * d / h_high).then_some(h_high)
     } else {
         let h_low = FINGER_RADIUS + 0.003;
@@ -53,8 +52,7 @@ fn session_mu(spec: &BoxSpec) -> Option<f64> {
         for s1 in [1.0, -1.0] {
             let (d, hc) = lever_on(spec, 2, -1.0, k1, s1);
             let h_high = 0.88 * spec.dims[2];
-            let corner =
-                spec.dims[k1] * (d.atan2(hc) + 4f64.to_radians()).sin() + FINGER_RADIUS + 0.003;
+            let corner = lowest_tipping_height(spec, k1, d, hc);
             if h_high <= hc.max(corner) {
                 continue;
             }
@@ -104,23 +102,17 @@ fn push(
     let down = rest.normal();
     if topple {
         let (d, hc) = lever_on(spec, k0, s0, k1, s1);
-        let stop_at = d.atan2(hc) + 4f64.to_radians();
-        if !finger.move_to(run, start + e * 0.4, p.speed, |r| r.tilt(&down) > stop_at)? {
+        if !finger.tip_over(run, start + e * 0.4, p.speed, &down, d.atan2(hc))? {
             return Err(SimError::Scene("a session push did not tip the box".into()));
         }
     } else {
         let distance = rng.random_range(0.05..0.1);
-        let mut max_tilt: f64 = 0.0;
-        finger.move_to(run, start + e * (0.015 + distance), p.speed, |r| {
-            max_tilt = max_tilt.max(r.tilt(&down));
-            false
-        })?;
+        let max_tilt = finger.slide_to(run, start + e * (0.015 + distance), p.speed, &down)?;
         if max_tilt > 5f64.to_radians() {
             return Err(SimError::Scene("a session slide tipped the box".into()));
         }
     }
-    let back = finger.pos - e * 0.03;
-    finger.move_to(run, back, 0.1, |_| false)?;
+    finger.withdraw(run, &e)?;
     let up = Vector3::new(finger.pos.x, finger.pos.y, safe);
     finger.move_to(run, up, 0.2, |_| false)?;
     finger.teleport(run, Vector3::from(PARK))
@@ -130,65 +122,35 @@ fn push(
 fn carry(
     run: &mut Run,
     spec: &BoxSpec,
-    face: BoxFace,
-    yaw: f64,
+    end_face: BoxFace,
+    end_yaw: f64,
     rng: &mut StdRng,
 ) -> Result<(f64, f64)> {
-    let boxb = run.boxb;
-    let p0 = run.world.pose(boxb);
-    let (k, _) = face.axis_sign();
-    let down_rot =
-        UnitQuaternion::rotation_between(&face.normal(), &-Vector3::z()).unwrap_or_else(|| {
-            UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI)
-        });
-    let end_rot = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), yaw) * down_rot;
-    let end_xy = nalgebra::Vector2::new(rng.random_range(-0.1..0.1), rng.random_range(-0.1..0.1));
-    let rest_h = spec.half_extents()[k] + 0.0015;
+    let p0 = run.world.pose(run.boxb);
+    let end_xy = Vector2::new(rng.random_range(-0.1..0.1), rng.random_range(-0.1..0.1));
     let lift = rng.random_range(0.08..0.15);
     let axis = Unit::new_normalize(Vector3::new(
         rng.random_range(-1.0..1.0),
         rng.random_range(-1.0..1.0),
         rng.random_range(0.2..1.0),
     ));
-    let mid_rot = UnitQuaternion::from_axis_angle(&axis, rng.random_range(0.5..1.5)) * p0.rotation;
-    let mid_xy = (p0.translation.vector.xy() + end_xy) * 0.5;
-    let keys = [
-        p0,
-        Isometry3::from_parts(
-            Translation3::from(p0.translation.vector + Vector3::z() * lift),
-            p0.rotation,
-        ),
-        Isometry3::from_parts(
-            Translation3::new(mid_xy.x, mid_xy.y, rest_h + lift + 0.05),
-            mid_rot,
-        ),
-        Isometry3::from_parts(
-            Translation3::new(end_xy.x, end_xy.y, rest_h + 0.04),
-            end_rot,
-        ),
-        Isometry3::from_parts(Translation3::new(end_xy.x, end_xy.y, rest_h), end_rot),
-    ];
-    run.world.set_grasped(boxb, true);
-    let grasp = run.world.t;
-    for i in 0..4 {
-        let dur = if i == 3 {
+    let path = CarryPath {
+        lift,
+        mid_xy: (p0.translation.vector.xy() + end_xy) * 0.5,
+        mid_rotation: UnitQuaternion::from_axis_angle(&axis, rng.random_range(0.5..1.5))
+            * p0.rotation,
+        end_face,
+        end_yaw,
+        end_xy,
+    };
+    let durations: [f64; 4] = std::array::from_fn(|leg| {
+        if leg == 3 {
             rng.random_range(0.5..0.9)
         } else {
             rng.random_range(0.7..1.3)
-        };
-        let (a, b) = (keys[i], keys[i + 1]);
-        let t0 = run.world.t;
-        while run.world.t < t0 + dur - 0.5 * run.world.dt {
-            let s = min_jerk((run.world.t + run.world.dt - t0) / dur);
-            let tr = a.translation.vector.lerp(&b.translation.vector, s);
-            let rot = a.rotation.slerp(&b.rotation, s);
-            run.world
-                .set_kinematic(boxb, &Isometry3::from_parts(Translation3::from(tr), rot));
-            run.step()?;
         }
-    }
-    run.world.set_grasped(boxb, false);
-    Ok((grasp, run.world.t))
+    });
+    carry::carry(run, &path.key_poses(spec, &p0), &durations)
 }
 
 /// Run the session scene.
@@ -199,10 +161,7 @@ pub fn run(spec: &BoxSpec, p: &PhysicsParams, rng: &mut StdRng) -> Result<SceneO
             spec.name
         ))
     })?;
-    let mut run = Run::new(p);
-    run.world.add_table(mu);
-    let yaw = facing_yaw(spec, rng);
-    run.place_box(spec, mu, &resting_pose(spec, yaw, rng));
+    let mut run = Run::on_table(spec, p, mu, rng);
     let mut finger = Finger::new(&mut run, Vector3::from(PARK));
     run.rest(1.0)?;
     let motion_start = run.world.t;

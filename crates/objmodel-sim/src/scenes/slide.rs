@@ -5,7 +5,7 @@
 //! scene pushes at `h ≤ 0.5 d / μ`.
 
 use super::push::{Finger, Push, FINGER_RADIUS};
-use super::{edge_lever, facing_yaw, resting_pose, Run, SceneOutput, Script};
+use super::{edge_lever, Run, SceneOutput, Script};
 use crate::spec::BoxSpec;
 use crate::world::PhysicsParams;
 use crate::{Result, SimError};
@@ -39,22 +39,14 @@ pub fn run(spec: &BoxSpec, p: &PhysicsParams, rng: &mut StdRng) -> Result<SceneO
     };
     let distance = rng.random_range(0.06..0.14);
 
-    let mut run = Run::new(p);
-    run.world.add_table(mu);
-    let yaw = facing_yaw(spec, rng);
-    run.place_box(spec, mu, &resting_pose(spec, yaw, rng));
+    let mut run = Run::on_table(spec, p, mu, rng);
     run.rest(1.0)?;
     let (start, e) = push.line(&run, spec);
     let mut finger = Finger::new(&mut run, start);
     let motion_start = run.world.t;
     let down = -Vector3::z();
-    let mut max_tilt: f64 = 0.0;
-    finger.move_to(&mut run, start + e * (0.015 + distance), push.speed, |r| {
-        max_tilt = max_tilt.max(r.tilt(&down));
-        false
-    })?;
-    let back = finger.pos - e * 0.03;
-    finger.move_to(&mut run, back, 0.1, |_| false)?;
+    let max_tilt = finger.slide_to(&mut run, start + e * (0.015 + distance), push.speed, &down)?;
+    finger.withdraw(&mut run, &e)?;
     run.settle(6.0)?;
     run.rest(1.0)?;
     if max_tilt > 5f64.to_radians() {

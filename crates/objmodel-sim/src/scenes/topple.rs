@@ -6,8 +6,8 @@
 //! beats the weight's, `F h > m g d`, before friction gives way, `F ≤ μ m g` (the smooth finger
 //! adds no vertical load), i.e. when `h > d / μ`. The scene pushes at `h ≥ 1.3 d / μ`.
 
-use super::push::{Finger, Push, FINGER_RADIUS};
-use super::{edge_lever, facing_yaw, resting_pose, Run, SceneOutput, Script};
+use super::push::{lowest_tipping_height, Finger, Push};
+use super::{edge_lever, Run, SceneOutput, Script};
 use crate::spec::BoxSpec;
 use crate::world::PhysicsParams;
 use crate::{Result, SimError};
@@ -22,10 +22,9 @@ pub fn feasible_pushes(spec: &BoxSpec, mu: f64) -> Vec<(usize, f64, f64)> {
     for axis in 0..2 {
         for sign in [1.0, -1.0] {
             let (d, hc) = edge_lever(spec, axis, sign);
-            // The finger must still touch the pushed face when the box has turned φ + 4°: the
-            // face's bottom corner rises to w sin(φ + 4°) above the table.
-            let w = spec.dims[axis];
-            let corner = w * (d.atan2(hc) + 4f64.to_radians()).sin() + FINGER_RADIUS + 0.003;
+            // The finger must still touch the pushed face when the box has turned past its
+            // balance.
+            let corner = lowest_tipping_height(spec, axis, d, hc);
             let lo = (1.3 * d / mu).max(hc + 0.15 * (hz - hc)).max(corner);
             if lo < 0.9 * hz {
                 out.push((axis, sign, lo));
@@ -59,25 +58,17 @@ pub fn run(spec: &BoxSpec, p: &PhysicsParams, rng: &mut StdRng) -> Result<SceneO
     let (d, hc) = edge_lever(spec, axis, sign);
     let phi = d.atan2(hc);
 
-    let mut run = Run::new(p);
-    run.world.add_table(mu);
-    let yaw = facing_yaw(spec, rng);
-    run.place_box(spec, mu, &resting_pose(spec, yaw, rng));
+    let mut run = Run::on_table(spec, p, mu, rng);
     run.rest(1.0)?;
     let (start, e) = push.line(&run, spec);
     let mut finger = Finger::new(&mut run, start);
     let motion_start = run.world.t;
     let down = -Vector3::z();
-    let stop_at = phi + 4f64.to_radians();
-    let tipped = finger.move_to(&mut run, start + e * 0.4, push.speed, |r| {
-        r.tilt(&down) > stop_at
-    })?;
-    if !tipped {
+    if !finger.tip_over(&mut run, start + e * 0.4, push.speed, &down, phi)? {
         return Err(SimError::Scene("the push did not tip the box".into()));
     }
     // Pull the finger back out of the way and let the box land.
-    let back = finger.pos - e * 0.03;
-    finger.move_to(&mut run, back, 0.1, |_| false)?;
+    finger.withdraw(&mut run, &e)?;
     run.settle(6.0)?;
     run.rest(1.0)?;
     let script = Script {

@@ -8,8 +8,8 @@
 //! push on the new face (at `h_low`, just above the fingertip's radius) needs
 //! `μ < 0.6 d₂ / h_low`; the table's friction is the geometric mean of the two bounds.
 
-use super::push::{Finger, Push, FINGER_RADIUS};
-use super::{edge_lever, facing_yaw, resting_pose, Run, SceneOutput, Script};
+use super::push::{lowest_tipping_height, Finger, Push, FINGER_RADIUS};
+use super::{edge_lever, Run, SceneOutput, Script};
 use crate::spec::BoxSpec;
 use crate::world::PhysicsParams;
 use crate::{Result, SimError};
@@ -31,8 +31,7 @@ fn options(spec: &BoxSpec, h_high: f64, h_low: f64) -> Vec<(usize, f64, usize, f
     for axis in 0..2 {
         for sign in [1.0, -1.0] {
             let (d, hc) = edge_lever(spec, axis, sign);
-            let corner =
-                spec.dims[axis] * (d.atan2(hc) + 4f64.to_radians()).sin() + FINGER_RADIUS + 0.003;
+            let corner = lowest_tipping_height(spec, axis, d, hc);
             if h_high <= hc.max(corner) {
                 continue;
             }
@@ -78,24 +77,16 @@ pub fn run(spec: &BoxSpec, p: &PhysicsParams, rng: &mut StdRng) -> Result<SceneO
     let (d, hc) = edge_lever(spec, axis, sign);
     let phi = d.atan2(hc);
 
-    let mut run = Run::new(p);
-    run.world.add_table(mu);
-    let yaw = facing_yaw(spec, rng);
-    run.place_box(spec, mu, &resting_pose(spec, yaw, rng));
+    let mut run = Run::on_table(spec, p, mu, rng);
     run.rest(1.0)?;
     let motion_start = run.world.t;
     let (start, e) = topple.line(&run, spec);
     let mut finger = Finger::new(&mut run, start);
     let down = -Vector3::z();
-    let stop_at = phi + 4f64.to_radians();
-    let tipped = finger.move_to(&mut run, start + e * 0.4, topple.speed, |r| {
-        r.tilt(&down) > stop_at
-    })?;
-    if !tipped {
+    if !finger.tip_over(&mut run, start + e * 0.4, topple.speed, &down, phi)? {
         return Err(SimError::Scene("the high push did not tip the box".into()));
     }
-    let back = finger.pos - e * 0.03;
-    finger.move_to(&mut run, back, 0.1, |_| false)?;
+    finger.withdraw(&mut run, &e)?;
     run.settle(6.0)?;
     let mut new_down = Vector3::zeros();
     new_down[axis] = sign;
@@ -126,15 +117,11 @@ pub fn run(spec: &BoxSpec, p: &PhysicsParams, rng: &mut StdRng) -> Result<SceneO
     finger.move_to(&mut run, over(&start2), 0.2, |_| false)?;
     finger.move_to(&mut run, start2, 0.2, |_| false)?;
     let second_phase = run.world.t;
-    let mut max_tilt: f64 = 0.0;
-    finger.move_to(
+    let max_tilt = finger.slide_to(
         &mut run,
         start2 + e2 * (0.015 + distance),
         slide.speed,
-        |r| {
-            max_tilt = max_tilt.max(r.tilt(&new_down));
-            false
-        },
+        &new_down,
     )?;
     if max_tilt > 5f64.to_radians() {
         return Err(SimError::Scene(format!(
@@ -142,8 +129,7 @@ pub fn run(spec: &BoxSpec, p: &PhysicsParams, rng: &mut StdRng) -> Result<SceneO
             max_tilt.to_degrees()
         )));
     }
-    let back = finger.pos - e2 * 0.03;
-    finger.move_to(&mut run, back, 0.1, |_| false)?;
+    finger.withdraw(&mut run, &e2)?;
     run.settle(6.0)?;
     run.rest(1.0)?;
     let script = Script {

@@ -9,11 +9,11 @@
 //! does), else 0.3-1.0 s. Table friction 0.3-0.6 and restitution 0.1-0.5 (wood, plastic,
 //! cardboard) are drawn per toss.
 
-use super::{Run, SceneOutput, Script};
+use super::{random_unit_vector, Run, SceneOutput, Script};
 use crate::spec::BoxSpec;
 use crate::world::{PhysicsParams, GRAVITY};
 use crate::{Result, SimError};
-use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use rand::rngs::StdRng;
 use rand::Rng;
 
@@ -53,19 +53,6 @@ pub fn lowest_corner(spec: &BoxSpec, world_from_box: &Isometry3<f64>) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-fn unit_vector(rng: &mut StdRng) -> Unit<Vector3<f64>> {
-    loop {
-        let v = Vector3::new(
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-        );
-        if v.norm() > 0.2 && v.norm() < 1.0 {
-            return Unit::new_normalize(v);
-        }
-    }
-}
-
 /// A random throw for `spec` that lands near the world origin (in front of the camera).
 ///
 /// Two in five are skimming throws: a face within 15° of down, released 0.1-0.2 m up, spun
@@ -81,10 +68,10 @@ pub fn random_throw(spec: &BoxSpec, rng: &mut StdRng) -> Throw {
             });
         let yaw = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), rng.random_range(-3.2..3.2));
         let tip = UnitQuaternion::from_scaled_axis(
-            unit_vector(rng).into_inner() * rng.random_range(0f64..15.0).to_radians(),
+            random_unit_vector(rng).into_inner() * rng.random_range(0f64..15.0).to_radians(),
         );
         let spin = Vector3::z() * rng.random_range(-10.0..10.0)
-            + unit_vector(rng).into_inner() * rng.random_range(0.0..1.0);
+            + random_unit_vector(rng).into_inner() * rng.random_range(0.0..1.0);
         (
             tip * yaw * down,
             rng.random_range(0.1..0.2),
@@ -94,11 +81,11 @@ pub fn random_throw(spec: &BoxSpec, rng: &mut StdRng) -> Throw {
     } else {
         (
             UnitQuaternion::from_scaled_axis(
-                unit_vector(rng).into_inner() * rng.random_range(0.0..std::f64::consts::PI),
+                random_unit_vector(rng).into_inner() * rng.random_range(0.0..std::f64::consts::PI),
             ),
             rng.random_range(0.1..0.6),
             rng.random_range(-0.5..0.8),
-            unit_vector(rng).into_inner() * rng.random_range(1.0..15.0),
+            random_unit_vector(rng).into_inner() * rng.random_range(1.0..15.0),
         )
     };
     let speed = rng.random_range(0.2..1.5);
