@@ -319,7 +319,9 @@ fn motive_takes_name_the_object_and_the_palm() {
 }
 
 /// `--quat-order wxyz` reads TUM files written w first as they were written: the same
-/// classification as the file written x y z w; an order that is neither is refused.
+/// classification as the file written x y z w; an order that is neither is refused. Without
+/// it, such a file teaches nothing (read x y z w its topple is no rotation about a line, which
+/// read w first it is) and says which order to give.
 #[test]
 fn quat_order_reads_w_first_tum_files() {
     let d = TempDir::new("quat-order");
@@ -347,6 +349,16 @@ fn quat_order_reads_w_first_tum_files() {
     assert_eq!(given["labels"], x["labels"]);
     let edge = |v: &Value| vec3(&v["topples"][0]["edge"]["line"]["point"], "edge point");
     assert!(dist(edge(&given), edge(&x)) < 1e-9);
+    assert!(given["withheld"].is_null(), "{given}");
+    let misread = run(&["classify", &s(&w), "--json"]).ok().json();
+    let why = misread["withheld"].as_str().unwrap_or_default();
+    assert!(
+        why.contains("written in w x y z order") && why.contains("--quat-order wxyz"),
+        "{misread}"
+    );
+    let tree = run(&["learn", &s(&w), "--json"]).ok().json();
+    assert_eq!(tree["edges"].as_array().map(Vec::len), Some(0), "{tree}");
+    assert_eq!(tree["faces"].as_array().map(Vec::len), Some(0), "{tree}");
     // An argument error: clap's message (with ours) and exit code 2.
     let r = run(&["classify", &s(&w), "--quat-order", "wzyx"]);
     assert!(

@@ -35,6 +35,37 @@ impl QuaternionOrder {
     }
 }
 
+impl QuaternionOrder {
+    /// The order in words for people: `x y z w` or `w x y z`.
+    pub fn spelled(self) -> &'static str {
+        match self {
+            QuaternionOrder::Xyzw => "x y z w",
+            QuaternionOrder::Wxyz => "w x y z",
+        }
+    }
+
+    /// The order other than this one.
+    pub fn other(self) -> Self {
+        match self {
+            QuaternionOrder::Xyzw => QuaternionOrder::Wxyz,
+            QuaternionOrder::Wxyz => QuaternionOrder::Xyzw,
+        }
+    }
+
+    /// The rotation `q`, read in this order, as it reads in the other: the same four numbers
+    /// of the file, moved (exact; its own inverse).
+    pub fn read_in_other(self, q: &UnitQuaternion<f64>) -> UnitQuaternion<f64> {
+        match self {
+            QuaternionOrder::Xyzw => QuaternionOrder::Wxyz.reorder(q),
+            QuaternionOrder::Wxyz => {
+                // Read w x y z: w, i, j, k are the file's first four; read x y z w, i, j, k
+                // and w are.
+                UnitQuaternion::new_unchecked(Quaternion::new(q.k, q.w, q.i, q.j))
+            }
+        }
+    }
+}
+
 impl std::str::FromStr for QuaternionOrder {
     type Err = String;
 
@@ -78,5 +109,20 @@ mod tests {
             assert_eq!(o.to_string().parse::<QuaternionOrder>(), Ok(o));
         }
         assert!("zyxw".parse::<QuaternionOrder>().is_err());
+        for o in [QuaternionOrder::Xyzw, QuaternionOrder::Wxyz] {
+            assert_ne!(o.other(), o);
+            assert_eq!(o.other().other(), o);
+            assert_eq!(o.spelled().replace(' ', ""), o.to_string());
+            // Read in one order and then in the other, the file's numbers are read back.
+            assert_eq!(o.other().read_in_other(&o.read_in_other(&read)), read);
+        }
+        assert_eq!(
+            QuaternionOrder::Xyzw.read_in_other(&read).coords,
+            truth.coords
+        );
+        assert_eq!(
+            QuaternionOrder::Wxyz.read_in_other(&truth).coords,
+            read.coords
+        );
     }
 }

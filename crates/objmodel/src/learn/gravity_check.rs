@@ -10,6 +10,7 @@
 //! the rests show a vertical (at many headings): a set of 60 motion-capture tosses is learnt in
 //! 0.77 s instead of 0.40 s.
 
+use super::quaternion_check::read_in_configured_order;
 use super::{Learner, Source};
 use crate::classify::Label;
 use crate::observation::Observation;
@@ -69,6 +70,9 @@ impl Learner {
         );
         let g = gravity.norm();
         if shown.contradicts {
+            if let Some(advice) = self.rests_in_other_order(sources, observed, &up) {
+                return Ok(Some(format!("{NOT_LEARNT}: {rests_say}; {advice}")));
+            }
             let (down, up_along) = (-shown.axis * g, shown.axis * g);
             let fall = self.flights_fall(&down, None, &up_along, sources)?;
             let advice = match fall {
@@ -102,6 +106,59 @@ impl Learner {
                 v(&-gravity)
             )),
             _ => None,
+        })
+    }
+
+    /// Where the rests contradict the up given: whether, read in the other quaternion order
+    /// (the files that do not name their columns, [`super::quaternion_check`]), they turn about
+    /// it; then the advice to give that order. (Read in the wrong order, rests on one face at
+    /// various headings turn about a fixed line that is not the vertical, and the check would
+    /// otherwise ask for that line as gravity.)
+    fn rests_in_other_order(
+        &self,
+        sources: &[Source],
+        observed: &[Vec<Observation>],
+        up: &Vector3<f64>,
+    ) -> Option<String> {
+        let order = self.config.quaternion_order;
+        let mut reread = 0;
+        let rests: Vec<_> = sources
+            .iter()
+            .zip(observed)
+            .flat_map(|(source, observations)| {
+                let other = read_in_configured_order(source);
+                reread += usize::from(other);
+                observations.iter().flat_map(move |o| {
+                    o.classification
+                        .world_rests()
+                        .into_iter()
+                        .map(move |mut r| {
+                            if other {
+                                r.rotation = order.read_in_other(&r.rotation);
+                            }
+                            r
+                        })
+                })
+            })
+            .collect();
+        if reread == 0 {
+            return None;
+        }
+        let shown = crate::vertical::shown(
+            &rests,
+            up,
+            self.config.robust.alpha,
+            crate::face::SUPPORT_LEVEL_SIGMA_RAD,
+        )?;
+        (!shown.contradicts).then(|| {
+            format!(
+                "read in {} order, they turn about the up given ({} pairs do): the \
+                 quaternions of the {reread} file(s) that do not name their columns look \
+                 written so; give --quat-order {} (TUM's own order is x y z w)",
+                order.other().spelled(),
+                shown.pairs_about_given,
+                order.other(),
+            )
         })
     }
 

@@ -22,7 +22,9 @@
 //! their rests measure together ([`crate::shared_noise`]); and where a thrown object's own
 //! flights do not determine its centre of mass, it is read again with the one that the flights
 //! of all the demonstrations agree on, which tells its rolls from flights
-//! ([`crate::shared_com`]). Gravity comes from the
+//! ([`crate::shared_com`]); and where a file that does not name its columns (TUM) has moving
+//! frames that teach no edge, it is read again in the other quaternion order, which may show
+//! it written that way (`quaternion_check.rs`). Gravity comes from the
 //! [`Config`]: without it the topples'
 //! dynamics cannot be measured (their angles are from the vertical), which the report says.
 //! A demonstration without motion teaches nothing and is not added.
@@ -54,7 +56,8 @@
 //! comes from), `units.rs` (its stamps in seconds, its positions in metres, its palm on the
 //! object's clock), `observe.rs` (classified in one pass, then its topples' dynamics),
 //! `checks.rs` (what the kept frames say of the classification, with `held_poses.rs` and
-//! `tracker_noise.rs`), `fuse.rs` (what the demonstrations learnt together share, with
+//! `tracker_noise.rs`), `quaternion_check.rs` (were its quaternions read in the order they
+//! were written?), `fuse.rs` (what the demonstrations learnt together share, with
 //! `tracker_noise.rs` and `com_sharing.rs`; gravity checked, `gravity_check.rs`; then the
 //! tree), and `readable.rs` (learning past files that cannot be read).
 //!
@@ -73,6 +76,7 @@ mod fuse;
 mod gravity_check;
 mod held_poses;
 mod observe;
+mod quaternion_check;
 mod readable;
 mod source;
 mod tracker_noise;

@@ -33,8 +33,18 @@ impl Learner {
     }
 
     /// The classification of files or poses in memory, checked against the frames kept
-    /// ([`Learner::check`]), and those frames.
+    /// ([`Learner::check`]) and against the other quaternion order
+    /// ([`Learner::order_checked`]), and those frames.
     fn classify_recorded(&self, source: &Source) -> Result<(Classification, Recording)> {
+        let (c, recording) = self.classify_recorded_in_order(source)?;
+        Ok((self.order_checked(source, c)?, recording))
+    }
+
+    /// [`Learner::classify_recorded`] in the configured quaternion order alone.
+    pub(super) fn classify_recorded_in_order(
+        &self,
+        source: &Source,
+    ) -> Result<(Classification, Recording)> {
         let (c, recording) = self.classify_once(source)?;
         let c = self.checked(c, &recording, |config| match *source {
             Source::Files { .. } | Source::Take { .. } => {
