@@ -10,14 +10,15 @@ use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
 /// The kind of a demonstration or motion segment.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Kind {
     /// Edge rotation trajectory (ERT).
     Topple,
     /// Face slide trajectory (FST).
     Slide,
-    /// Anything else.
+    /// Anything else (and what nothing has shown to be a contact mode).
+    #[default]
     General,
 }
 
@@ -145,7 +146,7 @@ pub struct LabelRun {
 pub(crate) type LargestRotation = (f64, Line, Vector3<f64>);
 
 /// One motion segment: the frames between two rests, analysed against one reference pose.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Segment {
     /// Pooled line statistics of the frames labelled topple.
     #[serde(skip)]
@@ -243,8 +244,9 @@ pub struct Topple {
     pub resting_normal_after: Option<Vector3<f64>>,
 }
 
-/// The result of classifying one demonstration.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// The result of classifying one demonstration. (Its `Default` is what the classifiers fill in
+/// for the fields that the learner's later stages set: no parts, rolls, warnings or counts.)
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Classification {
     /// The demonstration's name.
     pub name: String,

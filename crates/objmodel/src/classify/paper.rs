@@ -275,14 +275,7 @@ impl PaperMethod {
             method: Method::Paper,
             instrumented,
             frames,
-            outliers: 0,
             votes: self.votes,
-            noise: None,
-            noise_given: false,
-            noise_correlation: None,
-            noise_unmeasurable: false,
-            noise_shared: None,
-            frame_interval_s: None,
             topples: edge
                 .clone()
                 .map(|e| super::Topple {
@@ -294,11 +287,6 @@ impl PaperMethod {
                 .into_iter()
                 .collect(),
             segments: vec![Segment {
-                topple_stats: Default::default(),
-                topple_best: None,
-                topple_systematic_var: 0.0,
-                topple_systematic_direction_var: 0.0,
-                support_constraint: None,
                 t_start: t0,
                 t_end: t1,
                 kind,
@@ -307,36 +295,11 @@ impl PaperMethod {
                 edge,
                 face,
                 resting_normal_before: down,
-                resting_normal_after: None,
-                resting_frames_before: 0,
-                resting_frames_after: 0,
-                resting_place_before: None,
-                resting_place_after: None,
-                resting_rotation_before: None,
-                resting_rotation_after: None,
-                departs_from_support: false,
-                arrives_on_support: false,
-                withheld: None,
-                remeasured: None,
-                onset_frame: None,
-                withheld_before_onset: None,
+                ..Default::default()
             }],
             labels: self.runs,
             paper_edge,
-            warnings: Vec::new(),
-            gravity_doubted: false,
-            parts: Vec::new(),
-            rolls: Vec::new(),
-            rolls_rejected: Vec::new(),
-            withheld: None,
-            length_unit: None,
-            com_shared: None,
-            flight_coms: Vec::new(),
-            held_frames: 0,
-            lost_frames: 0,
-            palm_lost_frames: 0,
-            duplicate_lines: 0,
-            palm_duplicate_lines: 0,
+            ..Default::default()
         };
         c.fill_parts();
         Ok(c)
