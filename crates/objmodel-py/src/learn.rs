@@ -186,13 +186,25 @@ fn warn_reports(
     Ok(())
 }
 
+/// `learner`, told that the demonstrations given as arrays were read from quaternions in its
+/// order where no `times` are given: arrays are then (N, 8) rows `t x y z q q q q`, and the
+/// learner checks that order against their motion as it does a TUM file's (matrices, which
+/// need times, have no order to check).
+fn rows_read_in(learner: Learner, times: Option<&Bound<'_, PyAny>>) -> Learner {
+    match times.filter(|t| !t.is_none()) {
+        None => learner.with_memory_quaternions(),
+        Some(_) => learner,
+    }
+}
+
 /// Learn (or update) an object description tree from demonstrations.
 ///
 /// `demos`: a list of demonstrations (or one alone), each a pose file (str or os.PathLike,
 /// TUM or CSV; NAME.palm.* beside it is its palm, as on the command line) or a numpy array of
 /// `world_from_object` poses: (N, 8) rows `t x y z qx qy qz qw` (quaternion x y z w, as TUM
 /// files and scipy's `as_quat()`; `quat_order="wxyz"` for `t x y z qw qx qy qz`, in arrays
-/// and in TUM files written w first) or (N, 4, 4)
+/// and in TUM files written w first: rows or a TUM file whose motion turns about an edge only
+/// in the other order teach nothing, with a warning that names it) or (N, 4, 4)
 /// homogeneous matrices with `times`. A row whose pose values are all NaN (or all zero), or a
 /// matrix NaN above its last row, is a frame where the tracker lost the object: left out,
 /// with a warning.
@@ -252,6 +264,7 @@ pub fn learn(
         .map(crate::inputs::rigid_bodies)
         .transpose()?;
     let learner = Learner::new(config(gravity, method, options)?.with_quaternion_order(order));
+    let learner = rows_read_in(learner, times);
     let learner = if gravity_check {
         learner
     } else {
@@ -334,6 +347,7 @@ pub fn classify(
     let order = crate::poses::quat_order(quat_order)?;
     let learner = Learner::new(config(gravity, method, options)?.with_quaternion_order(order));
     let times = times.filter(|t| !t.is_none());
+    let learner = rows_read_in(learner, times);
     let palm = palm.filter(|p| !p.is_none());
     let prepared = match rigid_bodies.filter(|b| !b.is_none()) {
         Some(b) => {

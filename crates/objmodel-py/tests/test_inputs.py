@@ -137,6 +137,20 @@ def test_quaternion_order_mistakes(rows):
     raises(r"rows need 8 columns", [r[:, [4, 5, 6, 7, 1, 2, 3]]])
 
 
+def test_rows_written_w_first_teach_nothing_and_name_the_order(rows):
+    """Rows t x y z qw qx qy qz given as TUM's x y z w: read so, the topple turns about no
+    edge, which read w first it does; nothing is learnt, and the warning names quat_order."""
+    r, t, m = rows
+    w_first = r[:, [0, 1, 2, 3, 7, 4, 5, 6]]
+    with pytest.warns(objmodel.ObjmodelWarning, match=r'written in w x y z order.*quat_order="wxyz"'):
+        tree = objmodel.learn([w_first])
+    assert len(tree.edges) == 0 and len(tree.faces) == 0
+    given = objmodel.learn([w_first], quat_order="wxyz")
+    right = objmodel.learn([r])
+    assert len(given.edges) == len(right.edges) == 1
+    assert np.allclose(given.edges, right.edges, atol=1e-12)
+
+
 def test_matrices(rows):
     r, t, m = rows
     bad = m.copy()

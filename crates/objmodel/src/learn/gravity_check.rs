@@ -10,7 +10,6 @@
 //! the rests show a vertical (at many headings): a set of 60 motion-capture tosses is learnt in
 //! 0.77 s instead of 0.40 s.
 
-use super::quaternion_check::read_in_configured_order;
 use super::{Learner, Source};
 use crate::classify::Label;
 use crate::observation::Observation;
@@ -110,10 +109,10 @@ impl Learner {
     }
 
     /// Where the rests contradict the up given: whether, read in the other quaternion order
-    /// (the files that do not name their columns, [`super::quaternion_check`]), they turn about
-    /// it; then the advice to give that order. (Read in the wrong order, rests on one face at
-    /// various headings turn about a fixed line that is not the vertical, and the check would
-    /// otherwise ask for that line as gravity.)
+    /// (the demonstrations read in the configured one: see `quaternion_check.rs`), they turn
+    /// about it; then the advice to give that order. (Read in the wrong order, rests on one
+    /// face at various headings turn about a fixed line that is not the vertical, and the check
+    /// would otherwise ask for that line as gravity.)
     fn rests_in_other_order(
         &self,
         sources: &[Source],
@@ -126,7 +125,7 @@ impl Learner {
             .iter()
             .zip(observed)
             .flat_map(|(source, observations)| {
-                let other = read_in_configured_order(source);
+                let other = self.read_in_configured_order(source);
                 reread += usize::from(other);
                 observations.iter().flat_map(move |o| {
                     o.classification
@@ -153,10 +152,13 @@ impl Learner {
         (!shown.contradicts).then(|| {
             format!(
                 "read in {} order, they turn about the up given ({} pairs do): the \
-                 quaternions of the {reread} file(s) that do not name their columns look \
-                 written so; give --quat-order {} (TUM's own order is x y z w)",
+                 quaternions of the {reread} demonstration(s) read in {} order look written \
+                 so; give --quat-order {} (in Python, quat_order=\"{}\"; TUM's own order is \
+                 x y z w)",
                 order.other().spelled(),
                 shown.pairs_about_given,
+                order.spelled(),
+                order.other(),
                 order.other(),
             )
         })

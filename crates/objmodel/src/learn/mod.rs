@@ -99,6 +99,9 @@ pub struct Learner {
     /// Where the config's noise is shared by other demonstrations ([`crate::shared_noise`]):
     /// what they measured.
     shared: Option<SharedNoise>,
+    /// Whether poses in memory were read from quaternions written in the configured order
+    /// ([`Learner::with_memory_quaternions`]).
+    memory_quaternions: bool,
 }
 
 impl Learner {
@@ -110,7 +113,18 @@ impl Learner {
             gravity_checked: true,
             support: None,
             shared: None,
+            memory_quaternions: false,
         }
+    }
+
+    /// Take the poses of demonstrations in memory ([`Source::Memory`]) as read from four
+    /// numbers written in [`Config::quaternion_order`] (as the Python package reads array rows
+    /// `t x y z qx qy qz qw`), so that they are checked as pose files are: where the other
+    /// order explains their motion by an edge that this one does not, they teach nothing and
+    /// say which order to give (see `quaternion_check.rs`).
+    pub fn with_memory_quaternions(mut self) -> Self {
+        self.memory_quaternions = true;
+        self
     }
 
     /// Learn with the support's height known: `height` \[m\] along −gravity in the frame the

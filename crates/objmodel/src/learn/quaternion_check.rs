@@ -23,14 +23,18 @@
 //! there were 203 (197 wrong).
 //!
 //! Only files that do not name their columns are read again (TUM; a CSV header names its
-//! columns, which decide), and not standard input, which cannot be read twice.
+//! columns, which decide), and not standard input, which cannot be read twice; poses in
+//! memory where the learner is told they were read from quaternions in the configured order
+//! ([`Learner::with_memory_quaternions`], the Python package's array rows).
 
 use super::{Learner, Source};
 use crate::classify::{Classification, Kind};
 use crate::edge::{max_sigmas, unlocated};
-use crate::format::PoseFile;
+use crate::format::{PoseFile, QuaternionOrder};
+use crate::trajectory::Demonstration;
 use crate::tree::LOCATED_ALPHA;
 use crate::Result;
+use std::path::Path;
 
 /// The time spans \[s\] over which `c` teaches an edge: its segments with one, its rolls
 /// taught.
@@ -89,19 +93,37 @@ fn explains_more(b: &Classification, a: &Classification) -> bool {
         })
 }
 
-/// Whether the object's poses in `source` are read in the configured order: a file (not
+/// Whether the object's poses in a pose file are read in the configured order: a file (not
 /// standard input) that does not name its columns.
-pub(super) fn read_in_configured_order(source: &Source) -> bool {
-    let Source::Files { object, .. } = *source else {
-        return false;
-    };
+fn file_read_in_configured_order(object: &Path) -> bool {
     object.as_os_str() != "-"
         && PoseFile::whole(object)
             .read_first_declared(1)
             .is_ok_and(|(_, declared)| !declared.named_columns)
 }
 
+/// `demo` with every rotation, read in `order`, read in the other.
+fn read_in_other_order(demo: &Demonstration, order: QuaternionOrder) -> Demonstration {
+    let mut d = demo.clone();
+    let poses = d.object.iter_mut().chain(d.palm.iter_mut().flatten());
+    for p in poses {
+        p.pose.rotation = order.read_in_other(&p.pose.rotation);
+    }
+    d
+}
+
 impl Learner {
+    /// Whether the object's poses in `source` are read in the configured order: a pose file
+    /// (not standard input) that does not name its columns, or poses in memory read so
+    /// ([`Learner::with_memory_quaternions`]).
+    pub(super) fn read_in_configured_order(&self, source: &Source) -> bool {
+        match *source {
+            Source::Files { object, .. } => file_read_in_configured_order(object),
+            Source::Memory(_) => self.memory_quaternions,
+            Source::Take { .. } | Source::Bag { .. } => false,
+        }
+    }
+
     /// `c`, the classification of `source` read in the configured quaternion order, withheld
     /// whole where the other order explains its motion better (see the module's doc), with
     /// the order to give.
@@ -110,7 +132,7 @@ impl Learner {
         source: &Source,
         mut c: Classification,
     ) -> Result<Classification> {
-        if !has_motion_without_edge(&c) || !read_in_configured_order(source) {
+        if !has_motion_without_edge(&c) || !self.read_in_configured_order(source) {
             return Ok(c);
         }
         let given = self.config.quaternion_order;
@@ -118,15 +140,25 @@ impl Learner {
             config: self.config.with_quaternion_order(given.other()),
             ..self.clone()
         };
-        let b = swapped.classify_recorded_in_order(source)?.0;
+        let b = match *source {
+            Source::Memory(demo) => {
+                let other = read_in_other_order(demo, given);
+                swapped
+                    .classify_recorded_in_order(&Source::Memory(&other))?
+                    .0
+            }
+            _ => swapped.classify_recorded_in_order(source)?.0,
+        };
         if explains_more(&b, &c) && !explains_more(&c, &b) {
             c.withhold_all(&format!(
                 "its quaternions look written in {} order: read so, its motion turns about an \
-                 edge ({}), where read {}, as now, it teaches no edge; give --quat-order {} if \
-                 the file is written so (TUM's own order is x y z w)",
+                 edge ({}), where read {}, as now, it teaches no edge; give --quat-order {} \
+                 (in Python, quat_order=\"{}\") if they are written so (TUM's own order is \
+                 x y z w)",
                 given.other().spelled(),
                 b.kind.as_str(),
                 given.spelled(),
+                given.other(),
                 given.other(),
             ));
         }
@@ -195,5 +227,26 @@ mod tests {
         let c = classified(&demo);
         assert!(!explains_more(&c, &c));
         assert!(!has_motion_without_edge(&c));
+    }
+
+    /// Poses in memory read from quaternions written w first as x y z w are checked where the
+    /// learner is told they were read from numbers ([`Learner::with_memory_quaternions`]);
+    /// rotations given as such (the default) are not.
+    #[test]
+    fn poses_in_memory_read_from_numbers_in_the_wrong_order_teach_nothing() {
+        let b = SynthBox::new(Vector3::new(0.05, 0.04, 0.08), (0.01, 0.0), 0.4);
+        let demo = read_w_first_as_x_first(&topple(&b, 2, 5));
+        let source = Source::Memory(&demo);
+        let learner = Learner::new(Config::default());
+        let as_given = learner.classify(&source).expect("classified");
+        assert!(as_given.withheld.is_none());
+        let read = learner.with_memory_quaternions();
+        let checked = read.classify(&source).expect("classified");
+        let why = checked.withheld.expect("withheld");
+        assert!(why.contains("written in w x y z order"), "{why}");
+        // Given as they were written, nothing is said.
+        let right = topple(&b, 2, 5);
+        let c = read.classify(&Source::Memory(&right)).expect("classified");
+        assert!(c.withheld.is_none() && !c.topples.is_empty());
     }
 }
