@@ -33,9 +33,7 @@ impl QuaternionOrder {
             }
         }
     }
-}
 
-impl QuaternionOrder {
     /// The order in words for people: `x y z w` or `w x y z`.
     pub fn spelled(self) -> &'static str {
         match self {
