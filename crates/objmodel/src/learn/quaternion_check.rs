@@ -60,8 +60,8 @@ fn has_motion_without_edge(c: &Classification) -> bool {
     c.segments.iter().any(|s| s.edge.is_none())
 }
 
-/// Whether `b` teaches a located edge over motion where `a` finds none: the middle of one of
-/// `b`'s topple segments with a located edge lies in a segment of `a` without an edge that is
+/// Where `b` teaches a located edge over motion where `a` finds none (the first such segment's
+/// time span \[s\]): the middle of one of `b`'s topple segments with a located edge lies in a segment of `a` without an edge that is
 /// general motion, a slide, or a topple by fewer than half as many frames' votes, outside every
 /// span over which `a` teaches an edge ([`edge_spans`]).
 ///
@@ -74,7 +74,7 @@ fn has_motion_without_edge(c: &Classification) -> bool {
 /// Drake's, 220 frames' votes as read, its edge 3.7° from level and not taught, and 219 in the
 /// other order, taught). A topple read in the wrong order that still votes topple does so in
 /// few frames (12 against 194 in the right order, in a test below).
-fn explains_more(b: &Classification, a: &Classification) -> bool {
+fn explains_more(b: &Classification, a: &Classification) -> Option<(f64, f64)> {
     let edges_of_a: Vec<(f64, f64)> = edge_spans(a).collect();
     let within = |t: f64, (t0, t1): (f64, f64)| t0 <= t && t <= t1;
     let located = max_sigmas(LOCATED_ALPHA);
@@ -85,7 +85,7 @@ fn explains_more(b: &Classification, a: &Classification) -> bool {
                 .as_ref()
                 .is_some_and(|e| unlocated(e, located, "").is_none())
         })
-        .any(|sb| {
+        .find(|sb| {
             let middle = 0.5 * (sb.t_start + sb.t_end);
             let no_edge_in_a = a.segments.iter().any(|sa| {
                 sa.edge.is_none()
@@ -94,6 +94,7 @@ fn explains_more(b: &Classification, a: &Classification) -> bool {
             });
             no_edge_in_a && !edges_of_a.iter().any(|&span| within(middle, span))
         })
+        .map(|sb| (sb.t_start, sb.t_end))
 }
 
 /// Whether the object's poses in a pose file are read in the configured order: a file (not
@@ -155,14 +156,13 @@ impl Learner {
             }
             _ => swapped.classify_recorded_in_order(source)?.0,
         };
-        if explains_more(&b, &c) && !explains_more(&c, &b) {
+        if let (Some((t0, t1)), None) = (explains_more(&b, &c), explains_more(&c, &b)) {
             c.withhold_all(&format!(
-                "its quaternions look written in {} order: read so, its motion turns about an \
-                 edge ({}), where read {}, as now, it teaches no edge; give --quat-order {} \
-                 (in Python, quat_order=\"{}\") if they are written so (TUM's own order is \
-                 x y z w)",
+                "its quaternions look written in {} order: read so, it turns about an edge \
+                 over {t0:.2}-{t1:.2} s, where read {}, as now, no edge explains that motion; \
+                 give --quat-order {} (in Python, quat_order=\"{}\") if they are written so \
+                 (TUM's own order is x y z w)",
                 given.other().spelled(),
-                b.kind.as_str(),
                 given.spelled(),
                 given.other(),
                 given.other(),
@@ -221,8 +221,9 @@ mod tests {
             assert_eq!(right.kind, Kind::Topple, "seed {seed}");
             let wrong = classified(&read_w_first_as_x_first(&demo));
             assert!(has_motion_without_edge(&wrong), "seed {seed}");
-            assert!(explains_more(&right, &wrong), "seed {seed}");
-            assert!(!explains_more(&wrong, &right), "seed {seed}");
+            let span = explains_more(&right, &wrong).expect("the right order explains more");
+            assert!(right.segments.iter().any(|s| (s.t_start, s.t_end) == span));
+            assert!(explains_more(&wrong, &right).is_none(), "seed {seed}");
         }
     }
 
@@ -231,7 +232,7 @@ mod tests {
         let b = SynthBox::new(Vector3::new(0.05, 0.04, 0.08), (0.0, 0.0), 0.2);
         let demo = topple(&b, 1, 7);
         let c = classified(&demo);
-        assert!(!explains_more(&c, &c));
+        assert!(explains_more(&c, &c).is_none());
         assert!(!has_motion_without_edge(&c));
     }
 
