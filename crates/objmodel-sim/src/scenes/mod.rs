@@ -97,8 +97,8 @@ impl Run {
     }
 
     /// A world with the fixed table (friction `mu`) and the box standing on its `-z` face near
-    /// the origin, its tag facing the camera ([`facing_yaw`], [`resting_pose`]: two draws of
-    /// `rng`, in that order).
+    /// the origin, its tag facing the camera ([`facing_yaw`], then [`resting_pose`], each
+    /// drawing from `rng`, in that order).
     pub fn on_table<R: Rng>(spec: &BoxSpec, p: &PhysicsParams, mu: f64, rng: &mut R) -> Run {
         let mut run = Run::new(p);
         run.world.add_table(mu);

@@ -120,29 +120,29 @@ impl Learner {
         up: &Vector3<f64>,
     ) -> Option<String> {
         let order = self.config.quaternion_order;
-        let mut reread = 0;
-        let rests: Vec<_> = sources
+        let reread: Vec<bool> = sources
             .iter()
-            .zip(observed)
-            .flat_map(|(source, observations)| {
-                let other = self.read_in_configured_order(source);
-                reread += usize::from(other);
-                observations.iter().flat_map(move |o| {
-                    o.classification
-                        .world_rests()
-                        .into_iter()
-                        .map(move |mut r| {
-                            if other {
-                                r.rotation = order.read_in_other(&r.rotation);
-                            }
-                            r
-                        })
-                })
-            })
+            .map(|s| self.read_in_configured_order(s))
             .collect();
-        if reread == 0 {
+        let n_reread = reread.iter().filter(|&&r| r).count();
+        if n_reread == 0 {
             return None;
         }
+        let rests: Vec<_> = reread
+            .iter()
+            .zip(observed)
+            .flat_map(|(&other, observations)| {
+                observations
+                    .iter()
+                    .flat_map(|o| o.classification.world_rests())
+                    .map(move |mut r| {
+                        if other {
+                            r.rotation = order.read_in_other(&r.rotation);
+                        }
+                        r
+                    })
+            })
+            .collect();
         let shown = crate::vertical::shown(
             &rests,
             up,
@@ -152,7 +152,7 @@ impl Learner {
         (!shown.contradicts).then(|| {
             format!(
                 "read in {} order, they turn about the up given ({} pairs do): the \
-                 quaternions of the {reread} demonstration(s) read in {} order look written \
+                 quaternions of the {n_reread} demonstration(s) read in {} order look written \
                  so; give --quat-order {} (in Python, quat_order=\"{}\"; TUM's own order is \
                  x y z w)",
                 order.other().spelled(),

@@ -185,15 +185,10 @@ mod tests {
     }
 
     /// `demo` as a reader that takes `qw qx qy qz` for `qx qy qz qw` sees it.
+    /// (Written w x y z, read x y z w: what a reader in w x y z order reads, read in the other;
+    /// `QuaternionOrder::read_in_other` is tested against the components moved by hand.)
     fn read_w_first_as_x_first(demo: &crate::Demonstration) -> crate::Demonstration {
-        let mut d = demo.clone();
-        for p in &mut d.object {
-            let c = p.pose.rotation.coords; // i j k w
-            p.pose.rotation = nalgebra::UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(
-                c[2], c[3], c[0], c[1],
-            ));
-        }
-        d
+        read_in_other_order(demo, QuaternionOrder::Wxyz)
     }
 
     /// A topple tracked at motion-capture noise (0.3 mm, 0.1°, 120 Hz, with sign flips), whose
